@@ -1,0 +1,201 @@
+#include "commands.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "maille/io.hpp"
+#include "maille/scene.hpp"
+#include "maille/simulator.hpp"
+
+namespace maille::app {
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop = true; }
+
+std::optional<Scene> load_or_report(const std::string& path) {
+  Result<Scene> r = load_scene(path);
+  if (!r) {
+    std::cerr << r.error().to_string() << '\n';
+    return std::nullopt;
+  }
+  return std::move(r.value());
+}
+
+std::uint64_t points_of(const Model& m, PointKind k) { return m.points.count(k); }
+
+void warn_if_unstable(const Simulator& sim) {
+  const auto& st = sim.stability();
+  if (sim.settings().step > st.max_step)
+    std::cerr << "warning: step " << sim.settings().step << " s exceeds the "
+              << sim.integrator().name() << " stability estimate " << st.max_step << " s (set by "
+              << st.link_kind << " links at point " << st.point
+              << "); expect a blow-up\n";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int validate(const std::string& path) {
+  auto scene = load_or_report(path);
+  if (!scene) return bad_input;
+  try {
+    Simulator sim(std::move(scene->model), scene->settings);
+    std::cout << path << ": ok (" << sim.model().points.size() << " points, "
+              << sim.model().links.total() << " links)\n";
+  } catch (const std::exception& e) {
+    std::cerr << path << ": error: " << e.what() << '\n';
+    return bad_input;
+  }
+  return ok;
+}
+
+int info(const std::string& path) {
+  auto scene = load_or_report(path);
+  if (!scene) return bad_input;
+  Simulator sim(std::move(scene->model), scene->settings);
+  const Model& m = sim.model();
+  const auto& s = sim.settings();
+  std::cout << "scene        " << scene->name << '\n';
+  if (!scene->description.empty()) std::cout << "description  " << scene->description << '\n';
+  std::cout << "points       " << m.points.size() << "  (masses " << points_of(m, PointKind::free)
+            << ", fixed " << points_of(m, PointKind::fixed) << ", driven "
+            << points_of(m, PointKind::driven) << ")\n";
+  for (const auto& pool : m.links.pools())
+    std::cout << "links        " << pool->size() << " " << pool->keyword() << '\n';
+  std::cout << "faces        " << m.surface.triangles.size() << '\n';
+  for (const auto& g : m.groups)
+    std::cout << "group        " << g.name << " (" << g.builder << "): points " << g.first << ".."
+              << g.first + g.count - 1 << '\n';
+  std::cout << "integrator   " << s.integrator << ", step " << s.step << " s, duration "
+            << s.duration << " s, frame every " << s.publish_every << " steps, threads "
+            << sim.threads() << '\n';
+  const auto& st = sim.stability();
+  if (std::isinf(st.max_step)) {
+    std::cout << "stability    no stiff link: any step is stable\n";
+  } else {
+    std::cout << "stability    largest stable step " << st.max_step << " s (" << st.link_kind
+              << " links at point " << st.point << ", omega " << st.omega << " rad/s, damping "
+              << st.damping_rate << " 1/s); the scene's step is "
+              << (s.step <= st.max_step ? "within it" : "BEYOND it") << " ("
+              << s.step / st.max_step << " of the limit)\n";
+  }
+  return ok;
+}
+
+int run(const RunOptions& o) {
+  auto scene = load_or_report(o.scene);
+  if (!scene) return bad_input;
+  SimulationSettings settings = scene->settings;
+  if (o.every) settings.publish_every = *o.every;
+  if (o.threads) settings.threads = *o.threads;
+  const auto format = parse_frame_format(o.format);
+  if (!format) {
+    std::cerr << "unknown format '" << o.format << "'\n";
+    return usage;
+  }
+  const std::uint64_t steps =
+      o.steps ? *o.steps
+              : static_cast<std::uint64_t>(std::llround((o.duration ? *o.duration : settings.duration) / settings.step));
+  const std::filesystem::path out =
+      o.out.empty() ? std::filesystem::path("out") / scene->name : std::filesystem::path(o.out);
+
+  try {
+    std::filesystem::create_directories(out);
+    Simulator sim(std::move(scene->model), settings);
+    warn_if_unstable(sim);
+    FrameWriter frames(out, *format, sim.model());
+    StatsWriter stats(out / "stats.csv");
+    if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
+    sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
+    sim.publish_now();  // frame 0: the initial state
+
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::uint64_t done = 0;
+    while (done < steps && !g_stop && sim.step()) ++done;
+    const double wall = seconds_since(t0);
+    stats.close();
+
+    const double particle_steps = double(done) * sim.model().points.size();
+    std::printf("maille: %s: %llu steps (%.4g s simulated) in %.3g s wall, %.3g ns per particle-step, "
+                "%llu frames and %llu stats rows in %s\n",
+                scene->name.c_str(), static_cast<unsigned long long>(done), double(done) * settings.step,
+                wall, particle_steps > 0 ? wall * 1e9 / particle_steps : 0.0,
+                static_cast<unsigned long long>(frames.written()),
+                static_cast<unsigned long long>(stats.rows()), out.string().c_str());
+    if (sim.blow_up()) {
+      std::cerr << "error: " << sim.blow_up()->message << '\n';
+      return blow_up;
+    }
+    if (g_stop) {
+      std::cerr << "interrupted at step " << sim.state().step
+                << "; the frames and stats written so far are complete\n";
+      return interrupted;
+    }
+    const Energies e = sim.energies();
+    std::printf("maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g)\n", e.total(),
+                e.kinetic, e.elastic, e.gravity);
+  } catch (const std::runtime_error& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return output_error;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << o.scene << ": error: " << e.what() << '\n';
+    return bad_input;
+  }
+  return ok;
+}
+
+int bench(const BenchOptions& o) {
+  auto scene = load_or_report(o.scene);
+  if (!scene) return bad_input;
+  SimulationSettings settings = scene->settings;
+  if (o.threads) settings.threads = *o.threads;
+  settings.publish_every = 1 << 30;  // no publication cost in a benchmark
+  settings.sample_every = 1 << 30;
+  double best = 1e300;
+  std::map<std::string, double> stage_ns;
+  std::uint64_t points = 0, links = 0;
+  int threads = 1;
+  for (int r = 0; r < o.repeat; ++r) {
+    Simulator sim(scene->model, settings);
+    points = sim.model().points.size();
+    links = sim.model().links.total();
+    threads = sim.threads();
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!sim.run_steps(o.steps)) {
+      std::cerr << "error: " << sim.blow_up()->message << '\n';
+      return blow_up;
+    }
+    const double wall = seconds_since(t0);
+    if (wall < best) {
+      best = wall;
+      for (const auto& s : sim.profile().stages()) stage_ns[s.name] = s.total_ns;
+    }
+  }
+  const double ps = double(o.steps) * double(points);
+  if (o.header) {
+    std::printf("scene,points,links,threads,steps,seconds,ns_per_particle_step");
+    for (const auto& [name, ns] : stage_ns) std::printf(",ns_pps_%s", name.c_str());
+    std::printf("\n");
+  }
+  std::printf("%s,%llu,%llu,%d,%llu,%.6g,%.4g", scene->name.c_str(),
+              static_cast<unsigned long long>(points), static_cast<unsigned long long>(links),
+              threads, static_cast<unsigned long long>(o.steps), best, best * 1e9 / ps);
+  for (const auto& [name, ns] : stage_ns) std::printf(",%.4g", ns / ps);
+  std::printf("\n");
+  return ok;
+}
+
+}  // namespace maille::app

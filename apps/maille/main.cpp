@@ -1,0 +1,55 @@
+// maille: run, check and measure scenes from the command line.
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  using namespace maille::app;
+  CLI::App app{"Maille: mass-interaction physics (mass-spring cloth, ropes, nets, lattices)"};
+  app.require_subcommand(1);
+
+  RunOptions ro;
+  auto* run_cmd = app.add_subcommand("run", "Run a scene headless: frames, stats.csv, a summary");
+  run_cmd->add_option("scene", ro.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  auto* steps = run_cmd->add_option("--steps", ro.steps, "Number of steps (default: duration/step)")
+                    ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--duration", ro.duration, "Simulated time, s (default: the scene's)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(steps);
+  run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)");
+  run_cmd->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--format", ro.format, "Frame format")
+      ->check(CLI::IsMember({"ply", "obj", "vtk"}));
+  run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
+
+  std::string scene;
+  auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");
+  validate_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
+  auto* info_cmd = app.add_subcommand("info", "Counts by brick kind and the stability estimate");
+  info_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
+
+  BenchOptions bo;
+  auto* bench_cmd = app.add_subcommand("bench", "Run a scene for a fixed number of steps; print CSV");
+  bench_cmd->add_option("scene", bo.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  bench_cmd->add_option("--steps", bo.steps, "Steps per repetition")->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--threads", bo.threads, "Threads (default: the scene's, else auto)")
+      ->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--repeat", bo.repeat, "Repetitions (the fastest is reported)")
+      ->check(CLI::PositiveNumber);
+  bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? ok : usage;
+  }
+  if (*run_cmd) return run(ro);
+  if (*validate_cmd) return validate(scene);
+  if (*info_cmd) return info(scene);
+  if (*bench_cmd) return bench(bo);
+  return usage;
+}

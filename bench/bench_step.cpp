@@ -1,0 +1,44 @@
+// Force-and-integrate step of the flag (springs with damping, gravity, leapfrog; no wind, no
+// collisions) at 32^2, 128^2 and 512^2 points, one thread and all threads.
+// Reports ns per particle-step as the counter "ns_pps".
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include "maille/builders.hpp"
+#include "maille/simulator.hpp"
+
+namespace {
+
+maille::Model flag_model(std::uint32_t n) {
+  maille::Model m;
+  maille::FlagParams p;
+  p.nx = p.ny = n;
+  p.width = p.height = 1;
+  p.mass = 0.2;
+  p.material = {200, 0.02};
+  p.shear_stiffness = 100;
+  p.bending_stiffness = 20;
+  maille::build_flag(m, p, "flag");
+  return m;
+}
+
+void BM_FlagStep(benchmark::State& st) {
+  const auto n = static_cast<std::uint32_t>(st.range(0));
+  const int threads = st.range(1) == 0 ? omp_get_num_procs() : static_cast<int>(st.range(1));
+  maille::SimulationSettings s;
+  s.step = 1e-5;  // far inside the stability limit at every size
+  s.threads = threads;
+  s.publish_every = 1 << 30;
+  s.sample_every = 1 << 30;
+  maille::Simulator sim(flag_model(n), s);
+  for (auto _ : st) sim.step();
+  const double ps = double(st.iterations()) * n * n;
+  st.counters["ns_pps"] = benchmark::Counter(ps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_pps"] = benchmark::Counter(ps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["threads"] = threads;
+}
+
+}  // namespace
+
+BENCHMARK(BM_FlagStep)->ArgsProduct({{32, 128, 512}, {1, 0}})->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK_MAIN();

@@ -1,0 +1,38 @@
+// Scripted paths for driven fixed points (a pole that shakes, a hand that swings a rope).
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "maille/vec3.hpp"
+
+namespace maille {
+
+struct DrivePath {
+  enum class Kind : std::uint8_t {
+    sine,       // x(t) = x0 + amplitude * sin(2 pi f t + phase)
+    circle,     // x(t) = x0 + radius * (cos(2 pi f t + phase) - 1) u + radius * sin(...) w,
+                //   u, w orthonormal and perpendicular to `axis`; starts at x0
+    keyframes,  // piecewise linear through (t, x) keys; held at the ends
+  };
+  Kind kind = Kind::sine;
+  Vec3 origin{};         // x0, m (the point's scene position)
+  Vec3 amplitude{};      // m (sine)
+  Vec3 axis{0, 1, 0};    // rotation axis (circle)
+  Real radius = 0;       // m (circle)
+  Real frequency = 0;    // Hz
+  Real phase = 0;        // rad
+  std::vector<std::pair<double, Vec3>> keys;  // (s, m), increasing times (keyframes)
+
+  Vec3 position(double t) const;
+  Vec3 velocity(double t) const;
+  Real max_speed() const;  // m/s, over all times
+};
+
+struct Drive {
+  std::uint32_t point = 0;
+  DrivePath path;
+};
+
+}  // namespace maille

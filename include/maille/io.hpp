@@ -1,0 +1,81 @@
+// Output: frames (PLY, OBJ, legacy VTK) and statistics (CSV), each file written whole or not at
+// all: bytes go to "<name>.tmp" and are renamed into place only when complete.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/model.hpp"
+#include "maille/profile.hpp"
+#include "maille/simulator.hpp"
+#include "maille/snapshot.hpp"
+
+namespace maille {
+
+// A file that appears under its name only after commit(). Destroyed uncommitted, it leaves
+// nothing behind. Throws std::runtime_error (naming the path) when it cannot write.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::filesystem::path path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ofstream& stream() { return out_; }
+  void commit();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_, tmp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+enum class FrameFormat { ply, obj, vtk };
+std::optional<FrameFormat> parse_frame_format(std::string_view name);
+std::string_view extension(FrameFormat f);
+
+// One frame: the points, the surface faces, and every link as a line (renderers colour them).
+void write_frame(const std::filesystem::path& path, FrameFormat format, const Model& m,
+                 const Snapshot& s);
+
+// Writes dir/frame_000000.<ext>, dir/frame_000001.<ext>, ... as snapshots arrive.
+class FrameWriter {
+ public:
+  FrameWriter(std::filesystem::path dir, FrameFormat format, const Model& m);
+  void operator()(const Snapshot& s);
+  std::uint64_t written() const { return written_; }
+
+ private:
+  std::filesystem::path dir_;
+  FrameFormat format_;
+  const Model& model_;
+  std::uint64_t written_ = 0;
+};
+
+// stats.csv: one row per energy sample: time, step, energies, ns per stage during that step,
+// counters. The header is written with the first row (stages plugged in before then appear).
+// Rows are complete lines; the file is renamed into place by close() (or the destructor).
+class StatsWriter {
+ public:
+  explicit StatsWriter(std::filesystem::path path);
+  ~StatsWriter();
+  StatsWriter(const StatsWriter&) = delete;
+  StatsWriter& operator=(const StatsWriter&) = delete;
+
+  void write(const EnergySample& sample, const Profile& profile);
+  void close();
+  std::uint64_t rows() const { return rows_; }
+
+ private:
+  AtomicFile file_;
+  std::uint64_t rows_ = 0;
+  bool closed_ = false;
+};
+
+}  // namespace maille

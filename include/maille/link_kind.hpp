@@ -1,0 +1,352 @@
+// What a link kind (a Link brick) is, and the typed pool that stores and runs one kind.
+//
+// Checklist for a new kind (see docs/architecture.md, "Adding a link kind"):
+//   1. a struct with `keyword`, a plain `Params` record, `fields` (scene keys with unit and bound),
+//      and pure functions `force`, `energy`, `stiffness`, `damping` (optionally `is_active`);
+//   2. one line `registry.add<YourKind>()` (built-ins: src/links/builtin_kinds.cpp).
+// The simulator loop never changes: it folds over the model's pools, one virtual call per pool,
+// and each pool runs a tight, inlined loop over its own records.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/vec3.hpp"
+
+namespace maille {
+
+struct LinkEnds {
+  std::uint32_t a = 0, b = 0;  // point indices; the force returned by a kind acts on a, -f on b
+};
+
+enum class Bound : std::uint8_t { positive, non_negative, any };
+
+// One scene-settable parameter of a link kind.
+template <class Params>
+struct ParamField {
+  std::string_view name;  // scene key
+  std::string_view unit;  // SI unit, for docs and messages
+  Real Params::*member;
+  Bound bound = Bound::positive;
+  std::optional<Real> default_value{};  // none: required (unless default_is_distance)
+  bool default_is_distance = false;     // omitted: the distance between the points when built
+  std::string_view doc{};
+  std::string_view default_from{};  // omitted: the value of this other field
+};
+
+// The type-erased view of a field, as the scene reader and `maille info` see it.
+struct ParamInfo {
+  std::string name, unit, doc;
+  Bound bound = Bound::positive;
+  std::optional<Real> default_value;
+  bool default_is_distance = false;
+  std::string default_from;
+};
+
+template <class K>
+concept LinkKind = requires(const Vec3& x, const typename K::Params& p) {
+  { K::keyword } -> std::convertible_to<std::string_view>;
+  { K::fields.size() } -> std::convertible_to<std::size_t>;
+  { K::force(x, x, x, x, p) } -> std::same_as<Vec3>;  // force on a (b receives -force)
+  { K::energy(x, x, p) } -> std::convertible_to<Real>;  // potential energy, J
+  { K::stiffness(p) } -> std::convertible_to<Real>;     // bound on |df/dx|, N/m (stability)
+  { K::damping(p) } -> std::convertible_to<Real>;       // bound on |df/dv|, N.s/m (stability)
+};
+
+// Running totals a pool reports after a force pass.
+struct LinkCounters {
+  std::uint64_t active = 0;  // links that produced a force (conditional kinds)
+};
+
+// The link that looks worst after a blow-up: non-finite, or most stretched relative to rest.
+struct WorstLink {
+  std::size_t index = 0;
+  LinkEnds ends{};
+  Real badness = 0;  // |d - d0| / d0, or +inf when positions or force are not finite
+};
+
+class LinkPoolBase {
+ public:
+  virtual ~LinkPoolBase() = default;
+  virtual std::string_view keyword() const = 0;
+  virtual std::size_t size() const = 0;
+  virtual LinkEnds ends(std::size_t i) const = 0;
+  virtual std::vector<ParamInfo> fields() const = 0;
+  // Params in `fields()` order; used by the scene reader and the viewer.
+  virtual void add_generic(LinkEnds ends, std::span<const Real> params) = 0;
+  virtual Real param(std::size_t i, std::size_t field) const = 0;
+  virtual void scale_param(std::size_t field, Real factor) = 0;  // live tuning, between steps
+  // Groups links so that no two groups running together share a point (once, after building):
+  // they run in parallel without atomics, and the sum order per point is fixed (determinism).
+  virtual void prepare(std::uint32_t point_count) = 0;
+  // Adds every link's force into f. Callable inside an OpenMP parallel region (orphaned
+  // work-sharing): the threads split each group.
+  virtual void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const = 0;
+  virtual double energy(const Vec3* x) const = 0;
+  // Adds, per point, the stiffness and damping seen through this pool's links, counted twice
+  // when the other end is free (Gershgorin bound on the eigenvalues of M^-1 K).
+  virtual void stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
+                               std::span<Real> c_row) const = 0;
+  virtual Real max_stiffness() const = 0;
+  virtual WorstLink worst(const Vec3* x, const Vec3* v) const = 0;
+  virtual std::unique_ptr<LinkPoolBase> clone() const = 0;
+};
+
+// Greedy colouring of point sets (set e holds indices[offsets[e] .. offsets[e+1])) so that no
+// two sets of one colour share a point. Returns the sets in colour order and colour offsets.
+struct Colouring {
+  std::vector<std::uint32_t> order;    // set indices, grouped by colour
+  std::vector<std::uint32_t> offsets;  // colour c spans order[offsets[c] .. offsets[c+1])
+};
+Colouring colour_sets(std::span<const std::uint32_t> offsets,
+                      std::span<const std::uint32_t> indices, std::uint32_t point_count);
+// The same for sets of a fixed size (triangles: arity 3).
+Colouring colour_elements(std::span<const std::uint32_t> indices, int arity,
+                          std::uint32_t point_count);
+
+template <LinkKind K>
+class LinkPool final : public LinkPoolBase {
+ public:
+  using Params = typename K::Params;
+
+  std::string_view keyword() const override { return K::keyword; }
+  std::size_t size() const override { return ends_.size(); }
+  LinkEnds ends(std::size_t i) const override { return ends_[i]; }
+  const Params& params(std::size_t i) const { return params_[i]; }
+
+  void add(LinkEnds e, const Params& p) {
+    ends_.push_back(e);
+    params_.push_back(p);
+    groups_.clear();  // needs prepare() again
+    chunk_order_.clear();
+  }
+
+  std::vector<ParamInfo> fields() const override {
+    std::vector<ParamInfo> out;
+    for (const auto& f : K::fields)
+      out.push_back({std::string(f.name), std::string(f.unit), std::string(f.doc), f.bound,
+                     f.default_value, f.default_is_distance, std::string(f.default_from)});
+    return out;
+  }
+
+  void add_generic(LinkEnds e, std::span<const Real> values) override {
+    Params p{};
+    for (std::size_t k = 0; k < K::fields.size() && k < values.size(); ++k)
+      p.*(K::fields[k].member) = values[k];
+    add(e, p);
+  }
+
+  Real param(std::size_t i, std::size_t field) const override {
+    return params_[i].*(K::fields[field].member);
+  }
+
+  void scale_param(std::size_t field, Real factor) override {
+    for (auto& p : params_) p.*(K::fields[field].member) *= factor;
+  }
+
+  // Links stay in the order they were built (builders emit them point by point, so a chunk
+  // of consecutive links touches a compact patch of points). Chunks of kChunk links are
+  // coloured: no two chunks of one colour share a point, so threads split each colour freely,
+  // and serial runs use the same order, so sums per point are identical for any thread count.
+  void prepare(std::uint32_t point_count) override {
+    const std::size_t chunks = (ends_.size() + kChunk - 1) / kChunk;
+    std::vector<std::uint32_t> offsets(chunks + 1, 0), idx;
+    idx.reserve(ends_.size() * 2);
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::size_t end = std::min(ends_.size(), (c + 1) * kChunk);
+      for (std::size_t l = c * kChunk; l < end; ++l) {
+        idx.push_back(ends_[l].a);
+        idx.push_back(ends_[l].b);
+      }
+      offsets[c + 1] = static_cast<std::uint32_t>(idx.size());
+    }
+    Colouring col = colour_sets(offsets, idx, point_count);
+    chunk_order_ = std::move(col.order);
+    groups_ = std::move(col.offsets);
+  }
+
+  void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
+    std::uint64_t active = 0;  // this thread's count
+    for (std::size_t g = 0; g + 1 < groups_.size(); ++g) {
+      const auto begin = static_cast<std::int64_t>(groups_[g]);
+      const auto end = static_cast<std::int64_t>(groups_[g + 1]);
+#pragma omp for schedule(static)
+      for (std::int64_t c = begin; c < end; ++c)
+        active += run_chunk(chunk_order_[static_cast<std::size_t>(c)], x, v, f);
+    }
+    if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
+#pragma omp atomic
+      counters.active += active;
+    }
+  }
+
+  double energy(const Vec3* x) const override {
+    double sum = 0;
+    for (std::size_t l = 0; l < ends_.size(); ++l)
+      sum += K::energy(x[ends_[l].a], x[ends_[l].b], params_[l]);
+    return sum;
+  }
+
+  void stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
+                       std::span<Real> c_row) const override {
+    if constexpr (requires { K::is_active(Vec3{}, Vec3{}, params_[0]); }) {
+      conditional_stability_terms(inv_mass, k_row, c_row);
+    } else {
+      for (std::size_t l = 0; l < ends_.size(); ++l) {
+        const auto [a, b] = ends_[l];
+        const Real k = K::stiffness(params_[l]), c = K::damping(params_[l]);
+        const Real wa = inv_mass[b] > 0 ? 2 : 1, wb = inv_mass[a] > 0 ? 2 : 1;
+        k_row[a] += wa * k;
+        c_row[a] += wa * c;
+        k_row[b] += wb * k;
+        c_row[b] += wb * c;
+      }
+    }
+  }
+
+  // A point may hold hundreds of conditional links (one per floor point) of which only a few
+  // can be active at once: counting them all would make the bound uselessly small. A point is
+  // assumed to touch at most kSimultaneousContacts partners at a time (4: a point resting in the
+  // hollow of a square bed of spheres), each as stiff as its stiffest conditional link.
+  static constexpr Real kSimultaneousContacts = 4;
+  void conditional_stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
+                                   std::span<Real> c_row) const {
+    std::vector<Real> k_max(k_row.size(), 0), c_max(k_row.size(), 0);
+    for (std::size_t l = 0; l < ends_.size(); ++l) {
+      const auto [a, b] = ends_[l];
+      const Real k = K::stiffness(params_[l]), c = K::damping(params_[l]);
+      const Real wa = inv_mass[b] > 0 ? 2 : 1, wb = inv_mass[a] > 0 ? 2 : 1;
+      k_max[a] = std::max(k_max[a], wa * k);
+      c_max[a] = std::max(c_max[a], wa * c);
+      k_max[b] = std::max(k_max[b], wb * k);
+      c_max[b] = std::max(c_max[b], wb * c);
+    }
+    for (std::size_t i = 0; i < k_row.size(); ++i) {
+      k_row[i] += kSimultaneousContacts * k_max[i];
+      c_row[i] += kSimultaneousContacts * c_max[i];
+    }
+  }
+
+  Real max_stiffness() const override {
+    Real m = 0;
+    for (const auto& p : params_) m = std::max<Real>(m, K::stiffness(p));
+    return m;
+  }
+
+  WorstLink worst(const Vec3* x, const Vec3* v) const override {
+    WorstLink w;
+    w.badness = -1;
+    for (std::size_t l = 0; l < ends_.size(); ++l) {
+      const auto [a, b] = ends_[l];
+      const Vec3 fa = K::force(x[a], x[b], v[a], v[b], params_[l]);
+      Real bad;
+      if (!is_finite(x[a]) || !is_finite(x[b]) || !is_finite(fa)) {
+        bad = INFINITY;
+      } else {
+        const Real d = norm(x[b] - x[a]), d0 = rest_hint(l);
+        bad = std::abs(d - d0) / std::max<Real>(d0, Real(1e-9));
+      }
+      if (bad > w.badness) w = {l, ends_[l], bad};
+    }
+    return w;
+  }
+
+  std::unique_ptr<LinkPoolBase> clone() const override {
+    return std::make_unique<LinkPool<K>>(*this);
+  }
+
+  // The distance scale of link l, for strain in diagnostics: a field named rest_length or
+  // threshold when the kind has one, else 1 m.
+  Real rest_hint(std::size_t l) const {
+    for (const auto& f : K::fields)
+      if (f.name == "rest_length" || f.name == "threshold") return params_[l].*(f.member);
+    return 1;
+  }
+
+ private:
+  static constexpr std::size_t kChunk = 256;
+
+  // Forces of one chunk of links. Kinds that are always active compute all forces first in a
+  // loop the compiler vectorises (gathers, packed sqrt and division), then scatter them: the
+  // fused gather-compute-scatter loop ran at ~10 ns per link, bound by the scalar sqrt/div
+  // latency chain and store-to-load forwarding between links sharing a point. Conditional
+  // kinds test cheaply first and compute only the few active links.
+  std::uint64_t run_chunk(std::size_t c, const Vec3* x, const Vec3* v, Vec3* f) const {
+    const std::size_t begin = c * kChunk, end = std::min(ends_.size(), begin + kChunk);
+    const LinkEnds* e = ends_.data();
+    const Params* p = params_.data();
+    if constexpr (requires { K::is_active(x[0], x[0], p[0]); }) {
+      std::uint64_t active = 0;
+      for (std::size_t l = begin; l < end; ++l) {
+        const std::uint32_t a = e[l].a, b = e[l].b;
+        if (!K::is_active(x[a], x[b], p[l])) continue;
+        ++active;
+        const Vec3 fa = K::force(x[a], x[b], v[a], v[b], p[l]);
+        f[a] += fa;
+        f[b] -= fa;
+      }
+      return active;
+    } else {
+      Real fx[kChunk], fy[kChunk], fz[kChunk];  // uninitialised on purpose: fully written
+      const std::size_t n = end - begin;
+#pragma omp simd
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::uint32_t a = e[begin + k].a, b = e[begin + k].b;
+        const Vec3 fa = K::force(x[a], x[b], v[a], v[b], p[begin + k]);
+        fx[k] = fa.x;
+        fy[k] = fa.y;
+        fz[k] = fa.z;
+      }
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec3 fa{fx[k], fy[k], fz[k]};
+        f[e[begin + k].a] += fa;
+        f[e[begin + k].b] -= fa;
+      }
+      return 0;
+    }
+  }
+
+  std::vector<LinkEnds> ends_;
+  std::vector<Params> params_;
+  std::vector<std::uint32_t> chunk_order_;  // chunk indices grouped by colour (prepare())
+  std::vector<std::uint32_t> groups_;       // colour c spans chunk_order_[groups_[c]..[c+1])
+};
+
+// The model's links: one pool per kind, in the order kinds were first used.
+class LinkSet {
+ public:
+  LinkSet() = default;
+  LinkSet(const LinkSet& other);
+  LinkSet& operator=(const LinkSet& other);
+  LinkSet(LinkSet&&) noexcept = default;
+  LinkSet& operator=(LinkSet&&) noexcept = default;
+
+  template <LinkKind K>
+  LinkPool<K>& pool() {
+    for (auto& p : pools_)
+      if (auto* typed = dynamic_cast<LinkPool<K>*>(p.get())) return *typed;
+    pools_.push_back(std::make_unique<LinkPool<K>>());
+    return static_cast<LinkPool<K>&>(*pools_.back());
+  }
+  LinkPoolBase* find(std::string_view keyword);
+  const LinkPoolBase* find(std::string_view keyword) const;
+  LinkPoolBase& adopt(std::unique_ptr<LinkPoolBase> pool);
+
+  std::span<const std::unique_ptr<LinkPoolBase>> pools() const { return pools_; }
+  std::size_t total() const;
+  void prepare(std::uint32_t point_count);
+
+ private:
+  std::vector<std::unique_ptr<LinkPoolBase>> pools_;
+};
+
+}  // namespace maille

@@ -1,0 +1,61 @@
+// Conditional (thresholded) spring-damper: silent while the distance is at or beyond its
+// threshold, a spring-damper toward `rest_length` (default: the threshold, so the force is
+// continuous) while closer. The CORDIS contact brick: it works between any two points.
+//
+// The distance is a policy: `Distance::separation(xa, xb)` returns the length and unit direction
+// the law acts along, and `Distance::within(xa, xb, s)` the cheap activity test. Point-to-point contact uses the Euclidean one; geometric contacts (a point
+// against a canonical shape through affine maps) plug their own in and keep the same law.
+#pragma once
+
+#include <array>
+
+#include "maille/links/spring_damper.hpp"
+
+namespace maille {
+
+struct EuclideanDistance {
+  static Separation separation(const Vec3& xa, const Vec3& xb) { return maille::separation(xa, xb); }
+  // Cheap pre-test without the square root.
+  static bool within(const Vec3& xa, const Vec3& xb, Real s) { return norm2(xb - xa) < s * s; }
+};
+
+template <class Distance = EuclideanDistance>
+struct ConditionalSpringDamperT {
+  static constexpr std::string_view keyword = "conditional";
+  struct Params {
+    Real stiffness = 0;    // k, N/m
+    Real damping = 0;      // z, N.s/m
+    Real threshold = 0;    // s, m: active while distance < s
+    Real rest_length = 0;  // L0, m (the scene defaults it to the threshold)
+  };
+  static constexpr std::array<ParamField<Params>, 4> fields{{
+      {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
+      {"damping", "N.s/m", &Params::damping, Bound::non_negative, Real(0), false, "z"},
+      {"threshold", "m", &Params::threshold, Bound::positive, {}, false,
+       "active while the distance is below it"},
+      {"rest_length", "m", &Params::rest_length, Bound::non_negative, {}, false,
+       "default: the threshold (force continuous at the threshold)", "threshold"},
+  }};
+
+  static bool is_active(const Vec3& xa, const Vec3& xb, const Params& p) {
+    return Distance::within(xa, xb, p.threshold);
+  }
+  static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
+                    const Params& p) {
+    const Separation s = Distance::separation(xa, xb);
+    if (s.length >= p.threshold) return {};
+    return spring_damper_force(s, vb - va, p.stiffness, p.rest_length, p.damping);
+  }
+  static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
+    const Real d = Distance::separation(xa, xb).length;
+    if (d >= p.threshold) return 0;
+    const Real e = d - p.rest_length;
+    return Real(0.5) * p.stiffness * e * e;
+  }
+  static Real stiffness(const Params& p) { return p.stiffness; }
+  static Real damping(const Params& p) { return p.damping; }
+};
+
+using ConditionalSpringDamper = ConditionalSpringDamperT<>;
+
+}  // namespace maille

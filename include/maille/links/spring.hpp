@@ -1,0 +1,54 @@
+// Spring (linear, Hooke): f_a = k (|d| - L0) d/|d|,  d = x_b - x_a.  Energy 1/2 k (|d| - L0)^2.
+#pragma once
+
+#include <algorithm>
+#include <array>
+
+#include "maille/link_kind.hpp"
+
+namespace maille {
+
+// Unit direction and length of d = xb - xa; a zero-length link has no direction (n = 0).
+struct Separation {
+  Real length = 0;
+  Vec3 n{};
+};
+// Lengths below kTinyLength are treated as zero: adding it to |d| keeps 1/|d| finite (so a
+// zero-length link gets n = 0 and a finite force, never NaN) and changes no length above 1e-15 m
+// by more than rounding. Branch-free on purpose: a compare-and-select or fmax here blocked GCC
+// 12's vectoriser on the link loops.
+inline constexpr Real kTinyLength = Real(1e-30);  // m
+
+inline Real inverse_length(const Vec3& d) { return Real(1) / (norm(d) + kTinyLength); }
+
+inline Separation separation(const Vec3& xa, const Vec3& xb) {
+  const Vec3 d = xb - xa;
+  const Real len = norm(d);
+  return {len, d * (Real(1) / (len + kTinyLength))};
+}
+
+struct Spring {
+  static constexpr std::string_view keyword = "spring";
+  struct Params {
+    Real stiffness = 0;    // k, N/m
+    Real rest_length = 0;  // L0, m
+  };
+  static constexpr std::array<ParamField<Params>, 2> fields{{
+      {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
+      {"rest_length", "m", &Params::rest_length, Bound::non_negative, {}, true,
+       "L0; default: the distance between the points in the scene"},
+  }};
+
+  static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3&, const Vec3&, const Params& p) {
+    const Vec3 d = xb - xa;
+    return d * (p.stiffness * (1 - p.rest_length * inverse_length(d)));
+  }
+  static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
+    const Real e = norm(xb - xa) - p.rest_length;
+    return Real(0.5) * p.stiffness * e * e;
+  }
+  static Real stiffness(const Params& p) { return p.stiffness; }
+  static Real damping(const Params&) { return 0; }
+};
+
+}  // namespace maille

@@ -1,0 +1,46 @@
+// Spring-damper: a spring and an axial dashpot in parallel, sharing one direction computation.
+//   f_a = [k (|d| - L0) + z (v_b - v_a).n] n
+#pragma once
+
+#include <array>
+
+#include "maille/links/spring.hpp"
+
+namespace maille {
+
+// The shared law of spring-dampers and conditional links: pure, value in, value out.
+inline Vec3 spring_damper_force(const Separation& s, const Vec3& dv, Real k, Real rest, Real z) {
+  return s.n * (k * (s.length - rest) + z * dot(dv, s.n));
+}
+
+struct SpringDamper {
+  static constexpr std::string_view keyword = "spring_damper";
+  struct Params {
+    Real stiffness = 0;    // k, N/m
+    Real rest_length = 0;  // L0, m
+    Real damping = 0;      // z, N.s/m
+  };
+  static constexpr std::array<ParamField<Params>, 3> fields{{
+      {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
+      {"rest_length", "m", &Params::rest_length, Bound::non_negative, {}, true,
+       "L0; default: the distance between the points in the scene"},
+      {"damping", "N.s/m", &Params::damping, Bound::non_negative, Real(0), false, "z"},
+  }};
+
+  // Written on d itself (one sqrt, one division, no normalised n): with inv = 1/|d|,
+  //   f_a = [k (1 - L0 inv) + z (dv.d) inv^2] d
+  static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
+                    const Params& p) {
+    const Vec3 d = xb - xa;
+    const Real inv = inverse_length(d);
+    return d * (p.stiffness * (1 - p.rest_length * inv) + p.damping * dot(vb - va, d) * inv * inv);
+  }
+  static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
+    const Real e = norm(xb - xa) - p.rest_length;
+    return Real(0.5) * p.stiffness * e * e;
+  }
+  static Real stiffness(const Params& p) { return p.stiffness; }
+  static Real damping(const Params& p) { return p.damping; }
+};
+
+}  // namespace maille

@@ -1,0 +1,41 @@
+// Per-step timings and counters: every stage of the step is timed into one of these.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace maille {
+
+class Profile {
+ public:
+  struct Stage {
+    std::string name;
+    double last_ns = 0;   // time spent in the stage during the last step, ns
+    double total_ns = 0;  // since the start (or the last reset), ns
+  };
+  struct Counter {
+    std::string name;
+    std::uint64_t last = 0;   // value during the last step
+    std::uint64_t total = 0;  // summed over steps
+  };
+
+  // Returns a handle; calling it twice with one name returns the same handle.
+  int stage(const std::string& name);
+  int counter(const std::string& name);
+  void add_time(int stage, double ns);
+  void set_count(int counter, std::uint64_t value);
+  void begin_step();  // zeroes the `last` values
+
+  const std::vector<Stage>& stages() const { return stages_; }
+  const std::vector<Counter>& counters() const { return counters_; }
+  double total_ns() const;
+  std::uint64_t steps() const { return steps_; }
+
+ private:
+  std::vector<Stage> stages_;
+  std::vector<Counter> counters_;
+  std::uint64_t steps_ = 0;
+};
+
+}  // namespace maille

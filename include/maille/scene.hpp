@@ -1,0 +1,31 @@
+// Scenes: TOML text -> validated model and settings. docs/scene-format.md lists every key.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "maille/link_registry.hpp"
+#include "maille/model.hpp"
+#include "maille/result.hpp"
+#include "maille/simulator.hpp"
+
+namespace maille {
+
+struct Scene {
+  std::string name;  // [scene] name, or the file stem
+  std::string description;
+  std::filesystem::path source;
+  Model model;
+  SimulationSettings settings;
+};
+
+// Reads and validates a scene. Link kinds are looked up in `kinds` (the built-ins by default;
+// pass a registry with your own kinds added to use them in scene files).
+Result<Scene> load_scene(const std::filesystem::path& path);
+Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds);
+// Same, from text; `source_name` is used in error messages.
+Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
+                          const LinkKindRegistry& kinds);
+
+}  // namespace maille

@@ -1,0 +1,22 @@
+#include "stages.hpp"
+
+namespace maille::stages {
+
+// One parallel region for all pools: each pool splits its colour groups among the threads
+// (orphaned `omp for` inside LinkPool::accumulate), so the region is opened once per step.
+LinkCounters link_forces(const Model& m, State& s, int threads) {
+  LinkCounters counters;
+  const Vec3* x = s.x().data();
+  const Vec3* v = s.v().data();
+  Vec3* f = s.f().data();
+  const auto pools = m.links.pools();
+  if (threads > 1) {
+#pragma omp parallel num_threads(threads)
+    for (const auto& pool : pools) pool->accumulate(x, v, f, counters);
+  } else {
+    for (const auto& pool : pools) pool->accumulate(x, v, f, counters);
+  }
+  return counters;
+}
+
+}  // namespace maille::stages

@@ -1,0 +1,42 @@
+#include "maille/link_kind.hpp"
+
+namespace maille {
+
+LinkSet::LinkSet(const LinkSet& other) {
+  for (const auto& p : other.pools_) pools_.push_back(p->clone());
+}
+
+LinkSet& LinkSet::operator=(const LinkSet& other) {
+  if (this != &other) *this = LinkSet(other);
+  return *this;
+}
+
+LinkPoolBase* LinkSet::find(std::string_view keyword) {
+  for (auto& p : pools_)
+    if (p->keyword() == keyword) return p.get();
+  return nullptr;
+}
+
+const LinkPoolBase* LinkSet::find(std::string_view keyword) const {
+  for (const auto& p : pools_)
+    if (p->keyword() == keyword) return p.get();
+  return nullptr;
+}
+
+LinkPoolBase& LinkSet::adopt(std::unique_ptr<LinkPoolBase> pool) {
+  if (LinkPoolBase* existing = find(pool->keyword())) return *existing;
+  pools_.push_back(std::move(pool));
+  return *pools_.back();
+}
+
+std::size_t LinkSet::total() const {
+  std::size_t n = 0;
+  for (const auto& p : pools_) n += p->size();
+  return n;
+}
+
+void LinkSet::prepare(std::uint32_t point_count) {
+  for (auto& p : pools_) p->prepare(point_count);
+}
+
+}  // namespace maille

@@ -1,0 +1,54 @@
+#include "maille/state.hpp"
+
+#include <cstring>
+#include <new>
+
+namespace maille {
+
+namespace {
+constexpr std::size_t kPage = 4096;
+constexpr std::size_t kStagger = 192;  // bytes added per array so bases differ modulo 4 KiB
+constexpr std::size_t kAlign = 64;
+}  // namespace
+
+PointArrays::PointArrays(std::size_t count, int arrays) : count_(count), arrays_(arrays) {
+  const std::size_t bytes = count * sizeof(Vec3);
+  stride_bytes_ = (bytes + kPage - 1) / kPage * kPage + kStagger;
+  const std::size_t total = stride_bytes_ * static_cast<std::size_t>(arrays) + kAlign;
+  storage_ = std::make_unique<std::byte[]>(total);  // value-initialised: all zeros
+}
+
+PointArrays::PointArrays(const PointArrays& other)
+    : PointArrays(other.count_, other.arrays_) {
+  for (int a = 0; a < arrays_; ++a)
+    if (count_ > 0) std::memcpy(base(a), other.base(a), count_ * sizeof(Vec3));
+}
+
+PointArrays& PointArrays::operator=(const PointArrays& other) {
+  if (this != &other) *this = PointArrays(other);
+  return *this;
+}
+
+Vec3* PointArrays::base(int which) const {
+  auto raw = reinterpret_cast<std::uintptr_t>(storage_.get());
+  raw = (raw + kAlign - 1) / kAlign * kAlign;
+  return std::launder(reinterpret_cast<Vec3*>(raw + stride_bytes_ * static_cast<std::size_t>(which)));
+}
+
+State::State(std::size_t points) : buffers(points, 3) {}
+
+std::uint64_t state_hash(const State& s) {
+  // FNV-1a over the raw bytes: any bit difference shows.
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  mix(s.x().data(), s.size() * sizeof(Vec3));
+  mix(s.v().data(), s.size() * sizeof(Vec3));
+  mix(&s.time, sizeof s.time);
+  mix(&s.step, sizeof s.step);
+  return h;
+}
+
+}  // namespace maille

@@ -1,0 +1,37 @@
+#include "maille/io.hpp"
+
+namespace maille {
+
+StatsWriter::StatsWriter(std::filesystem::path path) : file_(std::move(path)) {}
+
+StatsWriter::~StatsWriter() {
+  try {
+    close();
+  } catch (...) {  // a destructor must not throw; close() reports errors when called directly
+  }
+}
+
+void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
+  auto& o = file_.stream();
+  if (rows_ == 0) {
+    o << "time,step,kinetic,elastic,gravity,total";
+    for (const auto& s : profile.stages()) o << ",ns_" << s.name;
+    for (const auto& c : profile.counters()) o << ',' << c.name;
+    o << '\n';
+  }
+  const Energies& e = sample.energies;
+  o << sample.time << ',' << sample.step << ',' << e.kinetic << ',' << e.elastic << ','
+    << e.gravity << ',' << e.total();
+  for (const auto& s : profile.stages()) o << ',' << s.last_ns;
+  for (const auto& c : profile.counters()) o << ',' << c.last;
+  o << '\n';
+  ++rows_;
+}
+
+void StatsWriter::close() {
+  if (closed_) return;
+  closed_ = true;
+  file_.commit();
+}
+
+}  // namespace maille

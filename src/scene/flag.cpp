@@ -1,0 +1,55 @@
+// Flag: grid cloth hung on a pole. Structural links hold the weave, shear links (cell
+// diagonals) keep cells from collapsing into lozenges, bending links (every other point)
+// resist folding; all are spring-dampers with rest lengths taken from the built grid.
+#include <stdexcept>
+
+#include "build_helpers.hpp"
+
+namespace maille {
+
+namespace {
+bool fixed_in_flag(const FlagParams& p, std::uint32_t i, std::uint32_t j) {
+  if (p.fixed == "pole") return i == 0;
+  if (p.fixed == "corners") return i == 0 && (j == 0 || j == p.ny - 1);
+  if (p.fixed == "top") return j == p.ny - 1;
+  if (p.fixed == "top_corners") return j == p.ny - 1 && (i == 0 || i == p.nx - 1);
+  if (p.fixed == "none") return false;
+  throw std::invalid_argument("flag: unknown fixed mode '" + p.fixed + "'");
+}
+}  // namespace
+
+Group build_flag(Model& m, const FlagParams& p, const std::string& name) {
+  if (p.nx < 2 || p.ny < 2) throw std::invalid_argument("flag resolution must be >= 2");
+  const std::uint32_t first = m.points.size();
+  const Vec3 along = build::unit(p.along), up = build::unit(p.up);
+  const Real dx = p.width / Real(p.nx - 1), dy = p.height / Real(p.ny - 1);
+  const Real point_mass = p.mass / Real(p.nx * p.ny);
+  for (std::uint32_t j = 0; j < p.ny; ++j)
+    for (std::uint32_t i = 0; i < p.nx; ++i) {
+      const bool fixed = fixed_in_flag(p, i, j);
+      m.points.add(fixed ? PointKind::fixed : PointKind::free, point_mass,
+                   p.origin + along * (Real(i) * dx) + up * (Real(j) * dy));
+    }
+  auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
+  const Real k = p.material.stiffness, z = p.material.damping;
+  // Links point by point, so that a point's links sit close together in memory.
+  for (std::uint32_t j = 0; j < p.ny; ++j)
+    for (std::uint32_t i = 0; i < p.nx; ++i) {
+      if (i + 1 < p.nx) build::link(m, id(i, j), id(i + 1, j), k, z);
+      if (j + 1 < p.ny) build::link(m, id(i, j), id(i, j + 1), k, z);
+      if (i + 1 < p.nx && j + 1 < p.ny) {
+        build::link(m, id(i, j), id(i + 1, j + 1), p.shear_stiffness, z);
+        build::link(m, id(i + 1, j), id(i, j + 1), p.shear_stiffness, z);
+      }
+      if (i + 2 < p.nx) build::link(m, id(i, j), id(i + 2, j), p.bending_stiffness, z);
+      if (j + 2 < p.ny) build::link(m, id(i, j), id(i, j + 2), p.bending_stiffness, z);
+    }
+  for (std::uint32_t j = 0; j + 1 < p.ny; ++j)
+    for (std::uint32_t i = 0; i + 1 < p.nx; ++i) {
+      m.surface.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      m.surface.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return build::group(m, name, "flag", first);
+}
+
+}  // namespace maille

@@ -1,0 +1,41 @@
+// Net: a grid of knots joined by cords along the two grid directions only, so it has no
+// shear stiffness and drapes freely; no faces (wind passes through a net).
+#include <stdexcept>
+
+#include "build_helpers.hpp"
+
+namespace maille {
+
+namespace {
+bool fixed_in_net(const NetParams& p, std::uint32_t i, std::uint32_t j) {
+  const bool first_i = i == 0, last_i = i + 1 == p.nx, first_j = j == 0, last_j = j + 1 == p.ny;
+  if (p.fixed == "corners") return (first_i || last_i) && (first_j || last_j);
+  if (p.fixed == "ends") return first_i || last_i;
+  if (p.fixed == "edges") return first_i || last_i || first_j || last_j;
+  if (p.fixed == "top") return last_j;
+  if (p.fixed == "all") return true;
+  if (p.fixed == "none") return false;
+  throw std::invalid_argument("net: unknown fixed mode '" + p.fixed + "'");
+}
+}  // namespace
+
+Group build_net(Model& m, const NetParams& p, const std::string& name) {
+  if (p.nx < 2 || p.ny < 2) throw std::invalid_argument("net resolution must be >= 2");
+  const std::uint32_t first = m.points.size();
+  const Vec3 along = build::unit(p.along), across = build::unit(p.across);
+  const Real dx = p.width / Real(p.nx - 1), dy = p.depth / Real(p.ny - 1);
+  const Real point_mass = p.mass / Real(p.nx * p.ny);
+  for (std::uint32_t j = 0; j < p.ny; ++j)
+    for (std::uint32_t i = 0; i < p.nx; ++i)
+      m.points.add(fixed_in_net(p, i, j) ? PointKind::fixed : PointKind::free, point_mass,
+                   p.origin + along * (Real(i) * dx) + across * (Real(j) * dy));
+  auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
+  for (std::uint32_t j = 0; j < p.ny; ++j)
+    for (std::uint32_t i = 0; i < p.nx; ++i) {
+      if (i + 1 < p.nx) build::link(m, id(i, j), id(i + 1, j), p.material.stiffness, p.material.damping);
+      if (j + 1 < p.ny) build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping);
+    }
+  return build::group(m, name, "net", first);
+}
+
+}  // namespace maille

@@ -1,0 +1,292 @@
+// Scene files: TOML -> validated Model + SimulationSettings.
+//
+// Order of construction (point indices follow it): [[mass]] and [[fixed]] points in file order,
+// then each builder keyword in the order of builder_tables() (flag, rope, net, membrane,
+// lattice, floor), each in file order; then [[link]] and [[contact]]. Points are best referred
+// to by name ("bob") or by group and index ("flag:17"); a bare integer is a global index.
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "builder_tables.hpp"
+#include "maille/builders.hpp"
+#include "maille/scene.hpp"
+#include "toml_cursor.hpp"
+
+namespace maille {
+
+namespace {
+
+constexpr std::size_t kMaxContactLinks = 20'000'000;
+
+class SceneReader {
+ public:
+  SceneReader(const LinkKindRegistry& kinds, std::string file)
+      : kinds_(kinds), file_(std::move(file)) {}
+
+  Scene read(const toml::table& root) {
+    TomlCursor top(root, file_, "");
+    Scene scene;
+    if (auto t = top.table("scene")) {
+      scene.name = t->text("name", "");
+      scene.description = t->text("description", "");
+      t->finish();
+    }
+    if (auto t = top.table("simulation")) scene.settings = simulation(*t);
+    if (auto t = top.table("fields")) scene.model.fields = fields(*t);
+    for (auto& t : top.tables("mass")) point(t, scene.model, PointKind::free);
+    for (auto& t : top.tables("fixed")) point(t, scene.model, PointKind::fixed);
+    for (const auto& b : builder_tables())
+      for (auto& t : top.tables(b.keyword)) builder(t, scene.model, b);
+    for (auto& t : top.tables("link")) link(t, scene.model);
+    for (auto& t : top.tables("contact")) contact(t, scene.model);
+    top.finish();
+    if (scene.model.points.size() == 0)
+      throw SceneFailure{{file_, 0, 0, "", "the scene has no point (add [[mass]] or a builder)"}};
+    return scene;
+  }
+
+ private:
+  SimulationSettings simulation(TomlCursor& t) {
+    SimulationSettings s;
+    s.integrator = t.text("integrator", s.integrator);
+    if (!IntegratorRegistry::builtin().find(s.integrator))
+      t.fail("integrator", "unknown integrator '" + s.integrator +
+                               "' (known: " + IntegratorRegistry::builtin().names() + ")");
+    s.step = t.real("step", static_cast<Real>(s.step), Bound::positive);
+    s.duration = t.real("duration", static_cast<Real>(s.duration), Bound::positive);
+    s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, 1 << 30));
+    s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, 1 << 30));
+    s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
+    s.runaway_factor = t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
+    t.finish();
+    return s;
+  }
+
+  Fields fields(TomlCursor& t) {
+    Fields f;
+    f.gravity = t.vec3("gravity", f.gravity);
+    f.air_drag = t.real("air_drag", f.air_drag, Bound::non_negative);
+    if (auto w = t.table("wind")) {
+      f.wind.velocity = w->vec3("velocity", f.wind.velocity);
+      f.wind.density = w->real("density", f.wind.density, Bound::positive);
+      f.wind.drag_coefficient = w->real("drag_coefficient", f.wind.drag_coefficient, Bound::non_negative);
+      f.wind.turbulence = w->real("turbulence", f.wind.turbulence, Bound::non_negative);
+      f.wind.gust_frequency = w->real("gust_frequency", f.wind.gust_frequency, Bound::positive);
+      f.wind.gust_wavelength = w->real("gust_wavelength", f.wind.gust_wavelength, Bound::positive);
+      w->finish();
+    }
+    t.finish();
+    return f;
+  }
+
+  void claim_name(TomlCursor& t, const std::string& name) {
+    if (name.empty() || name.find(':') != std::string::npos)
+      t.fail("name", "must be a non-empty name without ':'");
+    if (!names_.insert(name).second) t.fail("name", "duplicate name '" + name + "'");
+  }
+
+  void point(TomlCursor& t, Model& m, PointKind kind) {
+    const std::string name = t.text("name", "");
+    const Vec3 x = t.vec3("position");
+    const Real mass = t.real("mass", 1, Bound::positive);
+    const Vec3 v = kind == PointKind::free ? t.vec3("velocity", Vec3{}) : Vec3{};
+    std::optional<DrivePath> path;
+    if (kind == PointKind::fixed)
+      if (auto d = t.table("drive")) path = drive(*d, x);
+    const std::uint32_t first = m.points.size();
+    m.points.add(path ? PointKind::driven : kind, mass, x, v);
+    if (path) m.drives.push_back({first, *path});
+    if (!name.empty()) {
+      claim_name(t, name);
+      m.groups.push_back({name, "point", first, 1});
+    }
+    t.finish();
+  }
+
+  DrivePath drive(TomlCursor& t, const Vec3& origin) {
+    DrivePath p;
+    p.origin = origin;
+    const std::string kind = t.text("path", "sine", {"sine", "circle", "keyframes"});
+    p.phase = t.real("phase", 0, Bound::any);
+    if (kind == "sine") {
+      p.kind = DrivePath::Kind::sine;
+      p.amplitude = t.vec3("amplitude");
+      p.frequency = t.real("frequency", Bound::positive);
+    } else if (kind == "circle") {
+      p.kind = DrivePath::Kind::circle;
+      p.radius = t.real("radius", Bound::positive);
+      p.axis = t.vec3("axis", p.axis);
+      if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
+      p.frequency = t.real("frequency", Bound::positive);
+    } else {
+      p.kind = DrivePath::Kind::keyframes;
+      keyframes(t, p);
+    }
+    t.finish();
+    return p;
+  }
+
+  // keys = [[t, x, y, z], ...] with increasing t; positions are offsets from the point's scene
+  // position, so the same path can drive every fixed point of a builder.
+  void keyframes(TomlCursor& t, DrivePath& p) {
+    const toml::node* n = t.node("keys");
+    const toml::array* a = n ? n->as_array() : nullptr;
+    if (!a || a->size() < 2) t.fail("keys", "must be an array of at least 2 [t, x, y, z] keys");
+    for (const auto& key : *a) {
+      const toml::array* k = key.as_array();
+      if (!k || k->size() != 4) t.fail_at(key.source(), "keys", "each key must be [t, x, y, z]");
+      double v[4];
+      for (std::size_t i = 0; i < 4; ++i) {
+        const auto d = (*k)[i].value<double>();
+        if (!d || !std::isfinite(*d)) t.fail_at((*k)[i].source(), "keys", "must be numbers");
+        v[i] = *d;
+      }
+      if (!p.keys.empty() && !(v[0] > p.keys.back().first))
+        t.fail_at(key.source(), "keys", "times must increase");
+      p.keys.push_back({v[0], p.origin + Vec3{Real(v[1]), Real(v[2]), Real(v[3])}});
+    }
+  }
+
+  void builder(TomlCursor& t, Model& m, const BuilderTable& b) {
+    const std::string name = t.text("name", std::string(b.keyword) + std::to_string(m.groups.size()));
+    claim_name(t, name);
+    std::optional<TomlCursor> drive_table = t.table("drive");
+    const Group g = b.build(t, m, name);
+    if (drive_table) {
+      // The same path, offset to each fixed point of the group (a pole that shakes).
+      const DrivePath proto = drive(*drive_table, Vec3{});
+      for (std::uint32_t i = g.first; i < g.first + g.count; ++i) {
+        if (m.points.kind[i] != PointKind::fixed) continue;
+        DrivePath path = proto;
+        path.origin = m.points.initial_position[i];
+        for (auto& k : path.keys) k.second += path.origin;
+        m.points.set_kind(i, PointKind::driven);
+        m.drives.push_back({i, path});
+      }
+    }
+    t.finish();
+  }
+
+  std::uint32_t point_ref(TomlCursor& t, std::string_view key, const Model& m) {
+    const toml::node* n = t.node(key);
+    if (!n) t.fail(key, "is required but missing");
+    if (n->is_integer()) {
+      const std::int64_t i = *n->value<std::int64_t>();
+      if (i < 0 || i >= m.points.size())
+        t.fail(key, "point index " + std::to_string(i) + " does not exist (the scene has " +
+                        std::to_string(m.points.size()) + " points)");
+      return static_cast<std::uint32_t>(i);
+    }
+    if (!n->is_string()) t.fail(key, "must be a point name, \"group:index\" or an index");
+    const std::string ref = *n->value<std::string>();
+    const auto colon = ref.find(':');
+    const Group* g = m.group(ref.substr(0, colon));
+    if (!g) t.fail(key, "no point or group named '" + ref.substr(0, colon) + "'");
+    if (colon == std::string::npos) {
+      if (g->count != 1) t.fail(key, "'" + ref + "' is a group: use '" + ref + ":index'");
+      return g->first;
+    }
+    std::size_t used = 0;
+    long long i = -1;
+    try {
+      i = std::stoll(ref.substr(colon + 1), &used);
+    } catch (const std::exception&) {
+    }
+    if (i < 0 || used != ref.size() - colon - 1 || i >= g->count)
+      t.fail(key, "'" + ref + "': index must be in [0, " + std::to_string(g->count - 1) + "]");
+    return g->first + static_cast<std::uint32_t>(i);
+  }
+
+  void link(TomlCursor& t, Model& m) {
+    const std::string kind = t.text("kind");
+    const LinkKindRegistry::Entry* entry = kinds_.find(kind);
+    if (!entry) t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.keywords() + ")");
+    const std::uint32_t a = point_ref(t, "a", m), b = point_ref(t, "b", m);
+    if (a == b) t.fail("b", "a link needs two different points");
+    std::vector<Real> values(entry->fields.size());
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      const ParamInfo& f = entry->fields[k];
+      if (auto v = t.maybe_real(f.name, f.bound)) values[k] = *v;
+      else if (f.default_value) values[k] = *f.default_value;
+      else if (f.default_is_distance)
+        values[k] = norm(m.points.initial_position[b] - m.points.initial_position[a]);
+      else if (f.default_from.empty()) t.fail(f.name, "is required for a " + kind + " link");
+    }
+    for (std::size_t k = 0; k < values.size(); ++k)  // defaults taken from another field
+      if (!entry->fields[k].default_from.empty() && !t.has(entry->fields[k].name))
+        for (std::size_t j = 0; j < values.size(); ++j)
+          if (entry->fields[j].name == entry->fields[k].default_from) values[k] = values[j];
+    LinkPoolBase* pool = m.links.find(kind);
+    if (!pool) pool = &m.links.adopt(entry->make_pool());
+    pool->add_generic({a, b}, values);
+    t.finish();
+  }
+
+  void contact(TomlCursor& t, Model& m) {
+    const toml::node* n = t.node("between");
+    const toml::array* a = n ? n->as_array() : nullptr;
+    if (!a || a->size() != 2 || !(*a)[0].is_string() || !(*a)[1].is_string())
+      t.fail("between", "must name two groups: between = [\"a\", \"b\"]");
+    const Group* g[2];
+    for (std::size_t i = 0; i < 2; ++i) {
+      const std::string name = *(*a)[i].value<std::string>();
+      g[i] = m.group(name);
+      if (!g[i]) t.fail_at((*a)[i].source(), "between", "no group named '" + name + "'");
+    }
+    if (g[0] == g[1]) t.fail("between", "the two groups must differ (self-collision is a stage)");
+    ContactParams p;
+    p.stiffness = t.real("stiffness", Bound::positive);
+    p.damping = t.real("damping", 0, Bound::non_negative);
+    p.threshold = t.real("threshold", Bound::positive);
+    p.rest_length = t.real("rest_length", p.threshold, Bound::non_negative);
+    if (std::size_t(g[0]->count) * g[1]->count > kMaxContactLinks)
+      t.fail("between", "too many pairs (" + std::to_string(std::size_t(g[0]->count) * g[1]->count) +
+                            " > " + std::to_string(kMaxContactLinks) + ")");
+    build_contacts(m, *g[0], *g[1], p);
+    t.finish();
+  }
+
+  const LinkKindRegistry& kinds_;
+  std::string file_;
+  std::set<std::string> names_;
+};
+
+}  // namespace
+
+Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
+                          const LinkKindRegistry& kinds) {
+  try {
+    const toml::table root = toml::parse(text, source_name);
+    Scene scene = SceneReader(kinds, source_name).read(root);
+    return scene;
+  } catch (const toml::parse_error& e) {
+    return InputError{source_name, static_cast<int>(e.source().begin.line),
+                      static_cast<int>(e.source().begin.column), "",
+                      "TOML syntax: " + std::string(e.description())};
+  } catch (const SceneFailure& f) {
+    return f.error;
+  }
+}
+
+Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return InputError{path.string(), 0, 0, "", "cannot open the scene file"};
+  std::stringstream text;
+  text << in.rdbuf();
+  Result<Scene> r = parse_scene(text.str(), path.string(), kinds);
+  if (r) {
+    r->source = path;
+    if (r->name.empty()) r->name = path.stem().string();
+  }
+  return r;
+}
+
+Result<Scene> load_scene(const std::filesystem::path& path) {
+  static const LinkKindRegistry builtins = LinkKindRegistry::with_builtins();
+  return load_scene(path, builtins);
+}
+
+}  // namespace maille

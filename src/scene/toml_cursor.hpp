@@ -1,0 +1,70 @@
+// TomlCursor: reads one TOML table key by key, checking types and ranges, remembering which keys
+// were read so that finish() can name any unknown key. Every error carries file, line, column
+// and the dotted key path, and is thrown as SceneFailure (caught by the scene reader).
+#pragma once
+
+#include <initializer_list>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#define TOML_HEADER_ONLY 0
+#include <toml++/toml.h>
+
+#include "maille/link_kind.hpp"
+#include "maille/result.hpp"
+
+namespace maille {
+
+struct SceneFailure {
+  InputError error;
+};
+
+class TomlCursor {
+ public:
+  TomlCursor(const toml::table& table, std::string file, std::string path);
+
+  const std::string& path() const { return path_; }
+  const std::string& file() const { return file_; }
+  bool has(std::string_view key) const { return table_.contains(key); }
+
+  Real real(std::string_view key, Bound bound);  // required
+  Real real(std::string_view key, Real fallback, Bound bound);
+  std::optional<Real> maybe_real(std::string_view key, Bound bound);
+  std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min,
+                       std::int64_t max);
+  bool boolean(std::string_view key, bool fallback);
+  std::string text(std::string_view key);  // required
+  std::string text(std::string_view key, std::string fallback,
+                   std::initializer_list<std::string_view> choices = {});
+  Vec3 vec3(std::string_view key);  // required
+  Vec3 vec3(std::string_view key, Vec3 fallback);
+  // An array of `n` integers >= min (resolutions).
+  std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback,
+                                     std::int64_t min);
+  // The raw node (marked as read); null when absent.
+  const toml::node* node(std::string_view key);
+  std::optional<TomlCursor> table(std::string_view key);
+  std::vector<TomlCursor> tables(std::string_view key);  // an array of tables
+
+  [[noreturn]] void fail(std::string_view key, const std::string& message) const;
+  [[noreturn]] void fail_at(const toml::source_region& where, std::string_view key,
+                            const std::string& message) const;
+  void finish() const;  // fails on the first key never read
+
+ private:
+  std::string key_path(std::string_view key) const;
+  const toml::node& require(std::string_view key);
+
+  const toml::table& table_;
+  std::string file_;
+  std::string path_;
+  std::set<std::string, std::less<>> used_;
+};
+
+// "must be > 0 (got -1)" style check of a bound; returns the message or empty.
+std::string check_bound(Real value, Bound bound);
+
+}  // namespace maille

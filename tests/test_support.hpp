@@ -1,0 +1,55 @@
+// Small model factories shared by the tests.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "maille/links/damper.hpp"
+#include "maille/links/spring.hpp"
+#include "maille/links/spring_damper.hpp"
+#include "maille/simulator.hpp"
+
+namespace maille::test {
+
+// A mass m on a spring-damper (k, z, rest L) to a fixed point at the origin, displaced by A
+// along x; no gravity. u = x - L obeys u'' = -(k/m) u - (z/m) u'.
+inline Model oscillator(Real m, Real k, Real z, Real L, Real A) {
+  Model model;
+  model.fields.gravity = {0, 0, 0};
+  const auto anchor = model.points.add(PointKind::fixed, 1, {0, 0, 0});
+  const auto bob = model.points.add(PointKind::free, m, {L + A, 0, 0});
+  if (z == 0) model.links.pool<Spring>().add({anchor, bob}, {k, L});
+  else model.links.pool<SpringDamper>().add({anchor, bob}, {k, L, z});
+  return model;
+}
+
+inline SimulationSettings settings(double h, const char* integrator = "leapfrog") {
+  SimulationSettings s;
+  s.step = h;
+  s.integrator = integrator;
+  s.publish_every = 1 << 30;
+  s.sample_every = 1 << 30;
+  s.threads = 1;
+  return s;
+}
+
+// Times at which u = x - L crosses zero upwards, linearly interpolated between steps.
+inline std::vector<double> upward_crossings(Simulator& sim, std::uint32_t point, Real L,
+                                            std::uint64_t steps) {
+  std::vector<double> t;
+  double prev = sim.state().x()[point].x - L, prev_t = sim.state().time;
+  for (std::uint64_t i = 0; i < steps; ++i) {
+    sim.step();
+    const double u = sim.state().x()[point].x - L, now = sim.state().time;
+    if (prev < 0 && u >= 0) t.push_back(prev_t + (now - prev_t) * (-prev) / (u - prev));
+    prev = u;
+    prev_t = now;
+  }
+  return t;
+}
+
+inline double mean_period(const std::vector<double>& crossings) {
+  return (crossings.back() - crossings.front()) / double(crossings.size() - 1);
+}
+
+}  // namespace maille::test
