@@ -33,12 +33,17 @@ void BM_FlagStep(benchmark::State& st) {
   maille::Simulator sim(flag_model(n), s);
   for (auto _ : st) sim.step();
   const double ps = double(st.iterations()) * n * n;
-  st.counters["ns_pps"] = benchmark::Counter(ps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-  st.counters["ns_pps"] = benchmark::Counter(ps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_pps"] =
+      benchmark::Counter(ps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_pps"] =
+      benchmark::Counter(ps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   st.counters["threads"] = threads;
 }
 
 }  // namespace
 
-BENCHMARK(BM_FlagStep)->ArgsProduct({{32, 128, 512}, {1, 0}})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK_MAIN();
+BENCHMARK(BM_FlagStep)
+    ->ArgsProduct({{32, 128, 512}, {1, 0}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+

@@ -18,8 +18,10 @@ inline Model oscillator(Real m, Real k, Real z, Real L, Real A) {
   model.fields.gravity = {0, 0, 0};
   const auto anchor = model.points.add(PointKind::fixed, 1, {0, 0, 0});
   const auto bob = model.points.add(PointKind::free, m, {L + A, 0, 0});
-  if (z == 0) model.links.pool<Spring>().add({anchor, bob}, {k, L});
-  else model.links.pool<SpringDamper>().add({anchor, bob}, {k, L, z});
+  if (z == 0)
+    model.links.pool<Spring>().add({anchor, bob}, {k, L});
+  else
+    model.links.pool<SpringDamper>().add({anchor, bob}, {k, L, z});
   return model;
 }
 

@@ -18,7 +18,9 @@ namespace maille::app {
 namespace {
 
 std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop = true; }
+extern "C" void on_signal(int) {
+  g_stop = true;
+}
 
 std::optional<Scene> load_or_report(const std::string& path) {
   Result<Scene> r = load_scene(path);
@@ -29,15 +31,16 @@ std::optional<Scene> load_or_report(const std::string& path) {
   return std::move(r.value());
 }
 
-std::uint64_t points_of(const Model& m, PointKind k) { return m.points.count(k); }
+std::uint64_t points_of(const Model& m, PointKind k) {
+  return m.points.count(k);
+}
 
 void warn_if_unstable(const Simulator& sim) {
   const auto& st = sim.stability();
   if (sim.settings().step > st.max_step)
     std::cerr << "warning: step " << sim.settings().step << " s exceeds the "
               << sim.integrator().name() << " stability estimate " << st.max_step << " s (set by "
-              << st.link_kind << " links at point " << st.point
-              << "); expect a blow-up\n";
+              << st.link_kind << " links at point " << st.point << "); expect a blow-up\n";
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -87,8 +90,8 @@ int info(const std::string& path) {
     std::cout << "stability    largest stable step " << st.max_step << " s (" << st.link_kind
               << " links at point " << st.point << ", omega " << st.omega << " rad/s, damping "
               << st.damping_rate << " 1/s); the scene's step is "
-              << (s.step <= st.max_step ? "within it" : "BEYOND it") << " ("
-              << s.step / st.max_step << " of the limit)\n";
+              << (s.step <= st.max_step ? "within it" : "BEYOND it") << " (" << s.step / st.max_step
+              << " of the limit)\n";
   }
   return ok;
 }
@@ -106,7 +109,8 @@ int run(const RunOptions& o) {
   }
   const std::uint64_t steps =
       o.steps ? *o.steps
-              : static_cast<std::uint64_t>(std::llround((o.duration ? *o.duration : settings.duration) / settings.step));
+              : static_cast<std::uint64_t>(
+                    std::llround((o.duration ? *o.duration : settings.duration) / settings.step));
   const std::filesystem::path out =
       o.out.empty() ? std::filesystem::path("out") / scene->name : std::filesystem::path(o.out);
 
@@ -129,12 +133,13 @@ int run(const RunOptions& o) {
     stats.close();
 
     const double particle_steps = double(done) * sim.model().points.size();
-    std::printf("maille: %s: %llu steps (%.4g s simulated) in %.3g s wall, %.3g ns per particle-step, "
-                "%llu frames and %llu stats rows in %s\n",
-                scene->name.c_str(), static_cast<unsigned long long>(done), double(done) * settings.step,
-                wall, particle_steps > 0 ? wall * 1e9 / particle_steps : 0.0,
-                static_cast<unsigned long long>(frames.written()),
-                static_cast<unsigned long long>(stats.rows()), out.string().c_str());
+    std::printf(
+        "maille: %s: %llu steps (%.4g s simulated) in %.3g s wall, %.3g ns per particle-step, "
+        "%llu frames and %llu stats rows in %s\n",
+        scene->name.c_str(), static_cast<unsigned long long>(done), double(done) * settings.step,
+        wall, particle_steps > 0 ? wall * 1e9 / particle_steps : 0.0,
+        static_cast<unsigned long long>(frames.written()),
+        static_cast<unsigned long long>(stats.rows()), out.string().c_str());
     if (sim.blow_up()) {
       std::cerr << "error: " << sim.blow_up()->message << '\n';
       return blow_up;
@@ -145,8 +150,8 @@ int run(const RunOptions& o) {
       return interrupted;
     }
     const Energies e = sim.energies();
-    std::printf("maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g)\n", e.total(),
-                e.kinetic, e.elastic, e.gravity);
+    std::printf("maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g)\n",
+                e.total(), e.kinetic, e.elastic, e.gravity);
   } catch (const std::runtime_error& e) {
     std::cerr << "error: " << e.what() << '\n';
     return output_error;

@@ -8,7 +8,14 @@
 
 namespace maille::app {
 
-enum Exit : int { ok = 0, bad_input = 1, usage = 2, blow_up = 3, output_error = 4, interrupted = 130 };
+enum Exit : int {
+  ok = 0,
+  bad_input = 1,
+  usage = 2,
+  blow_up = 3,
+  output_error = 4,
+  interrupted = 130
+};
 
 struct RunOptions {
   std::string scene;

@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->excludes(steps);
   run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)");
-  run_cmd->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
+  run_cmd
+      ->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--format", ro.format, "Frame format")
       ->check(CLI::IsMember({"ply", "obj", "vtk"}));
@@ -32,8 +33,11 @@ int main(int argc, char** argv) {
   info_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
 
   BenchOptions bo;
-  auto* bench_cmd = app.add_subcommand("bench", "Run a scene for a fixed number of steps; print CSV");
-  bench_cmd->add_option("scene", bo.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  auto* bench_cmd =
+      app.add_subcommand("bench", "Run a scene for a fixed number of steps; print CSV");
+  bench_cmd->add_option("scene", bo.scene, "Scene file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
   bench_cmd->add_option("--steps", bo.steps, "Steps per repetition")->check(CLI::PositiveNumber);
   bench_cmd->add_option("--threads", bo.threads, "Threads (default: the scene's, else auto)")
       ->check(CLI::PositiveNumber);

@@ -22,16 +22,16 @@ struct LinkMaterial {
 // spring-dampers, two faces per cell. Point (i, j) has index first + j * nx + i; i runs along
 // `along` (the width), j along `up` (the height); (0, 0) is at `origin`.
 struct FlagParams {
-  Vec3 origin{};                  // m, bottom corner on the pole
-  Vec3 along{1, 0, 0};            // unit direction of the width (away from the pole)
-  Vec3 up{0, 1, 0};               // unit direction of the height (along the pole)
-  Real width = Real(1.5);         // m
-  Real height = 1;                // m
-  std::uint32_t nx = 30, ny = 20; // points along width and height, >= 2
-  Real mass = Real(0.3);          // kg, total
+  Vec3 origin{};                   // m, bottom corner on the pole
+  Vec3 along{1, 0, 0};             // unit direction of the width (away from the pole)
+  Vec3 up{0, 1, 0};                // unit direction of the height (along the pole)
+  Real width = Real(1.5);          // m
+  Real height = 1;                 // m
+  std::uint32_t nx = 30, ny = 20;  // points along width and height, >= 2
+  Real mass = Real(0.3);           // kg, total
   LinkMaterial material{200, Real(0.05)};
-  Real shear_stiffness = 100;     // N/m
-  Real bending_stiffness = 20;    // N/m (0: no bending links)
+  Real shear_stiffness = 100;   // N/m
+  Real bending_stiffness = 20;  // N/m (0: no bending links)
   // Which points are fixed: "pole" (the column i = 0), "corners" (the two pole corners),
   // "top" (the row j = ny-1), "top_corners", "none".
   std::string fixed = "pole";
@@ -46,7 +46,7 @@ struct RopeParams {
   std::uint32_t points = 20;  // >= 2
   Real mass = 1;              // kg, total
   LinkMaterial material{1000, Real(0.1)};
-  Real bending_stiffness = 0;  // N/m
+  Real bending_stiffness = 0;   // N/m
   std::string fixed = "start";  // "start", "end", "both", "none"
 };
 Group build_rope(Model& m, const RopeParams& p, const std::string& name);
@@ -56,7 +56,7 @@ struct NetParams {
   Vec3 origin{};
   Vec3 along{1, 0, 0};
   Vec3 across{0, 0, 1};
-  Real width = 1, depth = 1;   // m
+  Real width = 1, depth = 1;  // m
   std::uint32_t nx = 15, ny = 15;
   Real mass = 1;  // kg, total
   LinkMaterial material{500, Real(0.05)};
@@ -81,11 +81,11 @@ Group build_membrane(Model& m, const MembraneParams& p, const std::string& name)
 // A 3-D lattice of points in a box (or the ball inscribed in it): structural links along the
 // axes, shear links across faces and through cubes. Its outer faces form the surface.
 struct LatticeParams {
-  Vec3 origin{};            // m, minimum corner
-  Vec3 size{1, 1, 1};       // m
+  Vec3 origin{};                                     // m, minimum corner
+  Vec3 size{1, 1, 1};                                // m
   std::array<std::uint32_t, 3> resolution{5, 5, 5};  // points per axis, >= 2
-  std::string shape = "box";  // "box" or "ball"
-  Real mass = 1;              // kg, total
+  std::string shape = "box";                         // "box" or "ball"
+  Real mass = 1;                                     // kg, total
   LinkMaterial material{2000, Real(0.5)};
   Real shear_stiffness = 1000;  // N/m, face and body diagonals
   Vec3 velocity{};              // m/s, initial velocity of every point
@@ -103,8 +103,8 @@ Group build_floor(Model& m, const FloorParams& p, const std::string& name);
 
 // Conditional links between every pair (one point from each group, at least one free).
 struct ContactParams {
-  Real stiffness = 1000;  // N/m
-  Real damping = 0;       // N.s/m
+  Real stiffness = 1000;       // N/m
+  Real damping = 0;            // N.s/m
   Real threshold = Real(0.1);  // m
   Real rest_length = -1;       // m; < 0: the threshold
 };

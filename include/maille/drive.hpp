@@ -17,12 +17,12 @@ struct DrivePath {
     keyframes,  // piecewise linear through (t, x) keys; held at the ends
   };
   Kind kind = Kind::sine;
-  Vec3 origin{};         // x0, m (the point's scene position)
-  Vec3 amplitude{};      // m (sine)
-  Vec3 axis{0, 1, 0};    // rotation axis (circle)
-  Real radius = 0;       // m (circle)
-  Real frequency = 0;    // Hz
-  Real phase = 0;        // rad
+  Vec3 origin{};                              // x0, m (the point's scene position)
+  Vec3 amplitude{};                           // m (sine)
+  Vec3 axis{0, 1, 0};                         // rotation axis (circle)
+  Real radius = 0;                            // m (circle)
+  Real frequency = 0;                         // Hz
+  Real phase = 0;                             // rad
   std::vector<std::pair<double, Vec3>> keys;  // (s, m), increasing times (keyframes)
 
   Vec3 position(double t) const;

@@ -9,9 +9,9 @@
 namespace maille {
 
 struct Energies {
-  double kinetic = 0;    // J, 1/2 m v^2 over free points
-  double elastic = 0;    // J, potential stored in links
-  double gravity = 0;    // J, -m g.x over free points (zero at the origin)
+  double kinetic = 0;  // J, 1/2 m v^2 over free points
+  double elastic = 0;  // J, potential stored in links
+  double gravity = 0;  // J, -m g.x over free points (zero at the origin)
   double total() const { return kinetic + elastic + gravity; }
 };
 

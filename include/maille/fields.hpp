@@ -13,12 +13,12 @@ namespace maille {
 // Gusts: w = U (1 + turbulence * g(x, t)) + turbulence |U| * c(x, t) with g, c smooth sums of
 // travelling sines (deterministic), so a flag flutters instead of settling into a static sail.
 struct WindField {
-  Vec3 velocity{};              // U, mean wind velocity, m/s
-  Real density = Real(1.2);     // rho, air density, kg/m^3
-  Real drag_coefficient = 1;    // C_d, pressure coefficient of a face, dimensionless
-  Real turbulence = 0;          // relative gust amplitude, dimensionless, >= 0
-  Real gust_frequency = 1;      // Hz
-  Real gust_wavelength = 2;     // m
+  Vec3 velocity{};            // U, mean wind velocity, m/s
+  Real density = Real(1.2);   // rho, air density, kg/m^3
+  Real drag_coefficient = 1;  // C_d, pressure coefficient of a face, dimensionless
+  Real turbulence = 0;        // relative gust amplitude, dimensionless, >= 0
+  Real gust_frequency = 1;    // Hz
+  Real gust_wavelength = 2;   // m
 
   bool active() const { return norm2(velocity) > 0 || turbulence > 0; }
   Vec3 at(const Vec3& p, double t) const;

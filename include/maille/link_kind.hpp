@@ -56,7 +56,7 @@ template <class K>
 concept LinkKind = requires(const Vec3& x, const typename K::Params& p) {
   { K::keyword } -> std::convertible_to<std::string_view>;
   { K::fields.size() } -> std::convertible_to<std::size_t>;
-  { K::force(x, x, x, x, p) } -> std::same_as<Vec3>;  // force on a (b receives -force)
+  { K::force(x, x, x, x, p) } -> std::same_as<Vec3>;    // force on a (b receives -force)
   { K::energy(x, x, p) } -> std::convertible_to<Real>;  // potential energy, J
   { K::stiffness(p) } -> std::convertible_to<Real>;     // bound on |df/dx|, N/m (stability)
   { K::damping(p) } -> std::convertible_to<Real>;       // bound on |df/dv|, N.s/m (stability)
@@ -128,6 +128,8 @@ class LinkPool final : public LinkPoolBase {
     params_.push_back(p);
     groups_.clear();  // needs prepare() again
     chunk_order_.clear();
+    chunk_begin_.clear();
+    chunk_is_run_.clear();
   }
 
   std::vector<ParamInfo> fields() const override {
@@ -153,17 +155,19 @@ class LinkPool final : public LinkPoolBase {
     for (auto& p : params_) p.*(K::fields[field].member) *= factor;
   }
 
-  // Links stay in the order they were built (builders emit them point by point, so a chunk
-  // of consecutive links touches a compact patch of points). Chunks of kChunk links are
-  // coloured: no two chunks of one colour share a point, so threads split each colour freely,
-  // and serial runs use the same order, so sums per point are identical for any thread count.
+  // Always-active kinds are sorted by (b - a, a): links of one family (say, every horizontal
+  // link of a grid) then follow each other with both ends advancing by one point, and such
+  // runs are processed with contiguous loads instead of gathers. The links are then cut into
+  // chunks (a run, or up to kChunk other links), and chunks are coloured: no two chunks of one
+  // colour share a point, so threads split each colour freely, and serial runs use the same
+  // order, so every point sums its forces in the same order whatever the thread count.
   void prepare(std::uint32_t point_count) override {
-    const std::size_t chunks = (ends_.size() + kChunk - 1) / kChunk;
-    std::vector<std::uint32_t> offsets(chunks + 1, 0), idx;
+    if constexpr (!requires { K::is_active(Vec3{}, Vec3{}, params_[0]); }) sort_by_family();
+    cut_chunks();
+    std::vector<std::uint32_t> offsets(chunk_begin_.size(), 0), idx;
     idx.reserve(ends_.size() * 2);
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::size_t end = std::min(ends_.size(), (c + 1) * kChunk);
-      for (std::size_t l = c * kChunk; l < end; ++l) {
+    for (std::size_t c = 0; c + 1 < chunk_begin_.size(); ++c) {
+      for (std::size_t l = chunk_begin_[c]; l < chunk_begin_[c + 1]; ++l) {
         idx.push_back(ends_[l].a);
         idx.push_back(ends_[l].b);
       }
@@ -274,14 +278,57 @@ class LinkPool final : public LinkPoolBase {
 
  private:
   static constexpr std::size_t kChunk = 256;
+  static constexpr std::size_t kMinRun = 8;  // shorter runs are not worth a chunk of their own
+
+  void sort_by_family() {
+    std::vector<std::uint32_t> order(ends_.size());
+    for (std::size_t l = 0; l < order.size(); ++l) order[l] = static_cast<std::uint32_t>(l);
+    auto key = [&](std::uint32_t l) {
+      return std::pair{std::int64_t(ends_[l].b) - std::int64_t(ends_[l].a), ends_[l].a};
+    };
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::uint32_t i, std::uint32_t j) { return key(i) < key(j); });
+    std::vector<LinkEnds> e(ends_.size());
+    std::vector<Params> p(params_.size());
+    for (std::size_t l = 0; l < order.size(); ++l) {
+      e[l] = ends_[order[l]];
+      p[l] = params_[order[l]];
+    }
+    ends_ = std::move(e);
+    params_ = std::move(p);
+  }
+
+  // run[l]: how many links from l on continue l's pattern (a + 1, b + 1).
+  void cut_chunks() {
+    const std::size_t n = ends_.size();
+    std::vector<std::uint32_t> run(n + 1, 0);
+    for (std::size_t l = n; l-- > 0;) {
+      const bool next = l + 1 < n && ends_[l + 1].a == ends_[l].a + 1 && ends_[l + 1].b == ends_[l].b + 1;
+      run[l] = next ? run[l + 1] + 1 : 1;
+    }
+    chunk_begin_.assign(1, 0);
+    chunk_is_run_.clear();
+    for (std::size_t l = 0; l < n;) {
+      std::size_t end = l;
+      const bool is_run = run[l] >= kMinRun;
+      if (is_run) {
+        end = l + std::min<std::size_t>(run[l], kChunk);
+      } else {
+        while (end < n && end - l < kChunk && (end == l || run[end] < kMinRun)) ++end;
+      }
+      chunk_begin_.push_back(static_cast<std::uint32_t>(end));
+      chunk_is_run_.push_back(is_run);
+      l = end;
+    }
+  }
 
   // Forces of one chunk of links. Kinds that are always active compute all forces first in a
-  // loop the compiler vectorises (gathers, packed sqrt and division), then scatter them: the
-  // fused gather-compute-scatter loop ran at ~10 ns per link, bound by the scalar sqrt/div
-  // latency chain and store-to-load forwarding between links sharing a point. Conditional
+  // loop the compiler vectorises (packed sqrt and division; contiguous loads on runs, gathers
+  // otherwise), then scatter them: the fused gather-compute-scatter loop is bound by the scalar
+  // sqrt/div chain and by store-to-load forwarding between links sharing a point. Conditional
   // kinds test cheaply first and compute only the few active links.
   std::uint64_t run_chunk(std::size_t c, const Vec3* x, const Vec3* v, Vec3* f) const {
-    const std::size_t begin = c * kChunk, end = std::min(ends_.size(), begin + kChunk);
+    const std::size_t begin = chunk_begin_[c], end = chunk_begin_[c + 1];
     const LinkEnds* e = ends_.data();
     const Params* p = params_.data();
     if constexpr (requires { K::is_active(x[0], x[0], p[0]); }) {
@@ -298,6 +345,22 @@ class LinkPool final : public LinkPoolBase {
     } else {
       Real fx[kChunk], fy[kChunk], fz[kChunk];  // uninitialised on purpose: fully written
       const std::size_t n = end - begin;
+      if (chunk_is_run_[c]) {
+        const std::uint32_t a0 = e[begin].a, b0 = e[begin].b;
+        const Vec3 *xa = x + a0, *xb = x + b0, *va = v + a0, *vb = v + b0;
+#pragma omp simd
+        for (std::size_t k = 0; k < n; ++k) {
+          const Vec3 fa = K::force(xa[k], xb[k], va[k], vb[k], p[begin + k]);
+          fx[k] = fa.x;
+          fy[k] = fa.y;
+          fz[k] = fa.z;
+        }
+        Vec3* fa = f + a0;
+        Vec3* fb = f + b0;
+        for (std::size_t k = 0; k < n; ++k) fa[k] += Vec3{fx[k], fy[k], fz[k]};
+        for (std::size_t k = 0; k < n; ++k) fb[k] -= Vec3{fx[k], fy[k], fz[k]};
+        return 0;
+      }
 #pragma omp simd
       for (std::size_t k = 0; k < n; ++k) {
         const std::uint32_t a = e[begin + k].a, b = e[begin + k].b;
@@ -317,6 +380,8 @@ class LinkPool final : public LinkPoolBase {
 
   std::vector<LinkEnds> ends_;
   std::vector<Params> params_;
+  std::vector<std::uint32_t> chunk_begin_;  // chunk c spans links [begin[c], begin[c+1])
+  std::vector<std::uint8_t> chunk_is_run_;  // chunk c is a run: a and b advance by one
   std::vector<std::uint32_t> chunk_order_;  // chunk indices grouped by colour (prepare())
   std::vector<std::uint32_t> groups_;       // colour c spans chunk_order_[groups_[c]..[c+1])
 };

@@ -10,11 +10,11 @@
 namespace maille {
 
 struct StabilityEstimate {
-  Real max_step = 0;          // s; +inf when nothing is stiff (no links)
-  std::uint32_t point = 0;    // the point that sets it
-  std::string link_kind;      // the stiffest kind acting on that point
-  Real omega = 0;             // rad/s, bound on the highest angular frequency at that point
-  Real damping_rate = 0;      // 1/s, c at that point
+  Real max_step = 0;        // s; +inf when nothing is stiff (no links)
+  std::uint32_t point = 0;  // the point that sets it
+  std::string link_kind;    // the stiffest kind acting on that point
+  Real omega = 0;           // rad/s, bound on the highest angular frequency at that point
+  Real damping_rate = 0;    // 1/s, c at that point
 };
 
 // For each free point i: omega_i^2 = inv_m_i * sum_links k (x2 when the other end is free),

@@ -29,12 +29,14 @@ std::size_t segment(const std::vector<std::pair<double, Vec3>>& keys, double t) 
 Vec3 DrivePath::position(double t) const {
   const double a = kTau * frequency * t + phase;
   switch (kind) {
-    case Kind::sine: return origin + amplitude * Real(std::sin(a) - std::sin(phase));
+    case Kind::sine:
+      return origin + amplitude * Real(std::sin(a) - std::sin(phase));
     case Kind::circle: {
       Vec3 u, w;
       plane_basis(axis, u, w);
-      return origin + (u * Real(std::cos(a) - std::cos(phase)) +
-                       w * Real(std::sin(a) - std::sin(phase))) * radius;
+      return origin +
+             (u * Real(std::cos(a) - std::cos(phase)) + w * Real(std::sin(a) - std::sin(phase))) *
+                 radius;
     }
     case Kind::keyframes: {
       if (keys.empty()) return origin;
@@ -53,7 +55,8 @@ Vec3 DrivePath::velocity(double t) const {
   const double a = kTau * frequency * t + phase;
   const double da = kTau * frequency;
   switch (kind) {
-    case Kind::sine: return amplitude * Real(da * std::cos(a));
+    case Kind::sine:
+      return amplitude * Real(da * std::cos(a));
     case Kind::circle: {
       Vec3 u, w;
       plane_basis(axis, u, w);
@@ -70,8 +73,10 @@ Vec3 DrivePath::velocity(double t) const {
 
 Real DrivePath::max_speed() const {
   switch (kind) {
-    case Kind::sine: return Real(kTau * frequency) * norm(amplitude);
-    case Kind::circle: return Real(kTau * frequency) * radius;
+    case Kind::sine:
+      return Real(kTau * frequency) * norm(amplitude);
+    case Kind::circle:
+      return Real(kTau * frequency) * radius;
     case Kind::keyframes: {
       Real top = 0;
       for (std::size_t i = 0; i + 1 < keys.size(); ++i)

@@ -7,9 +7,12 @@ namespace maille {
 
 std::string_view to_string(PointKind kind) {
   switch (kind) {
-    case PointKind::free: return "mass";
-    case PointKind::fixed: return "fixed";
-    case PointKind::driven: return "driven";
+    case PointKind::free:
+      return "mass";
+    case PointKind::fixed:
+      return "fixed";
+    case PointKind::driven:
+      return "driven";
   }
   return "?";
 }

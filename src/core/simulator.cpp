@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -216,7 +217,8 @@ void Simulator::sample_energies() {
 // across the scene's extent, the wind's and the drives' kinetic energy, and 1 J/kg at least.
 double Simulator::energy_scale() const {
   const auto& p = model_.points;
-  Vec3 lo{1e30, 1e30, 1e30}, hi{-1e30, -1e30, -1e30};
+  constexpr Real big = std::numeric_limits<Real>::max();
+  Vec3 lo{big, big, big}, hi{-big, -big, -big};
   double free_mass = 0;
   for (std::uint32_t i = 0; i < p.size(); ++i) {
     const Vec3& x = p.initial_position[i];
@@ -259,7 +261,7 @@ void Simulator::check_health() {
 // broken (non-finite, or stretched furthest from its rest length), with the stability hint.
 void Simulator::fail(std::string module, std::string detail) {
   std::ostringstream msg;
-  msg << "blow-up at step " << state_.step << " (t = " << state_.time << " s): " << detail;
+  msg << "blow-up detected at step " << state_.step << " (t = " << state_.time << " s): " << detail;
   WorstLink worst{0, {}, -1};
   std::string worst_kind;
   for (const auto& pool : model_.links.pools()) {
@@ -291,6 +293,8 @@ void Simulator::publish() {
   ++snapshot_.frame;
 }
 
-void Simulator::publish_now() { publish(); }
+void Simulator::publish_now() {
+  publish();
+}
 
 }  // namespace maille

@@ -18,8 +18,7 @@ PointArrays::PointArrays(std::size_t count, int arrays) : count_(count), arrays_
   storage_ = std::make_unique<std::byte[]>(total);  // value-initialised: all zeros
 }
 
-PointArrays::PointArrays(const PointArrays& other)
-    : PointArrays(other.count_, other.arrays_) {
+PointArrays::PointArrays(const PointArrays& other) : PointArrays(other.count_, other.arrays_) {
   for (int a = 0; a < arrays_; ++a)
     if (count_ > 0) std::memcpy(base(a), other.base(a), count_ * sizeof(Vec3));
 }
@@ -32,7 +31,8 @@ PointArrays& PointArrays::operator=(const PointArrays& other) {
 Vec3* PointArrays::base(int which) const {
   auto raw = reinterpret_cast<std::uintptr_t>(storage_.get());
   raw = (raw + kAlign - 1) / kAlign * kAlign;
-  return std::launder(reinterpret_cast<Vec3*>(raw + stride_bytes_ * static_cast<std::size_t>(which)));
+  return std::launder(
+      reinterpret_cast<Vec3*>(raw + stride_bytes_ * static_cast<std::size_t>(which)));
 }
 
 State::State(std::size_t points) : buffers(points, 3) {}

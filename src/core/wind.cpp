@@ -16,8 +16,9 @@ double gust_sin(double x) {
   if (x > pi / 2) x = pi - x;
   if (x < -pi / 2) x = -pi - x;
   const double x2 = x * x;
-  return x * (1 + x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 +
-                                                                      x2 * (-1.0 / 39916800))))));
+  return x * (1 + x2 * (-1.0 / 6 +
+                        x2 * (1.0 / 120 +
+                              x2 * (-1.0 / 5040 + x2 * (1.0 / 362880 + x2 * (-1.0 / 39916800))))));
 }
 
 }  // namespace
@@ -36,7 +37,8 @@ Vec3 WindField::at(const Vec3& p, double t) const {
   constexpr double tau = 2 * std::numbers::pi;
   const double s = dot(u, p) / gust_wavelength, q = dot(e2, p) / gust_wavelength;
   const double ft = gust_frequency * t;
-  const double g = 0.6 * gust_sin(tau * (ft - s)) + 0.4 * gust_sin(tau * (1.73 * ft - 1.31 * s + 0.5 * q) + 1.1);
+  const double g =
+      0.6 * gust_sin(tau * (ft - s)) + 0.4 * gust_sin(tau * (1.73 * ft - 1.31 * s + 0.5 * q) + 1.1);
   const double c1 = 0.5 * gust_sin(tau * (1.37 * ft - 0.8 * s + 0.3 * q) + 0.7);
   const double c2 = 0.3 * gust_sin(tau * (0.61 * ft - 1.2 * s) + 2.1);
   return velocity * Real(1 + turbulence * g) +

@@ -35,8 +35,8 @@ void kick_drift(const Model& m, State& s, Real kick, Real drift, int threads) {
 const IntegratorRegistry& IntegratorRegistry::builtin() {
   static const IntegratorRegistry registry = [] {
     IntegratorRegistry r;
-    r.add({"leapfrog", "CORDIS leapfrog, half-step velocities, 2nd order (default)",
-           make_leapfrog});
+    r.add(
+        {"leapfrog", "CORDIS leapfrog, half-step velocities, 2nd order (default)", make_leapfrog});
     r.add({"symplectic_euler", "kick-drift Euler, 1st order, symplectic", make_symplectic_euler});
     return r;
   }();

@@ -29,7 +29,8 @@ class Leapfrog final : public Integrator {
     const auto v = s.v();
     const auto f = s.f();
     const Real half = primed_ ? Real(0.5) * h : Real(0);
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = v[i] + f[i] * (m.points.inv_mass[i] * half);
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = v[i] + f[i] * (m.points.inv_mass[i] * half);
   }
 
   Real stable_step(Real omega2, Real c) const override { return kick_drift_stable_step(omega2, c); }
@@ -42,6 +43,8 @@ class Leapfrog final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_leapfrog() { return std::make_unique<Leapfrog>(); }
+std::unique_ptr<Integrator> make_leapfrog() {
+  return std::make_unique<Leapfrog>();
+}
 
 }  // namespace maille

@@ -19,6 +19,8 @@ class SymplecticEuler final : public Integrator {
 
 }  // namespace
 
-std::unique_ptr<Integrator> make_symplectic_euler() { return std::make_unique<SymplecticEuler>(); }
+std::unique_ptr<Integrator> make_symplectic_euler() {
+  return std::make_unique<SymplecticEuler>();
+}
 
 }  // namespace maille

@@ -17,8 +17,8 @@ std::vector<LinkEnds> all_links(const Model& m) {
 
 void ply(std::ostream& o, const Model& m, const Snapshot& s) {
   const auto links = all_links(m);
-  o << "ply\nformat ascii 1.0\ncomment maille frame " << s.frame << " step " << s.step
-    << " time " << s.time << "\nelement vertex " << s.positions.size()
+  o << "ply\nformat ascii 1.0\ncomment maille frame " << s.frame << " step " << s.step << " time "
+    << s.time << "\nelement vertex " << s.positions.size()
     << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar fixed\n"
     << "element face " << m.surface.triangles.size() << "\nproperty list uchar int vertex_indices\n"
     << "element edge " << links.size() << "\nproperty int vertex1\nproperty int vertex2\n"
@@ -51,10 +51,12 @@ void vtk(std::ostream& o, const Model& m, const Snapshot& s) {
   }
   if (tris) {
     o << "POLYGONS " << tris << ' ' << tris * 4 << '\n';
-    for (const auto& t : m.surface.triangles) o << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    for (const auto& t : m.surface.triangles)
+      o << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
   }
   o << "POINT_DATA " << s.positions.size() << "\nSCALARS fixed int 1\nLOOKUP_TABLE default\n";
-  for (std::size_t i = 0; i < s.positions.size(); ++i) o << (m.points.inv_mass[i] > 0 ? 0 : 1) << '\n';
+  for (std::size_t i = 0; i < s.positions.size(); ++i)
+    o << (m.points.inv_mass[i] > 0 ? 0 : 1) << '\n';
 }
 
 }  // namespace
@@ -68,9 +70,12 @@ std::optional<FrameFormat> parse_frame_format(std::string_view name) {
 
 std::string_view extension(FrameFormat f) {
   switch (f) {
-    case FrameFormat::ply: return "ply";
-    case FrameFormat::obj: return "obj";
-    case FrameFormat::vtk: return "vtk";
+    case FrameFormat::ply:
+      return "ply";
+    case FrameFormat::obj:
+      return "obj";
+    case FrameFormat::vtk:
+      return "vtk";
   }
   return "";
 }
@@ -79,9 +84,15 @@ void write_frame(const std::filesystem::path& path, FrameFormat format, const Mo
                  const Snapshot& s) {
   AtomicFile file(path);
   switch (format) {
-    case FrameFormat::ply: ply(file.stream(), m, s); break;
-    case FrameFormat::obj: obj(file.stream(), m, s); break;
-    case FrameFormat::vtk: vtk(file.stream(), m, s); break;
+    case FrameFormat::ply:
+      ply(file.stream(), m, s);
+      break;
+    case FrameFormat::obj:
+      obj(file.stream(), m, s);
+      break;
+    case FrameFormat::vtk:
+      vtk(file.stream(), m, s);
+      break;
   }
   file.commit();
 }

@@ -20,8 +20,8 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
     o << '\n';
   }
   const Energies& e = sample.energies;
-  o << sample.time << ',' << sample.step << ',' << e.kinetic << ',' << e.elastic << ','
-    << e.gravity << ',' << e.total();
+  o << sample.time << ',' << sample.step << ',' << e.kinetic << ',' << e.elastic << ',' << e.gravity
+    << ',' << e.total();
   for (const auto& s : profile.stages()) o << ',' << s.last_ns;
   for (const auto& c : profile.counters()) o << ',' << c.last;
   o << '\n';

@@ -10,8 +10,7 @@
 namespace maille::build {
 
 // A spring-damper whose rest length is `rest_scale` times the current distance.
-inline void link(Model& m, std::uint32_t a, std::uint32_t b, Real k, Real z,
-                 Real rest_scale = 1) {
+inline void link(Model& m, std::uint32_t a, std::uint32_t b, Real k, Real z, Real rest_scale = 1) {
   if (k <= 0) return;  // no stiffness: no link (a builder never makes bare dampers)
   const auto& x = m.points.initial_position;
   m.links.pool<SpringDamper>().add({a, b}, {k, norm(x[b] - x[a]) * rest_scale, z});

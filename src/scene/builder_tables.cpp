@@ -131,6 +131,8 @@ constexpr std::array<BuilderTable, 6> kTables{{
 
 }  // namespace
 
-std::span<const BuilderTable> builder_tables() { return kTables; }
+std::span<const BuilderTable> builder_tables() {
+  return kTables;
+}
 
 }  // namespace maille

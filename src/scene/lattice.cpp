@@ -44,9 +44,9 @@ Group build_lattice(Model& m, const LatticeParams& p, const std::string& name) {
       for (std::uint32_t i = 0; i < nx; ++i)
         if (kept(i, j, k)) {
           const bool fixed = p.fixed == "bottom" && j == 0;
-          index[(std::size_t(k) * ny + j) * nx + i] = m.points.add(
-              fixed ? PointKind::fixed : PointKind::free, point_mass, position(i, j, k),
-              p.velocity);
+          index[(std::size_t(k) * ny + j) * nx + i] =
+              m.points.add(fixed ? PointKind::fixed : PointKind::free, point_mass,
+                           position(i, j, k), p.velocity);
         }
 
   // Links to the 13 "forward" neighbours among the 26 (each pair once).

@@ -16,7 +16,8 @@ namespace maille {
 Group build_membrane(Model& m, const MembraneParams& p, const std::string& name) {
   if (p.rings < 2) throw std::invalid_argument("membrane needs rings >= 2");
   const Vec3 n = build::unit(p.normal);
-  Vec3 e1 = build::unit(std::abs(n.x) < Real(0.9) ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
+  Vec3 e1 =
+      build::unit(std::abs(n.x) < Real(0.9) ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
   const Vec3 e2 = cross(n, e1);
   const Real s = p.radius / Real(p.rings - 1);
   const Vec3 u = e1 * s, w = (e1 * Real(0.5) + e2 * Real(std::sqrt(3.0) / 2)) * s;
@@ -59,9 +60,11 @@ Group build_membrane(Model& m, const MembraneParams& p, const std::string& name)
                     p.material.damping, rest_scale);
     const auto p10 = at(a + 1, b), p01 = at(a, b + 1), p11 = at(a + 1, b + 1);
     if (p10 >= 0 && p01 >= 0)
-      m.surface.triangles.push_back({i, static_cast<std::uint32_t>(p10), static_cast<std::uint32_t>(p01)});
+      m.surface.triangles.push_back(
+          {i, static_cast<std::uint32_t>(p10), static_cast<std::uint32_t>(p01)});
     if (p10 >= 0 && p01 >= 0 && p11 >= 0)
-      m.surface.triangles.push_back({static_cast<std::uint32_t>(p10), static_cast<std::uint32_t>(p11),
+      m.surface.triangles.push_back({static_cast<std::uint32_t>(p10),
+                                     static_cast<std::uint32_t>(p11),
                                      static_cast<std::uint32_t>(p01)});
   }
   return build::group(m, name, "membrane", first);

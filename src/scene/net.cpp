@@ -32,8 +32,10 @@ Group build_net(Model& m, const NetParams& p, const std::string& name) {
   auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
   for (std::uint32_t j = 0; j < p.ny; ++j)
     for (std::uint32_t i = 0; i < p.nx; ++i) {
-      if (i + 1 < p.nx) build::link(m, id(i, j), id(i + 1, j), p.material.stiffness, p.material.damping);
-      if (j + 1 < p.ny) build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping);
+      if (i + 1 < p.nx)
+        build::link(m, id(i, j), id(i + 1, j), p.material.stiffness, p.material.damping);
+      if (j + 1 < p.ny)
+        build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping);
     }
   return build::group(m, name, "net", first);
 }

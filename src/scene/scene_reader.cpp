@@ -60,7 +60,8 @@ class SceneReader {
     s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, 1 << 30));
     s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, 1 << 30));
     s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
-    s.runaway_factor = t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
+    s.runaway_factor =
+        t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
     t.finish();
     return s;
   }
@@ -72,7 +73,8 @@ class SceneReader {
     if (auto w = t.table("wind")) {
       f.wind.velocity = w->vec3("velocity", f.wind.velocity);
       f.wind.density = w->real("density", f.wind.density, Bound::positive);
-      f.wind.drag_coefficient = w->real("drag_coefficient", f.wind.drag_coefficient, Bound::non_negative);
+      f.wind.drag_coefficient =
+          w->real("drag_coefficient", f.wind.drag_coefficient, Bound::non_negative);
       f.wind.turbulence = w->real("turbulence", f.wind.turbulence, Bound::non_negative);
       f.wind.gust_frequency = w->real("gust_frequency", f.wind.gust_frequency, Bound::positive);
       f.wind.gust_wavelength = w->real("gust_wavelength", f.wind.gust_wavelength, Bound::positive);
@@ -151,7 +153,8 @@ class SceneReader {
   }
 
   void builder(TomlCursor& t, Model& m, const BuilderTable& b) {
-    const std::string name = t.text("name", std::string(b.keyword) + std::to_string(m.groups.size()));
+    const std::string name =
+        t.text("name", std::string(b.keyword) + std::to_string(m.groups.size()));
     claim_name(t, name);
     std::optional<TomlCursor> drive_table = t.table("drive");
     const Group g = b.build(t, m, name);
@@ -203,17 +206,21 @@ class SceneReader {
   void link(TomlCursor& t, Model& m) {
     const std::string kind = t.text("kind");
     const LinkKindRegistry::Entry* entry = kinds_.find(kind);
-    if (!entry) t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.keywords() + ")");
+    if (!entry)
+      t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.keywords() + ")");
     const std::uint32_t a = point_ref(t, "a", m), b = point_ref(t, "b", m);
     if (a == b) t.fail("b", "a link needs two different points");
     std::vector<Real> values(entry->fields.size());
     for (std::size_t k = 0; k < values.size(); ++k) {
       const ParamInfo& f = entry->fields[k];
-      if (auto v = t.maybe_real(f.name, f.bound)) values[k] = *v;
-      else if (f.default_value) values[k] = *f.default_value;
+      if (auto v = t.maybe_real(f.name, f.bound))
+        values[k] = *v;
+      else if (f.default_value)
+        values[k] = *f.default_value;
       else if (f.default_is_distance)
         values[k] = norm(m.points.initial_position[b] - m.points.initial_position[a]);
-      else if (f.default_from.empty()) t.fail(f.name, "is required for a " + kind + " link");
+      else if (f.default_from.empty())
+        t.fail(f.name, "is required for a " + kind + " link");
     }
     for (std::size_t k = 0; k < values.size(); ++k)  // defaults taken from another field
       if (!entry->fields[k].default_from.empty() && !t.has(entry->fields[k].name))
@@ -243,8 +250,9 @@ class SceneReader {
     p.threshold = t.real("threshold", Bound::positive);
     p.rest_length = t.real("rest_length", p.threshold, Bound::non_negative);
     if (std::size_t(g[0]->count) * g[1]->count > kMaxContactLinks)
-      t.fail("between", "too many pairs (" + std::to_string(std::size_t(g[0]->count) * g[1]->count) +
-                            " > " + std::to_string(kMaxContactLinks) + ")");
+      t.fail("between", "too many pairs (" +
+                            std::to_string(std::size_t(g[0]->count) * g[1]->count) + " > " +
+                            std::to_string(kMaxContactLinks) + ")");
     build_contacts(m, *g[0], *g[1], p);
     t.finish();
   }

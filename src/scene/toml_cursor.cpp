@@ -17,9 +17,12 @@ std::string InputError::to_string() const {
 
 std::string check_bound(Real value, Bound bound) {
   std::ostringstream s;
-  if (!std::isfinite(value)) s << "must be a finite number";
-  else if (bound == Bound::positive && !(value > 0)) s << "must be > 0 (got " << value << ")";
-  else if (bound == Bound::non_negative && !(value >= 0)) s << "must be >= 0 (got " << value << ")";
+  if (!std::isfinite(value))
+    s << "must be a finite number";
+  else if (bound == Bound::positive && !(value > 0))
+    s << "must be > 0 (got " << value << ")";
+  else if (bound == Bound::non_negative && !(value >= 0))
+    s << "must be >= 0 (got " << value << ")";
   return s.str();
 }
 

@@ -83,9 +83,12 @@ TEST(Conservation, ForcesInvariantUnderRigidRotation) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<Real> u(-0.03, 0.03);
     const Real c = std::cos(Real(0.7)), s = std::sin(Real(0.7));
-    auto rot = [&](const Vec3& v) { return rotate ? Vec3{c * v.x - s * v.y, s * v.x + c * v.y, v.z} : v; };
+    auto rot = [&](const Vec3& v) {
+      return rotate ? Vec3{c * v.x - s * v.y, s * v.x + c * v.y, v.z} : v;
+    };
     for (std::uint32_t i = 0; i < m.points.size(); ++i) {
-      m.points.initial_position[i] = rot(m.points.initial_position[i] + Vec3{u(rng), u(rng), u(rng)});
+      m.points.initial_position[i] =
+          rot(m.points.initial_position[i] + Vec3{u(rng), u(rng), u(rng)});
       m.points.initial_velocity[i] = rot(m.points.initial_velocity[i]);
     }
     SimulationSettings st = test::settings(1e-6);

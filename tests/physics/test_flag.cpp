@@ -37,8 +37,8 @@ double max_strain(const Simulator& sim, double spacing) {
 }
 
 // 30 s of gusty wind at half the stability limit: no blow-up, structural links within 20 % of
-// their rest length (the cloth is stiff: 200 N/m per link against ~0.1 N of weight per column and ~1 N of
-// gusts), no point further than the flag's diagonal from the pole, and energy bounded.
+// their rest length (the cloth is stiff: 200 N/m per link against ~0.1 N of weight per column and
+// ~1 N of gusts), no point further than the flag's diagonal from the pole, and energy bounded.
 TEST(Flag, HeldFlagStaysBoundedInWind) {
   Model m = windy_flag(20, 14);
   SimulationSettings s = test::settings(1e-3);

@@ -25,9 +25,10 @@ void expect_force_is_minus_energy_gradient(const typename K::Params& p, Vec3 xa,
 
 TEST(Links, SpringForceIsMinusEnergyGradient) {
   expect_force_is_minus_energy_gradient<Spring>({150, 0.8}, {0.1, 0.2, -0.3}, {0.9, 0.5, 0.4});
-  expect_force_is_minus_energy_gradient<SpringDamper>({150, 1.8, 3}, {0.1, 0.2, -0.3}, {0.9, 0.5, 0.4});
-  expect_force_is_minus_energy_gradient<ConditionalSpringDamper>({150, 3, 1.5, 1.5}, {0.1, 0.2, -0.3},
-                                                                 {0.9, 0.5, 0.4});
+  expect_force_is_minus_energy_gradient<SpringDamper>({150, 1.8, 3}, {0.1, 0.2, -0.3},
+                                                      {0.9, 0.5, 0.4});
+  expect_force_is_minus_energy_gradient<ConditionalSpringDamper>({150, 3, 1.5, 1.5},
+                                                                 {0.1, 0.2, -0.3}, {0.9, 0.5, 0.4});
 }
 
 TEST(Links, SpringPullsWhenStretchedPushesWhenCompressed) {

@@ -40,7 +40,8 @@ TEST(Oscillator, SymplecticEulerPeriod) {
   const double m = 0.5, k = 200, L = 1, A = 0.1, h = 1e-3;
   const double omega = std::sqrt(k / m);
   Simulator sim(test::oscillator(m, k, 0, L, A), test::settings(h, "symplectic_euler"));
-  const auto c = test::upward_crossings(sim, 1, L, static_cast<std::uint64_t>(20.5 * 2 * kPi / omega / h));
+  const auto c =
+      test::upward_crossings(sim, 1, L, static_cast<std::uint64_t>(20.5 * 2 * kPi / omega / h));
   const double discrete = 2 * kPi / ((2 / h) * std::asin(omega * h / 2));
   EXPECT_NEAR(test::mean_period(c) / discrete, 1.0, 1e-6);
 }
@@ -102,7 +103,8 @@ TEST(Energy, LeapfrogBoundedOverHundredThousandSteps) {
   s.sample_every = 10;
   Simulator sim(std::move(model), s);
   std::vector<double> energy;
-  sim.on_sample([&](const EnergySample& e, const Profile&) { energy.push_back(e.energies.total()); });
+  sim.on_sample(
+      [&](const EnergySample& e, const Profile&) { energy.push_back(e.energies.total()); });
   ASSERT_TRUE(sim.run_steps(100000));
   ASSERT_EQ(energy.size(), 10000u);
   const double e0 = energy.front();
@@ -134,7 +136,8 @@ TEST(Stability, EstimateExactForOneSpringAndBlowUpIsNamed) {
   ASSERT_TRUE(outside.blow_up().has_value());
   EXPECT_EQ(outside.blow_up()->module, "spring");
   EXPECT_GT(outside.blow_up()->step, 10u);
-  EXPECT_NE(outside.blow_up()->message.find("exceeds the leapfrog stability limit"), std::string::npos)
+  EXPECT_NE(outside.blow_up()->message.find("exceeds the leapfrog stability limit"),
+            std::string::npos)
       << outside.blow_up()->message;
 }
 

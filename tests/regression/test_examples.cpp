@@ -47,7 +47,9 @@ TEST_P(Example, RunsStablyForOneSecond) {
 INSTANTIATE_TEST_SUITE_P(Scenes, Example, ::testing::ValuesIn(examples()),
                          [](const auto& p) { return p.param.stem().string(); });
 
-TEST(Examples, AtLeastSevenScenes) { EXPECT_GE(examples().size(), 7u); }
+TEST(Examples, AtLeastSevenScenes) {
+  EXPECT_GE(examples().size(), 7u);
+}
 
 // The jelly cube falls, is stopped by the floor of conditional links (never sinks through:
 // its lowest point stays above the floor minus the threshold) and comes to rest on it.
@@ -60,8 +62,8 @@ TEST(Examples, JellyCubeBouncesAndRestsOnTheFloor) {
     for (std::uint32_t p = cube->first; p < cube->first + cube->count; ++p)
       lowest = std::min<double>(lowest, sim.state().x()[p].y);
   }
-  EXPECT_GT(lowest, 0.0);      // never through the floor plane
-  EXPECT_LT(lowest, 0.1);      // but it did reach the floor's contact layer
+  EXPECT_GT(lowest, 0.0);                              // never through the floor plane
+  EXPECT_LT(lowest, 0.1);                              // but it did reach the floor's contact layer
   EXPECT_NEAR(mean_y(sim, "cube"), 0.1 + 0.25, 0.08);  // at rest on the contact layer
 }
 

@@ -55,7 +55,9 @@ TEST(CustomKind, RunsBesideBuiltinsFromCode) {
   s.sample_every = 100;
   maille::Simulator sim(std::move(m), s);
   std::vector<double> e;
-  sim.on_sample([&](const maille::EnergySample& x, const maille::Profile&) { e.push_back(x.energies.total()); });
+  sim.on_sample([&](const maille::EnergySample& x, const maille::Profile&) {
+    e.push_back(x.energies.total());
+  });
   ASSERT_TRUE(sim.run_steps(50000));
   const double e0 = e.front();
   EXPECT_GT(e0, 0.5);  // the cubic spring holds most of it: k3 0.3^4 / 4 = 10 J

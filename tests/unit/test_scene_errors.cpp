@@ -61,7 +61,9 @@ TEST_P(BadScene, ReportsFileLineColumnAndKey) {
 INSTANTIATE_TEST_SUITE_P(Files, BadScene, ::testing::ValuesIn(bad_files()),
                          [](const auto& p) { return p.param.stem().string(); });
 
-TEST(SceneErrors, EveryErrorPathHasAFile) { EXPECT_GE(bad_files().size(), 20u); }
+TEST(SceneErrors, EveryErrorPathHasAFile) {
+  EXPECT_GE(bad_files().size(), 20u);
+}
 
 TEST(SceneErrors, MissingFileIsAnError) {
   const Result<Scene> r = load_scene("/nonexistent/scene.toml");

@@ -3,8 +3,9 @@
 // continuous) while closer. The CORDIS contact brick: it works between any two points.
 //
 // The distance is a policy: `Distance::separation(xa, xb)` returns the length and unit direction
-// the law acts along, and `Distance::within(xa, xb, s)` the cheap activity test. Point-to-point contact uses the Euclidean one; geometric contacts (a point
-// against a canonical shape through affine maps) plug their own in and keep the same law.
+// the law acts along, and `Distance::within(xa, xb, s)` the cheap activity test. Point-to-point
+// contact uses the Euclidean one; geometric contacts (a point against a canonical shape through
+// affine maps) plug their own in and keep the same law.
 #pragma once
 
 #include <array>
@@ -14,7 +15,9 @@
 namespace maille {
 
 struct EuclideanDistance {
-  static Separation separation(const Vec3& xa, const Vec3& xb) { return maille::separation(xa, xb); }
+  static Separation separation(const Vec3& xa, const Vec3& xb) {
+    return maille::separation(xa, xb);
+  }
   // Cheap pre-test without the square root.
   static bool within(const Vec3& xa, const Vec3& xb, Real s) { return norm2(xb - xa) < s * s; }
 };
@@ -31,10 +34,21 @@ struct ConditionalSpringDamperT {
   static constexpr std::array<ParamField<Params>, 4> fields{{
       {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
       {"damping", "N.s/m", &Params::damping, Bound::non_negative, Real(0), false, "z"},
-      {"threshold", "m", &Params::threshold, Bound::positive, {}, false,
+      {"threshold",
+       "m",
+       &Params::threshold,
+       Bound::positive,
+       {},
+       false,
        "active while the distance is below it"},
-      {"rest_length", "m", &Params::rest_length, Bound::non_negative, {}, false,
-       "default: the threshold (force continuous at the threshold)", "threshold"},
+      {"rest_length",
+       "m",
+       &Params::rest_length,
+       Bound::non_negative,
+       {},
+       false,
+       "default: the threshold (force continuous at the threshold)",
+       "threshold"},
   }};
 
   static bool is_active(const Vec3& xa, const Vec3& xb, const Params& p) {

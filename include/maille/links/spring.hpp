@@ -19,7 +19,9 @@ struct Separation {
 // 12's vectoriser on the link loops.
 inline constexpr Real kTinyLength = Real(1e-30);  // m
 
-inline Real inverse_length(const Vec3& d) { return Real(1) / (norm(d) + kTinyLength); }
+inline Real inverse_length(const Vec3& d) {
+  return Real(1) / (norm(d) + kTinyLength);
+}
 
 inline Separation separation(const Vec3& xa, const Vec3& xb) {
   const Vec3 d = xb - xa;
@@ -35,7 +37,12 @@ struct Spring {
   };
   static constexpr std::array<ParamField<Params>, 2> fields{{
       {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
-      {"rest_length", "m", &Params::rest_length, Bound::non_negative, {}, true,
+      {"rest_length",
+       "m",
+       &Params::rest_length,
+       Bound::non_negative,
+       {},
+       true,
        "L0; default: the distance between the points in the scene"},
   }};
 

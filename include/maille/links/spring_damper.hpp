@@ -22,7 +22,12 @@ struct SpringDamper {
   };
   static constexpr std::array<ParamField<Params>, 3> fields{{
       {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
-      {"rest_length", "m", &Params::rest_length, Bound::non_negative, {}, true,
+      {"rest_length",
+       "m",
+       &Params::rest_length,
+       Bound::non_negative,
+       {},
+       true,
        "L0; default: the distance between the points in the scene"},
       {"damping", "N.s/m", &Params::damping, Bound::non_negative, Real(0), false, "z"},
   }};
