@@ -55,8 +55,8 @@ void BM_GenericLinkList(benchmark::State& st) {
       const double ddx = x[l.b].x - x[l.a].x, ddy = x[l.b].y - x[l.a].y, ddz = x[l.b].z - x[l.a].z;
       const double len = std::sqrt(ddx * ddx + ddy * ddy + ddz * ddz);
       const double nx = ddx / len, ny = ddy / len, nz = ddz / len;
-      const double vr = (v[l.b].x - v[l.a].x) * nx + (v[l.b].y - v[l.a].y) * ny +
-                        (v[l.b].z - v[l.a].z) * nz;
+      const double vr =
+          (v[l.b].x - v[l.a].x) * nx + (v[l.b].y - v[l.a].y) * ny + (v[l.b].z - v[l.a].z) * nz;
       const double s = l.k * (len - l.rest) + l.z * vr;
       f[l.a].x += s * nx, f[l.a].y += s * ny, f[l.a].z += s * nz;
       f[l.b].x -= s * nx, f[l.b].y -= s * ny, f[l.b].z -= s * nz;
@@ -68,8 +68,9 @@ void BM_GenericLinkList(benchmark::State& st) {
     }
     benchmark::ClobberMemory();
   }
-  st.counters["ns_pps"] = benchmark::Counter(double(st.iterations()) * n * n * 1e-9,
-                                             benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_pps"] =
+      benchmark::Counter(double(st.iterations()) * n * n * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void BM_StructuredGrid(benchmark::State& st) {
@@ -94,13 +95,16 @@ void BM_StructuredGrid(benchmark::State& st) {
           const int a = row + i, b = a + off;
           const double ex = X[b] - X[a], ey = Y[b] - Y[a], ez = Z[b] - Z[a];
           const double inv = 1 / std::sqrt(ex * ex + ey * ey + ez * ez);
-          const double vr = ((VX[b] - VX[a]) * ex + (VY[b] - VY[a]) * ey + (VZ[b] - VZ[a]) * ez) * inv;
+          const double vr =
+              ((VX[b] - VX[a]) * ex + (VY[b] - VY[a]) * ey + (VZ[b] - VZ[a]) * ez) * inv;
           const double s = (k * (1 - rest * inv) + z * vr * inv);
           lx[a] = s * ex, ly[a] = s * ey, lz[a] = s * ez;
         }
-        for (int i = i0; i < i1; ++i) FX[row + i] += lx[row + i], FY[row + i] += ly[row + i], FZ[row + i] += lz[row + i];
         for (int i = i0; i < i1; ++i)
-          FX[row + i + off] -= lx[row + i], FY[row + i + off] -= ly[row + i], FZ[row + i + off] -= lz[row + i];
+          FX[row + i] += lx[row + i], FY[row + i] += ly[row + i], FZ[row + i] += lz[row + i];
+        for (int i = i0; i < i1; ++i)
+          FX[row + i + off] -= lx[row + i], FY[row + i + off] -= ly[row + i],
+              FZ[row + i + off] -= lz[row + i];
       }
     }
     for (int p = n; p < N; ++p) {
@@ -110,8 +114,9 @@ void BM_StructuredGrid(benchmark::State& st) {
     }
     benchmark::ClobberMemory();
   }
-  st.counters["ns_pps"] = benchmark::Counter(double(st.iterations()) * N * 1e-9,
-                                             benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  st.counters["ns_pps"] =
+      benchmark::Counter(double(st.iterations()) * N * 1e-9,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 }  // namespace

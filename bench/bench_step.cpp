@@ -46,4 +46,3 @@ BENCHMARK(BM_FlagStep)
     ->ArgsProduct({{32, 128, 512}, {1, 0}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
-

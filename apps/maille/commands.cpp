@@ -54,6 +54,7 @@ int validate(const std::string& path) {
   if (!scene) return bad_input;
   try {
     Simulator sim(std::move(scene->model), scene->settings);
+    warn_if_unstable(sim);
     std::cout << path << ": ok (" << sim.model().points.size() << " points, "
               << sim.model().links.total() << " links)\n";
   } catch (const std::exception& e) {

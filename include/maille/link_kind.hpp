@@ -18,6 +18,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include "maille/vec3.hpp"
@@ -127,7 +128,8 @@ class LinkPool final : public LinkPoolBase {
     ends_.push_back(e);
     params_.push_back(p);
     groups_.clear();  // needs prepare() again
-    chunk_order_.clear();
+    band_order_.clear();
+    band_begin_.clear();
     chunk_begin_.clear();
     chunk_is_run_.clear();
   }
@@ -155,26 +157,31 @@ class LinkPool final : public LinkPoolBase {
     for (auto& p : params_) p.*(K::fields[field].member) *= factor;
   }
 
-  // Always-active kinds are sorted by (b - a, a): links of one family (say, every horizontal
-  // link of a grid) then follow each other with both ends advancing by one point, and such
-  // runs are processed with contiguous loads instead of gathers. The links are then cut into
-  // chunks (a run, or up to kChunk other links), and chunks are coloured: no two chunks of one
-  // colour share a point, so threads split each colour freely, and serial runs use the same
-  // order, so every point sums its forces in the same order whatever the thread count.
+  // Links are grouped into bands by their first point (about kBands bands over the points'
+  // range, whatever the thread count), and inside a band always-active kinds are sorted by
+  // (b - a, a): links of one family (every horizontal link of a grid, say) then follow each
+  // other with both ends advancing by one point, and such runs are computed with contiguous
+  // loads instead of gathers. Bands are coloured so that no two bands of one colour share a
+  // point: on a grid, a band touches only its neighbours, so two colours suffice and a step
+  // costs two barriers per pool (each barrier is a futex wake-up with OMP_WAIT_POLICY=passive,
+  // tens of microseconds on a busy machine; colouring small chunks instead gave ~20 colours
+  // and made two threads slower than one at 128^2). Serial runs use the same order, so every
+  // point sums its forces in the same order whatever the thread count.
   void prepare(std::uint32_t point_count) override {
-    if constexpr (!requires { K::is_active(Vec3{}, Vec3{}, params_[0]); }) sort_by_family();
+    sort_into_bands();
     cut_chunks();
-    std::vector<std::uint32_t> offsets(chunk_begin_.size(), 0), idx;
+    std::vector<std::uint32_t> offsets(band_begin_.size(), 0), idx;
     idx.reserve(ends_.size() * 2);
-    for (std::size_t c = 0; c + 1 < chunk_begin_.size(); ++c) {
-      for (std::size_t l = chunk_begin_[c]; l < chunk_begin_[c + 1]; ++l) {
+    for (std::size_t b = 0; b + 1 < band_begin_.size(); ++b) {
+      for (std::size_t l = chunk_begin_[band_begin_[b]]; l < chunk_begin_[band_begin_[b + 1]];
+           ++l) {
         idx.push_back(ends_[l].a);
         idx.push_back(ends_[l].b);
       }
-      offsets[c + 1] = static_cast<std::uint32_t>(idx.size());
+      offsets[b + 1] = static_cast<std::uint32_t>(idx.size());
     }
     Colouring col = colour_sets(offsets, idx, point_count);
-    chunk_order_ = std::move(col.order);
+    band_order_ = std::move(col.order);
     groups_ = std::move(col.offsets);
   }
 
@@ -184,8 +191,11 @@ class LinkPool final : public LinkPoolBase {
       const auto begin = static_cast<std::int64_t>(groups_[g]);
       const auto end = static_cast<std::int64_t>(groups_[g + 1]);
 #pragma omp for schedule(static)
-      for (std::int64_t c = begin; c < end; ++c)
-        active += run_chunk(chunk_order_[static_cast<std::size_t>(c)], x, v, f);
+      for (std::int64_t k = begin; k < end; ++k) {
+        const std::uint32_t band = band_order_[static_cast<std::size_t>(k)];
+        for (std::uint32_t c = band_begin_[band]; c < band_begin_[band + 1]; ++c)
+          active += run_chunk(c, x, v, f);
+      }
     }
     if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
 #pragma omp atomic
@@ -280,11 +290,27 @@ class LinkPool final : public LinkPoolBase {
   static constexpr std::size_t kChunk = 256;
   static constexpr std::size_t kMinRun = 8;  // shorter runs are not worth a chunk of their own
 
-  void sort_by_family() {
+  static constexpr std::uint32_t kBands = 16;
+  static constexpr std::uint32_t kMinBandPoints = 256;
+
+  std::uint32_t band_of(std::uint32_t a) const {
+    return (a - band_origin_) / band_points_;
+  }
+
+  void sort_into_bands() {
+    std::uint32_t lo = ~0u, hi = 0;
+    for (const auto& e : ends_) lo = std::min(lo, e.a), hi = std::max(hi, e.a);
+    band_origin_ = ends_.empty() ? 0 : lo;
+    const std::uint32_t span = ends_.empty() ? 1 : hi - lo + 1;
+    band_points_ = std::max(kMinBandPoints, (span + kBands - 1) / kBands);
     std::vector<std::uint32_t> order(ends_.size());
     for (std::size_t l = 0; l < order.size(); ++l) order[l] = static_cast<std::uint32_t>(l);
+    constexpr bool always_active = !requires {
+      K::is_active(Vec3{}, Vec3{}, params_[0]);
+    };
     auto key = [&](std::uint32_t l) {
-      return std::pair{std::int64_t(ends_[l].b) - std::int64_t(ends_[l].a), ends_[l].a};
+      const std::int64_t reach = always_active ? std::int64_t(ends_[l].b) - ends_[l].a : 0;
+      return std::tuple{band_of(ends_[l].a), reach, ends_[l].a};
     };
     std::stable_sort(order.begin(), order.end(),
                      [&](std::uint32_t i, std::uint32_t j) { return key(i) < key(j); });
@@ -298,27 +324,36 @@ class LinkPool final : public LinkPoolBase {
     params_ = std::move(p);
   }
 
-  // run[l]: how many links from l on continue l's pattern (a + 1, b + 1).
+  // Cuts each band into chunks: a run (both ends advance by one, at least kMinRun links, at
+  // most kChunk) or up to kChunk other links. run[l]: links from l on that continue l's run.
   void cut_chunks() {
     const std::size_t n = ends_.size();
     std::vector<std::uint32_t> run(n + 1, 0);
     for (std::size_t l = n; l-- > 0;) {
-      const bool next = l + 1 < n && ends_[l + 1].a == ends_[l].a + 1 && ends_[l + 1].b == ends_[l].b + 1;
+      const bool next = l + 1 < n && ends_[l + 1].a == ends_[l].a + 1 &&
+                        ends_[l + 1].b == ends_[l].b + 1 &&
+                        band_of(ends_[l + 1].a) == band_of(ends_[l].a);
       run[l] = next ? run[l + 1] + 1 : 1;
     }
     chunk_begin_.assign(1, 0);
     chunk_is_run_.clear();
+    band_begin_.assign(1, 0);
     for (std::size_t l = 0; l < n;) {
+      const std::uint32_t band = band_of(ends_[l].a);
       std::size_t end = l;
       const bool is_run = run[l] >= kMinRun;
       if (is_run) {
         end = l + std::min<std::size_t>(run[l], kChunk);
       } else {
-        while (end < n && end - l < kChunk && (end == l || run[end] < kMinRun)) ++end;
+        while (end < n && end - l < kChunk && band_of(ends_[end].a) == band &&
+               (end == l || run[end] < kMinRun))
+          ++end;
       }
       chunk_begin_.push_back(static_cast<std::uint32_t>(end));
       chunk_is_run_.push_back(is_run);
       l = end;
+      if (l == n || band_of(ends_[l].a) != band)
+        band_begin_.push_back(static_cast<std::uint32_t>(chunk_is_run_.size()));
     }
   }
 
@@ -380,10 +415,12 @@ class LinkPool final : public LinkPoolBase {
 
   std::vector<LinkEnds> ends_;
   std::vector<Params> params_;
-  std::vector<std::uint32_t> chunk_begin_;  // chunk c spans links [begin[c], begin[c+1])
-  std::vector<std::uint8_t> chunk_is_run_;  // chunk c is a run: a and b advance by one
-  std::vector<std::uint32_t> chunk_order_;  // chunk indices grouped by colour (prepare())
-  std::vector<std::uint32_t> groups_;       // colour c spans chunk_order_[groups_[c]..[c+1])
+  std::uint32_t band_origin_ = 0, band_points_ = 1;  // band of point a: (a - origin) / points
+  std::vector<std::uint32_t> chunk_begin_;           // chunk c spans links [begin[c], begin[c+1])
+  std::vector<std::uint8_t> chunk_is_run_;           // chunk c is a run: a and b advance by one
+  std::vector<std::uint32_t> band_begin_;            // band b spans chunks [begin[b], begin[b+1])
+  std::vector<std::uint32_t> band_order_;            // bands grouped by colour (prepare())
+  std::vector<std::uint32_t> groups_;  // colour c spans band_order_[groups_[c]..[c+1])
 };
 
 // The model's links: one pool per kind, in the order kinds were first used.
