@@ -2,6 +2,7 @@
 // forces already computed at the current state; multi-stage schemes ask for more force passes.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <span>
@@ -10,48 +11,73 @@
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/profile.hpp"
 #include "maille/state.hpp"
 
 namespace maille {
 
-// Recomputes every force stage at the state's current x, v into s.f().
+// Recomputes every force stage at the state's current x, v (and time, for driven points and
+// gusts) into s.f().
 class ForceEvaluator {
  public:
   virtual ~ForceEvaluator() = default;
   virtual void evaluate(State& s) = 0;
 };
 
+// Settings of the implicit scheme ([simulation.implicit] in scene files).
+struct ImplicitSettings {
+  std::string solver = "matrix_free";  // "matrix_free" (link blocks) or "eigen" (assembled CSR)
+  Real tolerance = Real(1e-6);         // CG stops when |r| <= tolerance |b|
+  int max_iterations = 1000;           // CG iterations per solve
+  int newton_iterations = 1;           // linearisations per step (1: Baraff-Witkin)
+};
+
+// For the test equation x'' = -w2 x - c x' (one mass on a damped spring), a scheme maps
+// (x_n, v_n) to (x_n+1, v_n+1) = (I + N) (x_n, v_n). Schemes return the increment N rather than
+// I + N: its entries are O(h), and deciding |eigenvalue of I + N| <= 1 from them avoids the
+// cancellation against 1 that made tiny steps look unstable.
+using Amplification = std::array<std::array<double, 2>, 2>;
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
   virtual std::string_view name() const = 0;
-  // On entry s.f() holds the forces at (s.x, s.v); on exit s.x, s.v are advanced by h.
-  // Fixed and driven points (inverse mass 0) are never moved here.
-  virtual void advance(const Model& m, State& s, Real h, ForceEvaluator& forces) = 0;
+  // On entry s.f() holds the forces at (s.x, s.v, s.time); on exit s.x, s.v are advanced by h
+  // (s.time is advanced by the simulator). Fixed and driven points are never moved here.
+  virtual void advance(const Model& m, State& s, Real h, ForceEvaluator& forces,
+                       Profile& profile) = 0;
   // Velocities at the time of s.x (schemes with staggered velocities synchronise them), for
   // kinetic energy. s.f() must hold the forces at s.x.
   virtual void synchronized_velocity(const Model& m, const State& s, Real h,
                                      std::span<Vec3> out) const;
-  // Largest stable step for the test equation x'' = -omega2 x - c x'.
-  virtual Real stable_step(Real omega2, Real c) const = 0;
+  virtual Amplification increment(double h, double w2, double c) const = 0;
+  // Force evaluations per step (the simulator's own pass included): the cost unit.
+  virtual int force_evaluations() const { return 1; }
+  // Whether stages that rewrite forces or velocities after the fact (facet responses) can be
+  // combined with the scheme: not for schemes that evaluate forces at intermediate states.
+  virtual bool accepts_state_rewrites() const { return true; }
+  // Why the scheme cannot integrate this model (empty: it can).
+  virtual std::string check(const Model&) const { return {}; }
   // Forget any history (after a reset or a change of step).
   virtual void reset() {}
   void set_threads(int threads) { threads_ = threads; }
+
+  // Largest h with spectral radius <= 1 on the test equation: 0 when no step is stable
+  // (explicit Euler without damping), +inf when every step is (implicit Euler).
+  Real stable_step(Real w2, Real c) const;
 
  protected:
   int threads_ = 1;
 };
 
-// The stability limit shared by the kick-drift schemes (leapfrog, symplectic Euler), from the
-// Jury conditions of their recurrence on x'' = -w2 x - c x':  h^2 w2 + 2 h c < 4.
-Real kick_drift_stable_step(Real omega2, Real c);
+struct SimulationSettings;
 
 class IntegratorRegistry {
  public:
   struct Entry {
     std::string name;
     std::string description;
-    std::function<std::unique_ptr<Integrator>()> make;
+    std::function<std::unique_ptr<Integrator>(const ImplicitSettings&)> make;
   };
   void add(Entry e) { entries_.push_back(std::move(e)); }
   const Entry* find(std::string_view name) const;
@@ -62,5 +88,8 @@ class IntegratorRegistry {
  private:
   std::vector<Entry> entries_;
 };
+
+// Whether every eigenvalue of I + N lies in the closed unit disk (up to rounding).
+bool is_stable(const Amplification& increment);
 
 }  // namespace maille

@@ -21,6 +21,7 @@
 #include <tuple>
 #include <vector>
 
+#include "maille/mat3.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -100,6 +101,19 @@ class LinkPoolBase {
   virtual Real max_stiffness() const = 0;
   virtual WorstLink worst(const Vec3* x, const Vec3* v) const = 0;
   virtual std::unique_ptr<LinkPoolBase> clone() const = 0;
+
+  // Implicit integration (kinds that define `jacobian`; others return false / do nothing).
+  virtual bool has_jacobian() const = 0;
+  virtual LinkJacobian jacobian(std::size_t i, const Vec3* x, const Vec3* v,
+                                JacobianMode mode) const = 0;
+  // For every link l: C_l = h dv + h^2 dx (definite mode) into blocks[l], and, when rhs is not
+  // null, the right-hand side term h^2 (df/dx v): rhs_a += h^2 dx (v_b - v_a), rhs_b -= it.
+  virtual void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
+                               Vec3* rhs) const = 0;
+  // out -= (h df/dv + h^2 df/dx) u, link by link: w = C_l (u_b - u_a); out_a -= w; out_b += w.
+  virtual void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const = 0;
+  // Adds every C_l to the diagonal blocks of its two points (block-Jacobi preconditioner).
+  virtual void add_block_diagonal(const Mat3* blocks, Mat3* diagonal) const = 0;
 };
 
 // Greedy colouring of point sets (set e holds indices[offsets[e] .. offsets[e+1])) so that no
@@ -185,21 +199,82 @@ class LinkPool final : public LinkPoolBase {
     groups_ = std::move(col.offsets);
   }
 
-  void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
-    std::uint64_t active = 0;  // this thread's count
+  // Runs f(chunk) over every chunk, colour by colour. Callable inside an OpenMP parallel region
+  // (the threads split each colour's bands) or outside it (serially, in the same order).
+  template <class F>
+  void for_each_chunk(F&& f) const {
     for (std::size_t g = 0; g + 1 < groups_.size(); ++g) {
       const auto begin = static_cast<std::int64_t>(groups_[g]);
       const auto end = static_cast<std::int64_t>(groups_[g + 1]);
 #pragma omp for schedule(static)
       for (std::int64_t k = begin; k < end; ++k) {
         const std::uint32_t band = band_order_[static_cast<std::size_t>(k)];
-        for (std::uint32_t c = band_begin_[band]; c < band_begin_[band + 1]; ++c)
-          active += run_chunk(c, x, v, f);
+        for (std::uint32_t c = band_begin_[band]; c < band_begin_[band + 1]; ++c) f(c);
       }
     }
+  }
+
+  void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
+    std::uint64_t active = 0;  // this thread's count
+    for_each_chunk([&](std::uint32_t c) { active += run_chunk(c, x, v, f); });
     if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
 #pragma omp atomic
       counters.active += active;
+    }
+  }
+
+  static constexpr bool kHasJacobian = requires(const Vec3& q, const Params& p) {
+    K::jacobian(q, q, q, q, p, JacobianMode::exact);
+  };
+  bool has_jacobian() const override {
+    return kHasJacobian;
+  }
+
+  LinkJacobian jacobian(std::size_t i, const Vec3* x, const Vec3* v,
+                        JacobianMode mode) const override {
+    if constexpr (kHasJacobian) {
+      const auto [a, b] = ends_[i];
+      return K::jacobian(x[a], x[b], v[a], v[b], params_[i], mode);
+    } else {
+      return {};
+    }
+  }
+
+  void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
+                       Vec3* rhs) const override {
+    if constexpr (kHasJacobian) {
+      for_each_chunk([&](std::uint32_t c) {
+        for (std::size_t l = chunk_begin_[c]; l < chunk_begin_[c + 1]; ++l) {
+          const auto [a, b] = ends_[l];
+          const LinkJacobian j =
+              K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
+          blocks[l] = j.dv * h + j.dx * (h * h);
+          if (!rhs) continue;
+          const Vec3 r = (j.dx * (v[b] - v[a])) * (h * h);
+          rhs[a] += r;
+          rhs[b] -= r;
+        }
+      });
+    }
+  }
+
+  void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const override {
+    if constexpr (kHasJacobian) {
+      for_each_chunk([&](std::uint32_t c) {
+        for (std::size_t l = chunk_begin_[c]; l < chunk_begin_[c + 1]; ++l) {
+          const auto [a, b] = ends_[l];
+          const Vec3 w = blocks[l] * (u[b] - u[a]);
+          out[a] -= w;
+          out[b] += w;
+        }
+      });
+    }
+  }
+
+  void add_block_diagonal(const Mat3* blocks, Mat3* diagonal) const override {
+    for (std::size_t l = 0; l < ends_.size(); ++l) {
+      diagonal[ends_[l].a] += blocks[l];
+      diagonal[ends_[l].b] += blocks[l];
     }
   }
 

@@ -20,21 +20,30 @@ class Profile {
     std::uint64_t total = 0;  // summed over steps
   };
 
+  struct Gauge {
+    std::string name;
+    double last = 0;  // value set during the last step (e.g. a solver's final residual)
+  };
+
   // Returns a handle; calling it twice with one name returns the same handle.
   int stage(const std::string& name);
   int counter(const std::string& name);
+  int gauge(const std::string& name);
   void add_time(int stage, double ns);
   void set_count(int counter, std::uint64_t value);
+  void set_gauge(int gauge, double value) { gauges_[gauge].last = value; }
   void begin_step();  // zeroes the `last` values
 
   const std::vector<Stage>& stages() const { return stages_; }
   const std::vector<Counter>& counters() const { return counters_; }
+  const std::vector<Gauge>& gauges() const { return gauges_; }
   double total_ns() const;
   std::uint64_t steps() const { return steps_; }
 
  private:
   std::vector<Stage> stages_;
   std::vector<Counter> counters_;
+  std::vector<Gauge> gauges_;
   std::uint64_t steps_ = 0;
 };
 

@@ -1,11 +1,9 @@
 // The simulator: owns a model and its state, and advances them one step at a time.
 //
 // step(), as a table of contents (src/core/simulator.cpp):
-//   drive           scripted fixed points take their position at t
-//   clear forces
-//   link forces     every link pool, in kind order
-//   field forces    gravity, air drag, wind on faces
-//   [force stages]  later stages (self-collision, obstacles) plug in here, in order
+//   [forces]        drive (scripted fixed points at t), clear forces,
+//                   link forces (every link pool, in kind order), field forces (gravity, air
+//                   drag, wind on faces), then plugged-in force stages (collisions), in order
 //   integrate       the scene's scheme (may re-run the force stages: RK4, implicit)
 //   after hooks     stages that need the new positions (grids, signatures)
 //   health          non-finite values every step, runaway energy at the sampling cadence
@@ -36,6 +34,7 @@ struct SimulationSettings {
   int sample_every = 0;                 // steps between energy samples; 0: publish_every
   int threads = 0;                      // 0: all cores when the scene is large, else 1
   double runaway_factor = 1e3;          // blow-up when energy exceeds this times its scale
+  ImplicitSettings implicit;            // used by implicit_euler only
 };
 
 // A stage that adds forces (or rewrites them) after the field forces: the extension point for
@@ -45,6 +44,11 @@ class ForceStage {
   virtual ~ForceStage() = default;
   virtual std::string name() const = 0;
   virtual void apply(const Model& m, State& s, Profile& profile) = 0;
+  // True for stages that rewrite forces or velocities after the fact (inverse dynamics on
+  // facets): schemes that evaluate forces at intermediate states (RK4, velocity Verlet, Newton
+  // iterations) refuse them, because the rewrite would be applied to states that are not
+  // the step's.
+  virtual bool rewrites_state() const { return false; }
 };
 
 // A stage run after integration, with the new positions.
@@ -70,7 +74,8 @@ struct EnergySample {
 
 class Simulator : private ForceEvaluator {
  public:
-  // Throws std::invalid_argument for an unknown integrator or settings out of range.
+  // Throws std::invalid_argument for an unknown integrator, a model the integrator cannot
+  // handle (e.g. a link kind without Jacobian under implicit_euler) or settings out of range.
   Simulator(Model model, SimulationSettings settings);
   ~Simulator() override;
 
@@ -78,6 +83,7 @@ class Simulator : private ForceEvaluator {
   bool step();
   bool run_steps(std::uint64_t n);  // false when stopped by a blow-up
 
+  // Throws std::invalid_argument when the stage rewrites state and the scheme cannot take it.
   void add_force_stage(std::unique_ptr<ForceStage> stage);
   void add_after_integration(std::unique_ptr<AfterIntegrationStage> stage);
   void on_publish(SnapshotListener listener);

@@ -16,6 +16,13 @@ int Profile::counter(const std::string& name) {
   return static_cast<int>(counters_.size()) - 1;
 }
 
+int Profile::gauge(const std::string& name) {
+  for (std::size_t i = 0; i < gauges_.size(); ++i)
+    if (gauges_[i].name == name) return static_cast<int>(i);
+  gauges_.push_back({name});
+  return static_cast<int>(gauges_.size()) - 1;
+}
+
 void Profile::add_time(int stage, double ns) {
   stages_[stage].last_ns += ns;
   stages_[stage].total_ns += ns;

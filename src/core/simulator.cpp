@@ -53,13 +53,15 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   if (!entry)
     throw std::invalid_argument("unknown integrator '" + settings_.integrator +
                                 "' (known: " + IntegratorRegistry::builtin().names() + ")");
-  integrator_ = entry->make();
+  integrator_ = entry->make(settings_.implicit);
 
   const std::uint32_t n = model_.points.size();
   threads_ = settings_.threads > 0 ? settings_.threads
                                    : (n >= kParallelThreshold ? omp_get_num_procs() : 1);
   integrator_->set_threads(threads_);
   model_.prepare();
+  if (const std::string why = integrator_->check(model_); !why.empty())
+    throw std::invalid_argument(why);
   stability_ = estimate_stability(model_, *integrator_);
 
   auto& ids = *ids_;
@@ -95,6 +97,12 @@ void Simulator::reset() {
 }
 
 void Simulator::add_force_stage(std::unique_ptr<ForceStage> stage) {
+  if (stage->rewrites_state() && !integrator_->accepts_state_rewrites())
+    throw std::invalid_argument("stage '" + stage->name() +
+                                "' rewrites forces and velocities after the fact; " +
+                                std::string(integrator_->name()) +
+                                " evaluates forces at intermediate states and cannot be combined "
+                                "with it (use leapfrog, symplectic_euler or explicit_euler)");
   ids_->force_stages.push_back(profile_.stage(stage->name()));
   force_stages_.push_back(std::move(stage));
 }
@@ -124,16 +132,12 @@ bool Simulator::step() {
   profile_.begin_step();
   const auto& ids = *ids_;
   const Real h = static_cast<Real>(settings_.step);
-  {
-    Timed t(profile_, ids.drive);
-    stages::drive(model_, state_, state_.time);
-  }
   evaluate(state_);
   if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) sample_energies();
   if (blow_up_) return false;
   {
     Timed t(profile_, ids.integrate);
-    integrator_->advance(model_, state_, h, *this);
+    integrator_->advance(model_, state_, h, *this, profile_);
   }
   state_.time += settings_.step;
   state_.step += 1;
@@ -167,9 +171,13 @@ bool Simulator::run_steps(std::uint64_t n) {
   return true;
 }
 
-// Every force stage at the state's current positions and velocities.
+// Every force stage at the state's current positions, velocities and time.
 void Simulator::evaluate(State& s) {
   const auto& ids = *ids_;
+  {
+    Timed t(profile_, ids.drive);
+    stages::drive(model_, s, s.time);
+  }
   {
     Timed t(profile_, ids.clear);
     stages::clear_forces(s);

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <limits>
 
@@ -12,9 +13,57 @@ void Integrator::synchronized_velocity(const Model&, const State& s, Real,
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = v[i];
 }
 
-Real kick_drift_stable_step(Real omega2, Real c) {
-  if (omega2 <= 0) return c > 0 ? Real(2) / c : std::numeric_limits<Real>::infinity();
-  return (std::sqrt(c * c + 4 * omega2) - c) / omega2;
+bool is_stable(const Amplification& n) {
+  const std::complex<double> tr = n[0][0] + n[1][1];
+  const std::complex<double> det = n[0][0] * n[1][1] - n[0][1] * n[1][0];
+  const std::complex<double> root = std::sqrt(tr * tr / 4.0 - det);
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  for (const std::complex<double> mu : {tr / 2.0 + root, tr / 2.0 - root}) {
+    // |1 + mu|^2 - 1 = 2 Re mu + |mu|^2, computed without forming 1 + mu; rounding in mu is
+    // about eps |mu|, hence the allowance.
+    if (2 * mu.real() + std::norm(mu) > 8 * eps * std::abs(mu)) return false;
+  }
+  return true;
+}
+
+Amplification multiply(const Amplification& a, const Amplification& b) {
+  Amplification r{};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) r[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j];
+  return r;
+}
+
+Amplification compose(const Amplification& a, const Amplification& b) {
+  Amplification r = multiply(a, b);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) r[i][j] += a[i][j] + b[i][j];
+  return r;
+}
+
+Amplification kick_drift_increment(double h, double w2, double c) {
+  return {{{-h * h * w2, h * (1 - h * c)}, {-h * w2, -h * c}}};
+}
+
+// The stable steps form an interval [0, h*] for every built-in scheme: scan doubling steps
+// from far below 1/omega until one is unstable, then bisect. Undamped symplectic schemes sit
+// exactly on the unit circle (stable up to rounding); explicit Euler without damping grows by
+// |mu|^2 per step, which is unstable at any step.
+Real Integrator::stable_step(Real w2, Real c) const {
+  auto stable = [&](double h) { return is_stable(increment(h, w2, c)); };
+  const double scale = 1 / (std::sqrt(double(w2)) + double(c) + 1e-300);
+  double lo = 1e-6 * scale;
+  if (!stable(lo)) return 0;
+  double hi = lo;
+  while (stable(hi)) {
+    lo = hi;
+    hi *= 2;
+    if (hi > 1e9 * scale) return std::numeric_limits<Real>::infinity();
+  }
+  for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (stable(mid) ? lo : hi) = mid;
+  }
+  return static_cast<Real>(lo);
 }
 
 void kick_drift(const Model& m, State& s, Real kick, Real drift, int threads) {
@@ -35,9 +84,20 @@ void kick_drift(const Model& m, State& s, Real kick, Real drift, int threads) {
 const IntegratorRegistry& IntegratorRegistry::builtin() {
   static const IntegratorRegistry registry = [] {
     IntegratorRegistry r;
-    r.add(
-        {"leapfrog", "CORDIS leapfrog, half-step velocities, 2nd order (default)", make_leapfrog});
-    r.add({"symplectic_euler", "kick-drift Euler, 1st order, symplectic", make_symplectic_euler});
+    auto plain = [](std::unique_ptr<Integrator> (*make)()) {
+      return [make](const ImplicitSettings&) { return make(); };
+    };
+    r.add({"leapfrog", "CORDIS leapfrog, half-step velocities, 2nd order (default)",
+           plain(make_leapfrog)});
+    r.add({"symplectic_euler", "kick-drift Euler, 1st order, symplectic",
+           plain(make_symplectic_euler)});
+    r.add({"explicit_euler", "forward Euler, 1st order, unstable without damping",
+           plain(make_explicit_euler)});
+    r.add({"velocity_verlet", "kick-drift-kick, full-step velocities, 2nd order, 2 force passes",
+           plain(make_velocity_verlet)});
+    r.add({"rk4", "classical Runge-Kutta, 4th order, 4 force passes", plain(make_rk4)});
+    r.add({"implicit_euler", "backward Euler (Baraff-Witkin), 1st order, unconditionally stable",
+           make_implicit_euler});
     return r;
   }();
   return registry;

@@ -11,10 +11,12 @@ namespace {
 class SymplecticEuler final : public Integrator {
  public:
   std::string_view name() const override { return "symplectic_euler"; }
-  void advance(const Model& m, State& s, Real h, ForceEvaluator&) override {
+  void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
     kick_drift(m, s, h, h, threads_);
   }
-  Real stable_step(Real omega2, Real c) const override { return kick_drift_stable_step(omega2, c); }
+  Amplification increment(double h, double w2, double c) const override {
+    return kick_drift_increment(h, w2, c);
+  }
 };
 
 }  // namespace

@@ -17,6 +17,7 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
     o << "time,step,kinetic,elastic,gravity,total";
     for (const auto& s : profile.stages()) o << ",ns_" << s.name;
     for (const auto& c : profile.counters()) o << ',' << c.name;
+    for (const auto& g : profile.gauges()) o << ',' << g.name;
     o << '\n';
   }
   const Energies& e = sample.energies;
@@ -24,6 +25,7 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
     << ',' << e.total();
   for (const auto& s : profile.stages()) o << ',' << s.last_ns;
   for (const auto& c : profile.counters()) o << ',' << c.last;
+  for (const auto& g : profile.gauges()) o << ',' << g.last;
   o << '\n';
   ++rows_;
 }

@@ -62,6 +62,15 @@ class SceneReader {
     s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
     s.runaway_factor =
         t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
+    if (auto i = t.table("implicit")) {
+      s.implicit.solver = i->text("solver", s.implicit.solver, {"matrix_free", "eigen"});
+      s.implicit.tolerance = i->real("tolerance", s.implicit.tolerance, Bound::positive);
+      s.implicit.max_iterations =
+          static_cast<int>(i->integer("max_iterations", s.implicit.max_iterations, 1, 1 << 20));
+      s.implicit.newton_iterations =
+          static_cast<int>(i->integer("newton_iterations", s.implicit.newton_iterations, 1, 100));
+      i->finish();
+    }
     t.finish();
     return s;
   }

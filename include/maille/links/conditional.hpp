@@ -60,6 +60,14 @@ struct ConditionalSpringDamperT {
     if (s.length >= p.threshold) return {};
     return spring_damper_force(s, vb - va, p.stiffness, p.rest_length, p.damping);
   }
+  // Zero while inactive; a spring-damper toward rest_length while active.
+  static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
+                               const Params& p, JacobianMode mode) {
+    if (!Distance::within(xa, xb, p.threshold)) return {};
+    LinkJacobian j = damper_jacobian(xb - xa, vb - va, p.damping, mode);
+    j.dx += spring_jacobian(xb - xa, p.stiffness, p.rest_length, mode);
+    return j;
+  }
   static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
     const Real d = Distance::separation(xa, xb).length;
     if (d >= p.threshold) return 0;

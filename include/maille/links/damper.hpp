@@ -22,6 +22,10 @@ struct Damper {
     const Separation s = separation(xa, xb);
     return s.n * (p.damping * dot(vb - va, s.n));
   }
+  static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
+                               const Params& p, JacobianMode mode) {
+    return damper_jacobian(xb - xa, vb - va, p.damping, mode);
+  }
   static Real energy(const Vec3&, const Vec3&, const Params&) { return 0; }
   static Real stiffness(const Params&) { return 0; }
   static Real damping(const Params& p) { return p.damping; }

@@ -5,6 +5,7 @@
 #include <array>
 
 #include "maille/link_kind.hpp"
+#include "maille/mat3.hpp"
 
 namespace maille {
 
@@ -27,6 +28,33 @@ inline Separation separation(const Vec3& xa, const Vec3& xb) {
   const Vec3 d = xb - xa;
   const Real len = norm(d);
   return {len, d * (Real(1) / (len + kTinyLength))};
+}
+
+// d/dd of k (|d| - L0) d/|d|:  k [ n n^T + (1 - L0/|d|) (I - n n^T) ].
+// In definite mode the transverse factor is clamped at 0 (a compressed spring would otherwise
+// contribute a negative stiffness and the implicit system could lose definiteness).
+inline Mat3 spring_jacobian(const Vec3& d, Real k, Real rest, JacobianMode mode) {
+  const Real inv = inverse_length(d);
+  const Vec3 n = d * inv;
+  Real transverse = 1 - rest * inv;
+  if (mode == JacobianMode::definite && transverse < 0) transverse = 0;
+  const Mat3 nn = Mat3::outer(n, n);
+  return (nn + (Mat3::identity() - nn) * transverse) * k;
+}
+
+// Derivatives of the axial damper z ((v_b - v_a).n) n. d/d(dv) = z n n^T; d/dd, from the turning
+// of n, = z/|d| [ n (P dv)^T + (dv.n) P ] with P = I - n n^T: not symmetric, dropped in
+// definite mode (as Baraff & Witkin do).
+inline LinkJacobian damper_jacobian(const Vec3& d, const Vec3& dv, Real z, JacobianMode mode) {
+  const Real inv = inverse_length(d);
+  const Vec3 n = d * inv;
+  LinkJacobian j;
+  j.dv = Mat3::outer(n, n) * z;
+  if (mode == JacobianMode::exact) {
+    const Mat3 P = Mat3::identity() - Mat3::outer(n, n);
+    j.dx = (Mat3::outer(n, P * dv) + P * dot(dv, n)) * (z * inv);
+  }
+  return j;
 }
 
 struct Spring {
@@ -53,6 +81,10 @@ struct Spring {
   static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
     const Real e = norm(xb - xa) - p.rest_length;
     return Real(0.5) * p.stiffness * e * e;
+  }
+  static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3&, const Vec3&,
+                               const Params& p, JacobianMode mode) {
+    return {spring_jacobian(xb - xa, p.stiffness, p.rest_length, mode), Mat3{}};
   }
   static Real stiffness(const Params& p) { return p.stiffness; }
   static Real damping(const Params&) { return 0; }

@@ -40,6 +40,12 @@ struct SpringDamper {
     const Real inv = inverse_length(d);
     return d * (p.stiffness * (1 - p.rest_length * inv) + p.damping * dot(vb - va, d) * inv * inv);
   }
+  static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
+                               const Params& p, JacobianMode mode) {
+    LinkJacobian j = damper_jacobian(xb - xa, vb - va, p.damping, mode);
+    j.dx += spring_jacobian(xb - xa, p.stiffness, p.rest_length, mode);
+    return j;
+  }
   static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
     const Real e = norm(xb - xa) - p.rest_length;
     return Real(0.5) * p.stiffness * e * e;

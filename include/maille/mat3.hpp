@@ -1,0 +1,68 @@
+// Mat3: the 3x3 blocks of link Jacobians (implicit integration).
+#pragma once
+
+#include "maille/vec3.hpp"
+
+namespace maille {
+
+struct Mat3 {
+  Real m[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  // row-major
+
+  static constexpr Mat3 identity() {
+    Mat3 r;
+    r.m[0][0] = r.m[1][1] = r.m[2][2] = 1;
+    return r;
+  }
+  // a b^T
+  static constexpr Mat3 outer(const Vec3& a, const Vec3& b) {
+    Mat3 r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) r.m[i][j] = a[i] * b[j];
+    return r;
+  }
+  constexpr Mat3& operator+=(const Mat3& o) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) m[i][j] += o.m[i][j];
+    return *this;
+  }
+  constexpr Mat3& operator*=(Real s) {
+    for (auto& row : m)
+      for (Real& e : row) e *= s;
+    return *this;
+  }
+};
+
+constexpr Mat3 operator+(Mat3 a, const Mat3& b) {
+  return a += b;
+}
+constexpr Mat3 operator-(Mat3 a, const Mat3& b) {
+  return a += (Mat3(b) *= Real(-1));
+}
+constexpr Mat3 operator*(Mat3 a, Real s) {
+  return a *= s;
+}
+constexpr Mat3 operator*(Real s, Mat3 a) {
+  return a *= s;
+}
+constexpr Vec3 operator*(const Mat3& a, const Vec3& v) {
+  return {a.m[0][0] * v.x + a.m[0][1] * v.y + a.m[0][2] * v.z,
+          a.m[1][0] * v.x + a.m[1][1] * v.y + a.m[1][2] * v.z,
+          a.m[2][0] * v.x + a.m[2][1] * v.y + a.m[2][2] * v.z};
+}
+
+// Derivatives of a link's force on its first point a, with respect to the state of its second
+// point b (the force depends on x_b - x_a and v_b - v_a only, so the derivatives with respect
+// to a are the opposites, and b's force, -f_a, has the opposite derivatives again).
+struct LinkJacobian {
+  Mat3 dx;  // d f_a / d x_b, N/m
+  Mat3 dv;  // d f_a / d v_b, N.s/m
+};
+
+// What the implicit solver needs from a Jacobian: the exact derivative (tests, Newton), or a
+// symmetric negative semi-definite approximation that keeps M - h df/dv - h^2 df/dx symmetric
+// positive definite for conjugate gradients: compressed springs drop their negative
+// transverse term (Choi & Ko 2002) and dampers drop the non-symmetric position derivative
+// of their direction (Baraff & Witkin 1998).
+enum class JacobianMode { exact, definite };
+
+}  // namespace maille

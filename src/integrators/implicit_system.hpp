@@ -1,0 +1,41 @@
+// Internal: the linear system of implicit Euler, A dv = b with
+//   A = M (1 + h gamma) - h df/dv - h^2 df/dx   (filtered: rows and columns of fixed points
+// replaced by the identity, their right-hand side by zero), solved by preconditioned CG.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "maille/model.hpp"
+#include "maille/state.hpp"
+
+namespace maille {
+
+struct SolveResult {
+  int iterations = 0;
+  double relative_residual = 0;  // |b - A dv| / |b| at exit (0 when b = 0)
+};
+
+class ImplicitSystem {
+ public:
+  virtual ~ImplicitSystem() = default;
+  // Takes the link Jacobians at the state; adds h^2 df/dx v into rhs when rhs is not null.
+  virtual void linearise(const Model& m, const State& s, Real h, Vec3* rhs) = 0;
+  // Solves A dv = rhs (rhs is filtered in place; dv is overwritten, starting from zero).
+  virtual SolveResult solve(std::vector<Vec3>& rhs, std::vector<Vec3>& dv, Real tolerance,
+                            int max_iterations) = 0;
+  // The product A u (filtered), for tests comparing the two solvers.
+  virtual void multiply(const std::vector<Vec3>& u, std::vector<Vec3>& out) = 0;
+};
+
+// solver: "matrix_free" or "eigen".
+std::unique_ptr<ImplicitSystem> make_implicit_system(const std::string& solver, const Model& m,
+                                                     int threads);
+std::unique_ptr<ImplicitSystem> make_matrix_free_system(const Model& m, int threads);
+std::unique_ptr<ImplicitSystem> make_eigen_system(const Model& m, int threads);
+
+// Inverse of a symmetric positive definite 3x3 matrix (cofactors; identity if singular).
+Mat3 inverse_spd(const Mat3& a);
+
+}  // namespace maille

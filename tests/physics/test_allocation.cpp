@@ -1,0 +1,73 @@
+// No allocation in the step: after the first step (which sizes scratch buffers), stepping a
+// flag allocates nothing, with leapfrog and with implicit Euler (matrix-free CG), on one thread
+// and two. Counted by replacing the global operator new in this test binary.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "maille/builders.hpp"
+#include "test_support.hpp"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+  std::free(p);
+}
+
+namespace maille {
+namespace {
+
+long allocations_in_steps(const char* scheme, int threads) {
+  Model m;
+  FlagParams p;
+  p.nx = 64;  // 4096 points: large enough that two threads are used when asked
+  p.ny = 64;
+  build_flag(m, p, "flag");
+  m.fields.wind.velocity = {5, 0, 1};
+  m.fields.wind.turbulence = 0.3;
+  SimulationSettings s =
+      test::settings(scheme == std::string("implicit_euler") ? 2e-3 : 1e-4, scheme);
+  s.threads = threads;
+  s.sample_every = 5;
+  s.publish_every = 5;
+  Simulator sim(std::move(m), s);
+  sim.on_publish([](const Snapshot&) {});
+  sim.run_steps(5);  // sizes the scratch buffers and the snapshot
+  g_allocations = 0;
+  g_counting = true;
+  sim.run_steps(20);
+  g_counting = false;
+  return g_allocations.load();
+}
+
+TEST(Allocation, CounterSeesAllocations) {  // the instrument works
+  g_allocations = 0;
+  g_counting = true;
+  auto* v = new std::vector<int>(1000);
+  g_counting = false;
+  delete v;
+  EXPECT_GE(g_allocations.load(), 2);
+}
+
+TEST(Allocation, NoneInTheStepAfterTheFirst) {
+  for (const char* scheme : {"leapfrog", "implicit_euler", "rk4", "velocity_verlet"})
+    for (int threads : {1, 2})
+      EXPECT_EQ(allocations_in_steps(scheme, threads), 0)
+          << scheme << " on " << threads << " threads";
+}
+
+}  // namespace
+}  // namespace maille
