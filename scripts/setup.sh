@@ -1,13 +1,18 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Maille needs to build and test.
 # Idempotent and quiet: does nothing when every package is already present.
-# Usage: scripts/setup.sh [--with-render]   (render extras are for the viewer/headless renderer)
+# Usage: scripts/setup.sh
 set -euo pipefail
 
 packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libtomlplusplus-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
+  # Rendering (src/render, apps/viewer, `maille render`): OpenGL 4.5 core through libepoxy, EGL
+  # surfaceless on Mesa's software driver for headless frames, GLFW + Dear ImGui for the viewer,
+  # stb_image_write for PNG, ffmpeg for MP4, Xvfb for the viewer test with no display.
+  libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
+  libstb-dev ffmpeg xvfb xauth
 )
 
 missing=()

@@ -12,6 +12,14 @@
 #include "maille/io.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
+#ifdef MAILLE_WITH_RENDER
+#include <unistd.h>
+
+#include <cstdlib>
+#include <memory>
+
+#include "maille/render/movie.hpp"
+#endif
 
 namespace maille::app {
 
@@ -203,5 +211,134 @@ int bench(const BenchOptions& o) {
   std::printf("\n");
   return ok;
 }
+
+#ifdef MAILLE_WITH_RENDER
+namespace {
+
+// A one-line progress bar on stderr, redrawn in place, only when stderr is a terminal (logs and
+// tests get the summary line alone).
+class ProgressBar {
+ public:
+  ProgressBar() : tty_(isatty(STDERR_FILENO) == 1), t0_(std::chrono::steady_clock::now()) {}
+  ~ProgressBar() {
+    if (drawn_) std::fputc('\n', stderr);
+  }
+  void update(std::uint64_t done, std::uint64_t total) {
+    if (!tty_ || total == 0) return;
+    const double elapsed = seconds_since(t0_);
+    if (done < total && elapsed - last_ < 0.1) return;  // at most 10 redraws per second
+    last_ = elapsed;
+    constexpr int kWidth = 30;
+    const double f = double(done) / double(total);
+    const int filled = static_cast<int>(f * kWidth);
+    std::string bar(static_cast<std::size_t>(filled), '=');
+    if (filled < kWidth)
+      bar += '>' + std::string(static_cast<std::size_t>(kWidth - filled - 1), ' ');
+    const double left = done > 0 ? elapsed * double(total - done) / double(done) : 0;
+    std::fprintf(stderr, "\r[%s] %3d%% frame %llu/%llu, %.0f s left ", bar.c_str(),
+                 static_cast<int>(f * 100), static_cast<unsigned long long>(done),
+                 static_cast<unsigned long long>(total), left);
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+
+ private:
+  bool tty_;
+  bool drawn_ = false;
+  std::chrono::steady_clock::time_point t0_;
+  double last_ = -1;
+};
+
+// "yaw,pitch[,zoom]" in degrees, degrees and a distance factor.
+bool parse_camera(const std::string& text, render::MovieSettings& m) {
+  double v[3] = {m.yaw, m.pitch, m.zoom};
+  int n = 0;
+  std::size_t pos = 0;
+  while (n < 3 && pos <= text.size()) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string part = text.substr(pos, comma == std::string::npos ? comma : comma - pos);
+    char* end = nullptr;
+    v[n++] = std::strtod(part.c_str(), &end);
+    if (part.empty() || *end != '\0') return false;
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (n < 2 || !(v[2] > 0)) return false;
+  m.yaw = v[0];
+  m.pitch = v[1];
+  m.zoom = v[2];
+  return true;
+}
+
+}  // namespace
+
+int render(const RenderCommandOptions& o) {
+  auto scene = load_or_report(o.scene);
+  if (!scene) return bad_input;
+  render::MovieSettings m;
+  m.width = o.width;
+  m.height = o.height;
+  m.fps = o.fps;
+  m.duration = o.duration ? *o.duration : scene->settings.duration;
+  m.samples = o.samples;
+  m.options.links_on_surface = o.mesh;
+  if (o.threads) m.threads = *o.threads;
+  if (!parse_camera(o.camera, m)) {
+    std::cerr << "--camera: expected yaw,pitch[,zoom] (degrees, degrees, factor > 0), got '"
+              << o.camera << "'\n";
+    return usage;
+  }
+  const std::filesystem::path out(o.out);
+  const std::string ext = out.extension().string();
+  try {
+    std::unique_ptr<render::FrameSink> sink;
+    if (ext == ".mp4") {
+      if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+      sink = render::ffmpeg_video(out, m.width, m.height, m.fps);
+    } else if (ext == ".png") {
+      if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+      sink = render::png_still(out);
+      m.last_frame_only = true;
+    } else {
+      sink = render::png_sequence(out);
+    }
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    const auto t0 = std::chrono::steady_clock::now();
+    render::MovieReport r;
+    {
+      ProgressBar bar;
+      r = render::render_movie(*scene, m, *sink, [&](std::uint64_t done, std::uint64_t total) {
+        bar.update(done, total);
+        return !g_stop;
+      });
+    }
+    const double wall = seconds_since(t0);
+    const double per_frame = r.frames ? 1e3 / double(r.frames) : 0.0;
+    std::printf(
+        "maille: render %s: %llu frames %dx%d (%.4g s simulated) in %.3g s wall: %.3g ms per "
+        "frame drawing and reading back, %.3g ms writing, simulation %.3g s; %s\n",
+        scene->name.c_str(), static_cast<unsigned long long>(r.frames), m.width, m.height,
+        r.simulated, wall, r.render_seconds * per_frame, r.output_seconds * per_frame,
+        r.simulate_seconds, sink->describe().c_str());
+    std::printf("maille: OpenGL: %s\n", r.gl.c_str());
+    if (r.blow_up) {
+      std::cerr << "error: " << *r.blow_up << '\n';
+      return blow_up;
+    }
+    if (r.interrupted) {
+      std::cerr << "interrupted; the frames written so far are complete\n";
+      return interrupted;
+    }
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return usage;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return output_error;
+  }
+  return ok;
+}
+#endif
 
 }  // namespace maille::app

@@ -40,4 +40,18 @@ struct BenchOptions {
 };
 int bench(const BenchOptions& o);
 
+// `maille render`: pictures and videos with no display (EGL surfaceless, see movie.hpp).
+struct RenderCommandOptions {
+  std::string scene;
+  std::string out;  // FILE.mp4: a video; FILE.png: the last frame; anything else: a directory
+  int width = 1280, height = 720;  // pixels
+  double fps = 30;                 // frames per simulated second
+  std::optional<double> duration;  // simulated seconds (default: the scene's)
+  std::string camera = "25,15,1";  // "yaw,pitch[,zoom]": degrees, degrees, distance factor
+  int samples = 4;                 // antialiasing samples per pixel
+  bool mesh = false;               // draw the links inside cloth surfaces too
+  std::optional<int> threads;
+};
+int render(const RenderCommandOptions& o);
+
 }  // namespace maille::app

@@ -45,6 +45,34 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
 
+#ifdef MAILLE_WITH_RENDER
+  RenderCommandOptions rn;
+  auto* render_cmd = app.add_subcommand(
+      "render", "Render a scene with no display: an MP4 video, PNG frames or one PNG still");
+  render_cmd->add_option("scene", rn.scene, "Scene file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  render_cmd
+      ->add_option("--out", rn.out,
+                   "FILE.mp4 (video through ffmpeg), FILE.png (the last frame) or a directory "
+                   "(frame_000000.png, ...)")
+      ->required();
+  render_cmd->add_option("--width", rn.width, "Image width, pixels")->check(CLI::PositiveNumber);
+  render_cmd->add_option("--height", rn.height, "Image height, pixels")->check(CLI::PositiveNumber);
+  render_cmd->add_option("--fps", rn.fps, "Frames per simulated second")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--duration", rn.duration, "Simulated time, s (default: the scene's)")
+      ->check(CLI::PositiveNumber);
+  render_cmd->add_option("--camera", rn.camera,
+                         "yaw,pitch[,zoom]: view direction in degrees (yaw 0 looks along -z, "
+                         "pitch from above) and distance over the auto-framed one");
+  render_cmd->add_option("--samples", rn.samples, "Antialiasing samples per pixel (1-8)")
+      ->check(CLI::Range(1, 8));
+  render_cmd->add_flag("--mesh", rn.mesh, "Also draw the links inside cloth surfaces");
+  render_cmd->add_option("--threads", rn.threads, "Simulation threads (default: the scene's)")
+      ->check(CLI::PositiveNumber);
+#endif
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -55,5 +83,8 @@ int main(int argc, char** argv) {
   if (*validate_cmd) return validate(scene);
   if (*info_cmd) return info(scene);
   if (*bench_cmd) return bench(bo);
+#ifdef MAILLE_WITH_RENDER
+  if (*render_cmd) return render(rn);
+#endif
   return usage;
 }

@@ -1,0 +1,234 @@
+#include "panels.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "maille/integrator.hpp"
+
+namespace maille::viewer {
+
+namespace {
+
+float to_float(Real v) {
+  return static_cast<float>(v);
+}
+
+void simulation_controls(PhysicsThread& physics, const PhysicsStatus& st, Tuning& t) {
+  if (ImGui::Button(st.running ? "Pause (space)" : "Play (space)"))
+    st.running ? physics.pause() : physics.play();
+  ImGui::SameLine();
+  if (ImGui::Button("Step (N)")) physics.step_once();
+  ImGui::SameLine();
+  if (ImGui::Button("Reset (R)")) physics.reset();
+
+  if (ImGui::Checkbox("as fast as possible", &t.as_fast_as_possible))
+    physics.set_speed(t.as_fast_as_possible ? 0.0 : t.speed);
+  if (!t.as_fast_as_possible &&
+      ImGui::SliderFloat("speed", &t.speed, 0.02f, 4.0f, "%.2fx", ImGuiSliderFlags_Logarithmic))
+    physics.set_speed(t.speed);
+
+  ImGui::InputDouble("step h (s)", &t.step, 0, 0, "%.3e");
+  if (ImGui::IsItemDeactivatedAfterEdit()) {
+    t.step = std::clamp(t.step, 1e-7, 1e-1);
+    physics.set_time_step(t.step);
+  }
+
+  const auto& entries = IntegratorRegistry::builtin().entries();
+  if (ImGui::BeginCombo("integrator", st.integrator.c_str())) {
+    for (const auto& e : entries)
+      if (ImGui::Selectable(e.name.c_str(), e.name == st.integrator))
+        physics.set_integrator(e.name);
+    ImGui::EndCombo();
+  }
+
+  ImGui::Text("t = %.3f s   step %llu", st.time, static_cast<unsigned long long>(st.step));
+  ImGui::Text("%.0f steps/s   %.2fx real time", st.steps_per_second, st.realtime_factor);
+  if (st.blow_up) {
+    ImGui::PushTextWrapPos(0);
+    ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "Blow-up: %s", st.blow_up->c_str());
+    ImGui::PopTextWrapPos();
+  }
+  if (!st.notice.empty()) ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "%s", st.notice.c_str());
+}
+
+void field_controls(PhysicsThread& physics, Tuning& t) {
+  Fields& f = t.fields;
+  float g[3] = {to_float(f.gravity.x), to_float(f.gravity.y), to_float(f.gravity.z)};
+  float w[3] = {to_float(f.wind.velocity.x), to_float(f.wind.velocity.y),
+                to_float(f.wind.velocity.z)};
+  float drag = to_float(f.air_drag), turbulence = to_float(f.wind.turbulence);
+  bool changed = false;
+  if (ImGui::DragFloat3("gravity (m/s2)", g, 0.05f)) {
+    f.gravity = {g[0], g[1], g[2]};
+    changed = true;
+  }
+  if (ImGui::SliderFloat("air drag (1/s)", &drag, 0, 5, "%.3f", ImGuiSliderFlags_Logarithmic)) {
+    f.air_drag = drag;
+    changed = true;
+  }
+  if (ImGui::DragFloat3("wind (m/s)", w, 0.05f)) {
+    f.wind.velocity = {w[0], w[1], w[2]};
+    changed = true;
+  }
+  if (ImGui::SliderFloat("turbulence", &turbulence, 0, 1)) {
+    f.wind.turbulence = turbulence;
+    changed = true;
+  }
+  if (changed) physics.set_fields(f);
+}
+
+void link_controls(const Scene& scene, PhysicsThread& physics, Tuning& t) {
+  const auto pools = scene.model.links.pools();
+  for (std::size_t p = 0; p < pools.size(); ++p) {
+    const LinkPoolBase& pool = *pools[p];
+    ImGui::PushID(static_cast<int>(p));
+    ImGui::Text("%s: %zu links", std::string(pool.keyword()).c_str(), pool.size());
+    const auto fields = pool.fields();
+    for (std::size_t k = 0; k < fields.size() && k < t.link_factor[p].size(); ++k) {
+      float& factor = t.link_factor[p][k];
+      const float before = factor;
+      const double value = pool.size() ? double(pool.param(0, k)) * factor : 0.0;
+      char label[96];
+      std::snprintf(label, sizeof label, "%s x##%zu", fields[k].name.c_str(), k);
+      char format[64];
+      std::snprintf(format, sizeof format, "%%.3g (%.3g %s)", value, fields[k].unit.c_str());
+      if (ImGui::SliderFloat(label, &factor, 0.01f, 100.0f, format, ImGuiSliderFlags_Logarithmic) &&
+          factor > 0 && before > 0)
+        physics.scale_link_param(p, k, Real(factor / before));
+    }
+    ImGui::PopID();
+  }
+}
+
+void drawing_controls(render::RenderOptions& o, Tuning& t, PanelRequests& r) {
+  ImGui::Checkbox("surfaces", &o.surface);
+  ImGui::SameLine();
+  ImGui::Checkbox("links", &o.links);
+  ImGui::SameLine();
+  ImGui::Checkbox("cloth mesh", &o.links_on_surface);
+  ImGui::Checkbox("points", &o.points);
+  ImGui::SameLine();
+  ImGui::Checkbox("contacts", &o.contacts);
+  ImGui::SameLine();
+  ImGui::Checkbox("grid", &o.grid);
+  ImGui::SliderFloat("strain range", &o.strain_range, 0.001f, 0.5f, "%.3f",
+                     ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderFloat("link width (px)", &o.link_width, 0.5f, 8.0f);
+  ImGui::SliderFloat("point size", &o.point_scale, 0.1f, 5.0f, "%.2fx");
+  ImGui::SliderFloat("drag stiffness", &t.drag_factor, 0.01f, 100.0f, "%.2fx",
+                     ImGuiSliderFlags_Logarithmic);
+  if (ImGui::Checkbox("auto-frame", &t.auto_frame) && t.auto_frame) r.frame_scene = true;
+  ImGui::SameLine();
+  if (ImGui::Button("Frame (F)")) r.frame_scene = true;
+  ImGui::SameLine();
+  if (ImGui::Button("Screenshot (P)")) r.screenshot = true;
+}
+
+// One line plot per series over the history, with the latest value written on it.
+void plot(const char* label, const std::vector<float>& values, const char* unit) {
+  if (values.empty()) return;
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  char overlay[96], id[96];
+  std::snprintf(overlay, sizeof overlay, "%s %.4g %s", label, double(values.back()), unit);
+  std::snprintf(id, sizeof id, "##%s", label);  // the overlay names it: no label column
+  ImGui::PlotLines(id, values.data(), static_cast<int>(values.size()), 0, overlay, *lo,
+                   *hi + 1e-9f * (1 + std::abs(*hi)), ImVec2(ImGui::GetContentRegionAvail().x, 44));
+}
+
+void plots(const PhysicsThread& physics, const PhysicsStatus& st) {
+  const std::vector<PlotSample> history = physics.history();
+  if (ImGui::CollapsingHeader("Energies", ImGuiTreeNodeFlags_DefaultOpen)) {
+    std::vector<float> kinetic, elastic, gravity, total;
+    for (const auto& s : history) {
+      kinetic.push_back(float(s.energies.kinetic));
+      elastic.push_back(float(s.energies.elastic));
+      gravity.push_back(float(s.energies.gravity));
+      total.push_back(float(s.energies.total()));
+    }
+    plot("kinetic", kinetic, "J");
+    plot("elastic", elastic, "J");
+    plot("gravity", gravity, "J");
+    plot("total", total, "J");
+  }
+  if (ImGui::CollapsingHeader("Time per stage", ImGuiTreeNodeFlags_DefaultOpen)) {
+    double sum = 0;
+    for (const auto& s : st.stages) sum += s.ns_per_step;
+    for (const auto& s : st.stages) {
+      char overlay[96];
+      std::snprintf(overlay, sizeof overlay, "%s %.1f us", s.name.c_str(), s.ns_per_step * 1e-3);
+      ImGui::ProgressBar(sum > 0 ? float(s.ns_per_step / sum) : 0.0f, ImVec2(-1, 0), overlay);
+    }
+    ImGui::Text("step: %.1f us", sum * 1e-3);
+  }
+  if (ImGui::CollapsingHeader("Counters", ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (std::size_t c = 0; c < st.counters.size(); ++c) {
+      std::vector<float> values;
+      for (const auto& s : history)
+        if (c < s.counters.size()) values.push_back(float(s.counters[c]));
+      plot(st.counters[c].name.c_str(), values, "");
+    }
+  }
+}
+
+}  // namespace
+
+Tuning Tuning::from(const Scene& scene) {
+  Tuning t;
+  for (const auto& pool : scene.model.links.pools())
+    t.link_factor.emplace_back(pool->fields().size(), 1.0f);
+  t.fields = scene.model.fields;
+  t.step = scene.settings.step;
+  return t;
+}
+
+PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tuning,
+                          render::RenderOptions& options,
+                          const std::vector<std::filesystem::path>& examples,
+                          const std::string& load_error, double frame_ms) {
+  PanelRequests r;
+  const PhysicsStatus st = physics.status();
+
+  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(370, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Maille");
+  const std::string current = scene.source.filename().string();
+  if (ImGui::BeginCombo("scene", current.c_str())) {
+    for (const auto& e : examples)
+      if (ImGui::Selectable(e.filename().string().c_str(), e.filename() == scene.source.filename()))
+        r.open = e;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Reload")) r.reload = true;
+  if (!scene.description.empty()) ImGui::TextWrapped("%s", scene.description.c_str());
+  if (!load_error.empty()) {
+    ImGui::PushTextWrapPos(0);
+    ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "%s", load_error.c_str());
+    ImGui::PopTextWrapPos();
+  }
+  ImGui::Text("%u points, %zu links, %zu faces; drawing %.1f ms", scene.model.points.size(),
+              scene.model.links.total(), scene.model.surface.triangles.size(), frame_ms);
+
+  if (ImGui::CollapsingHeader("Simulation", ImGuiTreeNodeFlags_DefaultOpen))
+    simulation_controls(physics, st, tuning);
+  if (ImGui::CollapsingHeader("Fields", ImGuiTreeNodeFlags_DefaultOpen))
+    field_controls(physics, tuning);
+  if (ImGui::CollapsingHeader("Links", ImGuiTreeNodeFlags_DefaultOpen))
+    link_controls(scene, physics, tuning);
+  if (ImGui::CollapsingHeader("Drawing")) drawing_controls(options, tuning, r);
+  ImGui::TextDisabled("left drag: orbit or grab a point; right drag: pan; wheel: zoom");
+  ImGui::End();
+
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(display.x - 338, 8), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Plots");
+  plots(physics, st);
+  ImGui::End();
+  return r;
+}
+
+}  // namespace maille::viewer

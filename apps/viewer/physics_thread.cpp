@@ -1,0 +1,257 @@
+#include "physics_thread.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace maille::viewer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
+
+// A batch of steps runs for at most this long before the physics thread looks at its commands
+// and publishes: short enough for the window to get a fresh snapshot every frame at 60 Hz.
+constexpr double kBatchSeconds = 1.0 / 120;
+// Plot samples per simulated second.
+constexpr double kSamplesPerSecond = 100;
+
+}  // namespace
+
+PhysicsThread::PhysicsThread(Model model, SimulationSettings settings,
+                             render::SnapshotExchange& out, bool play)
+    : out_(out) {
+  sim_ = make_simulator(std::move(model), std::move(settings));
+  running_ = play;
+  sim_->publish_now();
+  publish_status(0, 0, 0);
+  thread_ = std::thread([this] { run(); });
+}
+
+PhysicsThread::~PhysicsThread() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, SimulationSettings settings) {
+  settings.publish_every = 1 << 30;  // published explicitly after each batch of steps
+  settings.sample_every =
+      std::max(1, static_cast<int>(std::lround(1 / (kSamplesPerSecond * settings.step))));
+  auto sim = std::make_unique<Simulator>(std::move(model), std::move(settings));
+  sim->add_force_stage(std::make_unique<DragSpring>(drag_));
+  // Runs on the physics thread, inside Simulator::publish_now.
+  sim->on_publish([this](const Snapshot& s) { out_.publish(s); });
+  sim->on_sample([this](const EnergySample& e, const Profile& p) {
+    PlotSample sample{e.time, e.energies, {}};
+    for (const auto& c : p.counters()) sample.counters.push_back(double(c.last));
+    std::lock_guard lock(mutex_);
+    history_.push_back(std::move(sample));
+    while (history_.size() > kHistory) history_.pop_front();
+  });
+  previous_stage_ns_.clear();
+  return sim;
+}
+
+void PhysicsThread::send(Command c) {
+  {
+    std::lock_guard lock(mutex_);
+    commands_.push_back(std::move(c));
+  }
+  wake_.notify_all();
+}
+
+void PhysicsThread::play() {
+  {
+    std::lock_guard lock(mutex_);
+    running_ = true;
+  }
+  wake_.notify_all();
+}
+
+void PhysicsThread::pause() {
+  std::lock_guard lock(mutex_);
+  running_ = false;
+}
+
+void PhysicsThread::step_once() {
+  {
+    std::lock_guard lock(mutex_);
+    running_ = false;
+    ++single_steps_;
+  }
+  wake_.notify_all();
+}
+
+void PhysicsThread::reset() {
+  drag_->release();
+  send([this](Simulator& sim) {
+    sim.reset();
+    std::lock_guard lock(mutex_);
+    history_.clear();
+  });
+}
+
+void PhysicsThread::set_speed(double speed) {
+  std::lock_guard lock(mutex_);
+  speed_ = std::max(0.0, speed);
+}
+
+void PhysicsThread::set_time_step(double h) {
+  send([h](Simulator& sim) { sim.set_step(h); });
+}
+
+void PhysicsThread::set_integrator(const std::string& name) {
+  send([this, name](Simulator& sim) {
+    // A new simulator around the current model (tuned parameters included) and state.
+    SimulationSettings settings = sim.settings();
+    settings.integrator = name;
+    const State state = sim.state();
+    try {
+      auto fresh = make_simulator(sim.model(), settings);
+      fresh->state_for_editing() = state;
+      sim_ = std::move(fresh);  // `sim` is gone from here on
+      std::lock_guard lock(mutex_);
+      status_.notice.clear();
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      status_.notice = "integrator " + name + ": " + e.what();
+    }
+  });
+}
+
+void PhysicsThread::scale_link_param(std::size_t pool, std::size_t field, Real factor) {
+  send([pool, field, factor](Simulator& sim) {
+    const auto pools = sim.model_for_editing().links.pools();
+    if (pool < pools.size() && field < pools[pool]->fields().size())
+      pools[pool]->scale_param(field, factor);
+  });
+}
+
+void PhysicsThread::set_fields(const Fields& fields) {
+  send([fields](Simulator& sim) { sim.model_for_editing().fields = fields; });
+}
+
+PhysicsStatus PhysicsThread::status() const {
+  std::lock_guard lock(mutex_);
+  return status_;
+}
+
+std::vector<PlotSample> PhysicsThread::history() const {
+  std::lock_guard lock(mutex_);
+  return {history_.begin(), history_.end()};
+}
+
+bool PhysicsThread::wait_for_step(std::uint64_t steps, double timeout_s) const {
+  std::unique_lock lock(mutex_);
+  progress_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+                     [&] { return status_.step >= steps || status_.blow_up.has_value(); });
+  return status_.step >= steps;
+}
+
+// Physics thread (and the constructor, before the thread starts).
+void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_s,
+                                   double batch_sim_s) {
+  const Simulator& sim = *sim_;
+  const auto& stages = sim.profile().stages();
+  std::vector<StageTime> times;
+  previous_stage_ns_.resize(stages.size(), 0);
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    const double delta = stages[i].total_ns - previous_stage_ns_[i];
+    times.push_back({stages[i].name, batch_steps ? delta / double(batch_steps) : 0.0});
+    previous_stage_ns_[i] = stages[i].total_ns;
+  }
+  std::vector<CounterValue> counters;
+  for (const auto& c : sim.profile().counters()) counters.push_back({c.name, c.last});
+
+  std::lock_guard lock(mutex_);
+  status_.running = running_;
+  status_.step = sim.state().step;
+  status_.time = sim.state().time;
+  status_.step_size = sim.settings().step;
+  status_.integrator = sim.settings().integrator;
+  if (batch_wall_s > 0) {
+    status_.steps_per_second = double(batch_steps) / batch_wall_s;
+    status_.realtime_factor = batch_sim_s / batch_wall_s;
+  }
+  if (sim.blow_up())
+    status_.blow_up = sim.blow_up()->message;
+  else
+    status_.blow_up.reset();
+  if (batch_steps > 0) status_.stages = std::move(times);
+  status_.counters = std::move(counters);
+  progress_.notify_all();
+}
+
+void PhysicsThread::run() {
+  // While playing, simulated time follows anchor_sim + (now - anchor_wall) * speed.
+  Clock::time_point anchor_wall = Clock::now();
+  double anchor_sim = sim_->state().time;
+  bool was_running = false;
+  for (;;) {
+    std::deque<Command> commands;
+    bool running = false;
+    int singles = 0;
+    double speed = 1;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return quit_ || !commands_.empty() || running_ || single_steps_; });
+      if (quit_) return;
+      commands.swap(commands_);
+      running = running_;
+      singles = std::exchange(single_steps_, 0);
+      speed = speed_;
+      if (running && sim_->blow_up()) running = running_ = false;  // nothing more to run
+    }
+
+    for (auto& c : commands) c(*sim_);
+    const Clock::time_point t0 = Clock::now();
+    const double sim0 = sim_->state().time;
+    const std::uint64_t step0 = sim_->state().step;
+
+    if (singles > 0) {
+      for (int i = 0; i < singles && sim_->step(); ++i) {
+      }
+    } else if (running) {
+      // A pause, a command or a change of speed restarts the clock: no burst to catch up.
+      if (!was_running || !commands.empty()) {
+        anchor_wall = t0;
+        anchor_sim = sim0;
+      }
+      const double due = speed > 0 ? anchor_sim + seconds(t0 - anchor_wall) * speed : INFINITY;
+      while (sim_->state().time < due && seconds(Clock::now() - t0) < kBatchSeconds &&
+             sim_->step()) {
+      }
+      // Too slow for real time: follow from here rather than falling further behind.
+      if (speed > 0 && sim_->state().time < due - 0.05 * speed) {
+        anchor_wall = Clock::now();
+        anchor_sim = sim_->state().time;
+      }
+    }
+    was_running = running && singles == 0;
+
+    const std::uint64_t steps = sim_->state().step - step0;
+    if (steps > 0 || !commands.empty()) sim_->publish_now();
+    publish_status(steps, seconds(Clock::now() - t0), sim_->state().time - sim0);
+
+    // Ahead of the clock: sleep until the next step is due or a command arrives.
+    if (running && speed > 0 && singles == 0) {
+      const double ahead =
+          sim_->state().time - (anchor_sim + seconds(Clock::now() - anchor_wall) * speed);
+      if (ahead > 0) {
+        std::unique_lock lock(mutex_);
+        wake_.wait_for(lock, std::chrono::duration<double>(std::min(ahead / speed, 0.01)),
+                       [&] { return quit_ || !commands_.empty() || !running_ || single_steps_; });
+      }
+    }
+  }
+}
+
+}  // namespace maille::viewer

@@ -1,0 +1,112 @@
+// The viewer's physics: a Simulator running in its own thread at its own rate, publishing
+// snapshots into a SnapshotExchange that the window draws from.
+//
+// The UI thread never touches the simulator. It sends commands (play, pause, step, reset, new
+// parameters) that the physics thread applies between two steps, reads a copy of the status and
+// the plot histories under a mutex, and moves the drag target through DragState. Pacing: while
+// playing, simulated time follows the wall clock times `speed`; when a step costs more than
+// that allows, the physics runs as fast as it can and the status shows the real-time factor.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "drag_spring.hpp"
+#include "maille/render/snapshot_exchange.hpp"
+#include "maille/simulator.hpp"
+
+namespace maille::viewer {
+
+struct StageTime {
+  std::string name;
+  double ns_per_step = 0;  // averaged over the last batch of steps
+};
+struct CounterValue {
+  std::string name;
+  std::uint64_t last = 0;  // during the last step
+};
+
+struct PhysicsStatus {
+  bool running = false;
+  std::uint64_t step = 0;
+  double time = 0;       // s, simulated
+  double step_size = 0;  // h, s
+  std::string integrator;
+  double steps_per_second = 0;  // wall-clock rate over the last batch
+  double realtime_factor = 0;   // simulated s per wall s over the last batch
+  std::optional<std::string> blow_up;
+  std::string notice;  // the last command that could not be applied, and why
+  std::vector<StageTime> stages;
+  std::vector<CounterValue> counters;
+};
+
+// One sample of the plots: energies and counters at a simulated time.
+struct PlotSample {
+  double time = 0;  // s
+  Energies energies;
+  std::vector<double> counters;  // in PhysicsStatus::counters order
+};
+
+class PhysicsThread {
+ public:
+  static constexpr std::size_t kHistory = 400;  // plot samples kept
+
+  // Starts the thread, paused unless `play`. Publishes the initial state at once.
+  PhysicsThread(Model model, SimulationSettings settings, render::SnapshotExchange& out, bool play);
+  ~PhysicsThread();  // stops the thread and joins it
+  PhysicsThread(const PhysicsThread&) = delete;
+  PhysicsThread& operator=(const PhysicsThread&) = delete;
+
+  void play();
+  void pause();
+  void step_once();  // pauses and advances one step
+  void reset();      // back to the initial state (tuned parameters stay)
+  // Simulated seconds per wall-clock second, > 0; or 0: as fast as possible.
+  void set_speed(double speed);
+  void set_time_step(double h);                  // s, > 0
+  void set_integrator(const std::string& name);  // rebuilt around the current state
+  // Multiplies parameter `field` of every link of pool `pool` by `factor` (> 0).
+  void scale_link_param(std::size_t pool, std::size_t field, Real factor);
+  void set_fields(const Fields& fields);
+
+  DragState& drag() { return *drag_; }
+  PhysicsStatus status() const;
+  std::vector<PlotSample> history() const;
+  // Blocks until the simulation has taken at least `steps` steps, stopped on a blow-up, or
+  // `timeout_s` passed; returns whether the steps were reached (tests and --frames runs).
+  bool wait_for_step(std::uint64_t steps, double timeout_s) const;
+
+ private:
+  using Command = std::function<void(Simulator&)>;
+  void send(Command c);
+  void run();
+  std::unique_ptr<Simulator> make_simulator(Model model, SimulationSettings settings);
+  void publish_status(std::uint64_t batch_steps, double batch_wall_s, double batch_sim_s);
+
+  render::SnapshotExchange& out_;
+  std::shared_ptr<DragState> drag_ = std::make_shared<DragState>();
+  std::unique_ptr<Simulator> sim_;  // physics thread only, once started
+
+  mutable std::mutex mutex_;                  // guards everything below
+  mutable std::condition_variable wake_;      // to the physics thread: commands, quit
+  mutable std::condition_variable progress_;  // to waiters: the status changed
+  std::deque<Command> commands_;
+  bool running_ = false, quit_ = false;
+  int single_steps_ = 0;
+  double speed_ = 1;
+  PhysicsStatus status_;
+  std::deque<PlotSample> history_;
+
+  std::vector<double> previous_stage_ns_;  // physics thread only: totals at the last batch
+  std::thread thread_;                     // last: started once everything above exists
+};
+
+}  // namespace maille::viewer

@@ -1,0 +1,326 @@
+#include "viewer.hpp"
+
+// libepoxy first: it declares OpenGL itself and GLFW must not include the system GL header.
+#include <epoxy/gl.h>
+// clang-format off
+#include <GLFW/glfw3.h>
+// clang-format on
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <iostream>
+#include <memory>
+
+#include "maille/render/image.hpp"
+#include "maille/render/renderer.hpp"
+#include "maille/scene.hpp"
+#include "panels.hpp"
+#include "physics_thread.hpp"
+#include "scene_files.hpp"
+
+namespace maille::viewer {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The window's back buffer as an image (call after drawing, before swapping).
+render::Image read_back_buffer(int width, int height) {
+  render::Image image;
+  image.width = width;
+  image.height = height;
+  const std::size_t row = std::size_t(width) * 3;
+  std::vector<std::uint8_t> bottom_up(row * std::size_t(height));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
+  image.rgb.resize(bottom_up.size());
+  for (int y = 0; y < height; ++y)
+    std::memcpy(image.rgb.data() + std::size_t(y) * row,
+                bottom_up.data() + std::size_t(height - 1 - y) * row, row);
+  return image;
+}
+
+std::filesystem::path timestamped_png() {
+  char name[64];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(name, sizeof name, "maille-%Y%m%d-%H%M%S.png", std::localtime(&now));
+  return name;
+}
+
+class Viewer {
+ public:
+  Viewer(GLFWwindow* window, const ViewerOptions& o)
+      : window_(window), options_(o), examples_(list_scenes(o.examples)) {}
+
+  bool open(const std::filesystem::path& path) {
+    Result<Scene> loaded = load_scene(path);
+    if (!loaded) {
+      load_error_ = loaded.error().to_string();
+      return false;
+    }
+    try {
+      // The old physics stops before its exchange goes: it publishes into it until joined.
+      physics_.reset();
+      exchange_ = std::make_unique<render::SnapshotExchange>();
+      scene_ = std::move(loaded.value());
+      physics_ = std::make_unique<PhysicsThread>(scene_.model, scene_.settings, *exchange_,
+                                                 !options_.paused);
+    } catch (const std::exception& e) {
+      load_error_ = path.string() + ": " + e.what();
+      return false;
+    }
+    load_error_.clear();
+    renderer_.set_model(scene_.model);
+    tuning_ = Tuning::from(scene_);
+    auto_frame_.reset();
+    tuning_.auto_frame = true;
+    grabbed_.reset();
+    watch_ = FileWatch(path);
+    return true;
+  }
+
+  // One frame: input, panels, drawing. Returns false when the window should close.
+  bool frame(bool screenshot_now, const std::filesystem::path& screenshot_file) {
+    glfwPollEvents();
+    if (glfwWindowShouldClose(window_)) return false;
+    if (watch_.changed()) open(watch_.file());
+
+    bool fresh = false;
+    if (const Snapshot* s = exchange_->take(&fresh);
+        s && fresh && s->positions.size() == renderer_.positions().size())
+      renderer_.set_snapshot(*s);
+
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    if (width <= 0 || height <= 0) return true;  // minimised
+    const double aspect = double(width) / height;
+    if (tuning_.auto_frame) auto_frame_.update(camera_, renderer_.positions(), aspect);
+
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    const PanelRequests r =
+        draw_panels(scene_, *physics_, tuning_, options_render_, examples_, load_error_, frame_ms_);
+    handle_keys(r.screenshot);
+    handle_mouse(width, height);
+    if (r.frame_scene) frame_scene();
+    if (r.reload) open(scene_.source);
+    if (r.open) open(*r.open);
+
+    const auto t0 = Clock::now();
+    renderer_.set_overlay(drag_overlay());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    renderer_.draw(camera_, width, height, options_render_);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    glFinish();
+    frame_ms_ = 0.9 * frame_ms_ +
+                0.1 * std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+    if (screenshot_now || screenshot_requested_) {
+      const auto file = screenshot_file.empty() ? timestamped_png() : screenshot_file;
+      try {
+        render::write_png(read_back_buffer(width, height), file);
+        std::cout << "maille-viewer: screenshot " << file.string() << '\n';
+      } catch (const std::exception& e) {
+        std::cerr << "maille-viewer: " << e.what() << '\n';
+        screenshot_failed_ = true;
+      }
+      screenshot_requested_ = false;
+    }
+    glfwSwapBuffers(window_);
+    return true;
+  }
+
+  bool screenshot_failed() const { return screenshot_failed_; }
+  PhysicsThread& physics() { return *physics_; }
+  const std::string& load_error() const { return load_error_; }
+
+ private:
+  void frame_scene() {
+    tuning_.auto_frame = true;
+    auto_frame_.reset();
+  }
+
+  void handle_keys(bool screenshot_button) {
+    screenshot_requested_ = screenshot_requested_ || screenshot_button;
+    if (ImGui::GetIO().WantCaptureKeyboard) return;
+    if (ImGui::IsKeyPressed(GLFW_KEY_SPACE))
+      physics_->status().running ? physics_->pause() : physics_->play();
+    if (ImGui::IsKeyPressed(GLFW_KEY_N)) physics_->step_once();
+    if (ImGui::IsKeyPressed(GLFW_KEY_R)) physics_->reset();
+    if (ImGui::IsKeyPressed(GLFW_KEY_F)) frame_scene();
+    if (ImGui::IsKeyPressed(GLFW_KEY_P)) screenshot_requested_ = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_Q) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE))
+      glfwSetWindowShouldClose(window_, GLFW_TRUE);
+  }
+
+  // Mouse: left drag orbits, or drags the free point under the cursor through a spring; right
+  // (or middle, or shift + left) drag pans; the wheel zooms. Positions are converted from window
+  // coordinates to framebuffer pixels (they differ on high-density screens).
+  void handle_mouse(int width, int height) {
+    ImGuiIO& io = ImGui::GetIO();
+    const double sx = io.DisplayFramebufferScale.x, sy = io.DisplayFramebufferScale.y;
+    const double mx = io.MousePos.x * sx, my = io.MousePos.y * sy;
+    const double dx = io.MouseDelta.x * sx, dy = io.MouseDelta.y * sy;
+    const bool shift = io.KeyShift;
+
+    if (grabbed_) {
+      if (!ImGui::IsMouseDown(0)) {
+        physics_->drag().release();
+        grabbed_.reset();
+      } else {
+        const render::Ray ray = camera_.ray(mx, my, width, height);
+        // The grab plane faces the camera through the point where it was grabbed.
+        const Vec3 n = camera_.forward();
+        const Real denom = dot(ray.direction, n);
+        if (std::abs(denom) > Real(1e-9)) {
+          const Real t = dot(grab_anchor_ - ray.origin, n) / denom;
+          drag_target_ = ray.origin + ray.direction * t;
+          physics_->drag().move_to(drag_target_);
+        }
+      }
+      return;
+    }
+    if (io.WantCaptureMouse) return;
+
+    if (ImGui::IsMouseClicked(0) && !shift) {
+      if (auto p = pick(mx, my, width, height, 12 * sx)) {
+        grabbed_ = *p;
+        grab_anchor_ = drag_target_ = renderer_.positions()[*p];
+        DragTarget d = default_drag(scene_.model, tuning_.step, *p, drag_target_);
+        d.stiffness *= tuning_.drag_factor;
+        physics_->drag().grab(d);
+        return;
+      }
+    }
+    if (ImGui::IsMouseDown(0) && !shift && (dx != 0 || dy != 0)) camera_.orbit(-dx * 0.3, dy * 0.3);
+    if ((ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2) || (ImGui::IsMouseDown(0) && shift)) &&
+        (dx != 0 || dy != 0)) {
+      camera_.pan(dx, dy, height);
+      tuning_.auto_frame = false;
+    }
+    if (io.MouseWheel != 0) {
+      camera_.zoom(std::pow(0.88, double(io.MouseWheel)));
+      tuning_.auto_frame = false;
+    }
+  }
+
+  // The free point drawn nearest to pixel (x, y), within `radius` pixels; the nearest to the
+  // eye among points at about the same pixel distance.
+  std::optional<std::uint32_t> pick(double x, double y, int width, int height, double radius) {
+    const auto positions = renderer_.positions();
+    std::optional<std::uint32_t> best;
+    double best_score = 0;
+    for (std::uint32_t i = 0; i < positions.size(); ++i) {
+      if (scene_.model.points.inv_mass[i] == 0) continue;
+      const auto p = camera_.project(positions[i], width, height);
+      if (!p) continue;
+      const double d = std::hypot(p->x - x, p->y - y);
+      if (d > radius) continue;
+      const double score = d / radius + p->depth / camera_.distance;
+      if (!best || score < best_score) {
+        best = i;
+        best_score = score;
+      }
+    }
+    return best;
+  }
+
+  std::vector<render::OverlaySegment> drag_overlay() const {
+    std::vector<render::OverlaySegment> segments;
+    if (!grabbed_) return segments;
+    const Vec3 p = renderer_.positions()[*grabbed_];
+    segments.push_back({p, drag_target_, {1.0f, 0.9f, 0.1f}});
+    const Real s = Real(0.02 * camera_.distance);  // a small cross at the mouse
+    for (const Vec3& axis : {camera_.right(), camera_.up()})
+      segments.push_back({drag_target_ - axis * s, drag_target_ + axis * s, {1.0f, 0.9f, 0.1f}});
+    return segments;
+  }
+
+  GLFWwindow* window_;
+  ViewerOptions options_;
+  std::vector<std::filesystem::path> examples_;  // the scene picker's list
+  render::Renderer renderer_;
+  std::unique_ptr<render::SnapshotExchange> exchange_;
+  std::unique_ptr<PhysicsThread> physics_;
+  Scene scene_;
+  Tuning tuning_;
+  render::RenderOptions options_render_;
+  render::Camera camera_;
+  render::AutoFrame auto_frame_;
+  FileWatch watch_;
+  std::string load_error_;
+  std::optional<std::uint32_t> grabbed_;
+  Vec3 grab_anchor_{}, drag_target_{};
+  double frame_ms_ = 0;
+  bool screenshot_requested_ = false, screenshot_failed_ = false;
+};
+
+void on_glfw_error(int code, const char* message) {
+  std::cerr << "maille-viewer: GLFW error " << code << ": " << message << '\n';
+}
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& o) {
+  glfwSetErrorCallback(on_glfw_error);
+  if (!glfwInit()) {
+    std::cerr << "maille-viewer: no display (set DISPLAY, or use `maille render` headless)\n";
+    return 1;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  GLFWwindow* window = glfwCreateWindow(o.width, o.height, "Maille", nullptr, nullptr);
+  if (!window) {
+    std::cerr << "maille-viewer: cannot open an OpenGL 4.5 core window\n";
+    glfwTerminate();
+    return 1;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(1);
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the working directory
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 450");
+
+  int code = 0;
+  {
+    Viewer viewer(window, o);
+    if (!viewer.open(o.scene)) {
+      std::cerr << viewer.load_error() << '\n';
+      code = 1;
+    } else {
+      for (int n = 1; o.frames <= 0 || n <= o.frames; ++n) {
+        const bool last = o.frames > 0 && n == o.frames;
+        if (!viewer.frame(last && !o.screenshot.empty(), o.screenshot)) break;
+      }
+      if (viewer.screenshot_failed()) code = 1;
+      if (o.frames > 0) {
+        const PhysicsStatus st = viewer.physics().status();
+        std::cout << "maille-viewer: " << o.frames << " frames, simulated " << st.time << " s in "
+                  << st.step << " steps\n";
+      }
+    }
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return code;
+}
+
+}  // namespace maille::viewer

@@ -1,0 +1,21 @@
+// maille-viewer: the window, its input and its frame loop (GLFW + Dear ImGui + the renderer),
+// around a PhysicsThread that runs the scene.
+#pragma once
+
+#include <filesystem>
+
+namespace maille::viewer {
+
+struct ViewerOptions {
+  std::filesystem::path scene;
+  std::filesystem::path examples;    // the scene picker lists the .toml files found here
+  int width = 1280, height = 800;    // window size, screen coordinates
+  int frames = 0;                    // > 0: draw this many frames, then exit (tests)
+  std::filesystem::path screenshot;  // with frames: the last frame written here as PNG
+  bool paused = false;               // start paused
+};
+
+// Returns the process exit code: 0, or 1 when the scene or the window cannot be opened.
+int run_viewer(const ViewerOptions& options);
+
+}  // namespace maille::viewer

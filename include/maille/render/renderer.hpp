@@ -1,0 +1,87 @@
+// The renderer: one OpenGL 4.5 core renderer for the viewer's window and for headless frames.
+//
+// It sees only what the physics publishes (snapshot positions) and the model's static topology;
+// it never calls into the simulator (requirement S5). All methods need the OpenGL context they
+// were created in to be current on the calling thread; nothing here is thread-safe.
+//
+// What it draws, back to front:
+//   background   a vertical grey gradient
+//   grid         a floor grid under the scene, lowered when a point goes below it
+//   surfaces     cloth faces, lit on both sides with per-vertex normals (front orange-red,
+//                back golden)
+//   links        segments coloured by strain |d| / rest - 1: grey at rest, red when stretched,
+//                blue when compressed, saturated at +-strain_range
+//   contacts     conditional links while active (distance below their threshold), yellow
+//   points       masses not on a surface (grey-blue), fixed (dark) and driven (magenta) points
+//   overlay      segments given by the caller (the viewer's drag spring), always on top
+#pragma once
+
+#include <array>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "maille/model.hpp"
+#include "maille/render/camera.hpp"
+#include "maille/render/topology.hpp"
+#include "maille/snapshot.hpp"
+
+namespace maille::render {
+
+struct RenderOptions {
+  bool surface = true;            // cloth faces
+  bool links = true;              // links not inside a cloth
+  bool links_on_surface = false;  // also the links of a cloth's mesh (its structure)
+  bool contacts = true;           // active conditional links
+  bool points = true;             // masses off surfaces, fixed and driven points
+  bool grid = true;               // floor grid
+  float strain_range = 0.05f;     // |strain| drawn fully red or blue, dimensionless, > 0
+  float link_width = 2.0f;        // pixels, > 0
+  float point_scale = 1.0f;       // times the topology's point radius, > 0
+};
+
+// A segment drawn on top of everything (overlays): ends in metres, colour as RGB in [0, 1].
+struct OverlaySegment {
+  Vec3 a, b;
+  std::array<float, 3> colour{1, 1, 0};
+};
+
+class Renderer {
+ public:
+  // Compiles the shaders; throws std::runtime_error with the driver's log when it cannot.
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // The model's topology and a floor grid under its initial positions. Call again after a
+  // scene reload; the positions are reset to the initial ones.
+  void set_model(const Model& model);
+  // Positions to draw. Throws std::invalid_argument when the snapshot's point count differs
+  // from the model's (a stale snapshot from before a reload).
+  void set_snapshot(const Snapshot& snapshot);
+  void set_overlay(std::span<const OverlaySegment> segments);
+
+  // Draws into the framebuffer bound now, over a width x height viewport (pixels).
+  void draw(const Camera& camera, int width, int height, const RenderOptions& options);
+
+  const RenderTopology& topology() const { return topology_; }
+  // The positions drawn (initial ones until the first snapshot), for picking and framing.
+  std::span<const Vec3> positions() const { return positions_; }
+  const Snapshot& snapshot_info() const { return info_; }  // frame, step, time; no positions
+
+ private:
+  struct Gl;
+  std::unique_ptr<Gl> gl_;
+  RenderTopology topology_;
+  std::vector<Vec3> positions_;
+  Snapshot info_;
+  std::vector<float> scratch_xyz_, scratch_normals_;
+  std::vector<std::uint32_t> scratch_contacts_;
+  Bounds grid_box_;  // the grid lies under it, at its lowest height
+  std::vector<OverlaySegment> overlay_;
+  void upload_positions();
+  void upload_lines();  // grid and overlay
+};
+
+}  // namespace maille::render

@@ -1,0 +1,89 @@
+#include "maille/render/movie.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "maille/render/headless.hpp"
+#include "maille/simulator.hpp"
+
+namespace maille::render {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+}  // namespace
+
+MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& sink,
+                         const std::function<bool(std::uint64_t, std::uint64_t)>& progress) {
+  if (s.width <= 0 || s.height <= 0 || !(s.fps > 0) || !(s.zoom > 0))
+    throw std::invalid_argument("render: width, height, fps and zoom must be > 0");
+  SimulationSettings settings = scene.settings;
+  settings.publish_every = 1 << 30;  // frames are published explicitly, at frame times
+  if (s.threads > 0) settings.threads = s.threads;
+  const double duration = s.duration > 0 ? s.duration : settings.duration;
+
+  MovieReport report;
+  HeadlessContext context;
+  report.gl = context.description();
+  OffscreenTarget target(s.width, s.height, s.samples);
+  Renderer renderer;
+  renderer.set_model(scene.model);
+
+  Simulator sim(scene.model, settings);
+  // The only path from the physics to the renderer: a published snapshot.
+  sim.on_publish([&](const Snapshot& snapshot) { renderer.set_snapshot(snapshot); });
+
+  const double aspect = double(s.width) / s.height;
+  Camera framed;
+  framed.yaw = s.yaw;
+  framed.pitch = s.pitch;
+  AutoFrame auto_frame;
+  const auto total = static_cast<std::uint64_t>(std::floor(duration * s.fps + 1e-9)) + 1;
+  const std::uint64_t first_rendered = s.last_frame_only ? total - 1 : 0;
+  for (std::uint64_t k = 0; k < total; ++k) {
+    // Frame k shows the state at the step nearest to k / fps.
+    const auto step = static_cast<std::uint64_t>(std::llround(double(k) / s.fps / settings.step));
+    auto t0 = Clock::now();
+    while (sim.state().step < step)
+      if (!sim.step()) {
+        report.blow_up = sim.blow_up()->message;
+        break;
+      }
+    report.simulate_seconds += seconds_since(t0);
+    if (report.blow_up) break;
+    sim.publish_now();
+    auto_frame.update(framed, renderer.positions(), aspect);
+    // A still has no motion to smooth: frame everything seen so far at once.
+    if (s.last_frame_only && k == first_rendered) framed.frame(auto_frame.box(), aspect);
+    if (k >= first_rendered) {
+      t0 = Clock::now();
+      Camera camera = framed;
+      camera.zoom(s.zoom);
+      target.bind();
+      renderer.draw(camera, s.width, s.height, s.options);
+      const Image image = target.read();
+      report.render_seconds += seconds_since(t0);
+      t0 = Clock::now();
+      sink.write(image);
+      report.output_seconds += seconds_since(t0);
+      ++report.frames;
+    }
+    if (progress && !progress(k + 1, total)) {
+      report.interrupted = true;
+      break;
+    }
+  }
+  report.steps = sim.state().step;
+  report.simulated = sim.state().time;
+  const auto t0 = Clock::now();
+  if (report.frames > 0) sink.finish();
+  report.output_seconds += seconds_since(t0);
+  return report;
+}
+
+}  // namespace maille::render

@@ -1,0 +1,327 @@
+#include "maille/render/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "gl_program.hpp"
+#include "shaders.hpp"
+
+namespace maille::render {
+
+// GPU objects. Buffers are created with OpenGL 4.5 direct state access; the positions buffer is
+// shared by every pass (storage buffer for links and points, vertex attribute for surfaces).
+struct Renderer::Gl {
+  GLuint background = 0, lines = 0, surface = 0, links = 0, points = 0;  // programs
+  GLuint empty_vao = 0;    // passes that fetch everything from storage buffers
+  GLuint surface_vao = 0;  // positions + normals + triangle indices
+  GLuint lines_vao = 0;    // interleaved position, colour (grid, then overlay)
+  GLuint positions = 0, normals = 0, triangles = 0;
+  GLuint link_ends = 0, link_rest = 0, contacts = 0, styles = 0, line_vertices = 0;
+  GLsizei triangle_indices = 0;
+  GLint links_off_surface = 0, links_total = 0;  // links [0, off) are not inside a cloth
+  GLsizei contact_count = 0;
+  GLsizei grid_vertices = 0, overlay_vertices = 0;
+  std::vector<float> grid;  // interleaved x y z r g b
+
+  ~Gl() {
+    for (GLuint p : {background, lines, surface, links, points}) glDeleteProgram(p);
+    const GLuint vaos[] = {empty_vao, surface_vao, lines_vao};
+    glDeleteVertexArrays(3, vaos);
+    delete_buffers();
+    glDeleteBuffers(1, &line_vertices);
+    glDeleteBuffers(1, &contacts);
+  }
+  void delete_buffers() {
+    const GLuint b[] = {positions, normals, triangles, link_ends, link_rest, styles};
+    glDeleteBuffers(6, b);
+    positions = normals = triangles = link_ends = link_rest = styles = 0;
+  }
+};
+
+namespace {
+
+template <class T>
+GLuint make_buffer(const std::vector<T>& data, GLbitfield flags = 0) {
+  GLuint b = 0;
+  glCreateBuffers(1, &b);
+  // Zero-sized storage is an error; an empty array still gets a valid (unused) buffer.
+  const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
+  std::vector<unsigned char> zero;
+  const void* src = data.data();
+  if (data.empty()) {
+    zero.assign(bytes, 0);
+    src = zero.data();
+  }
+  glNamedBufferStorage(b, static_cast<GLsizeiptr>(bytes), src, flags);
+  return b;
+}
+
+// Steps of 1, 2 or 5 times a power of ten: grid spacings a reader can count in.
+double nice_step(double rough) {
+  const double decade = std::pow(10.0, std::floor(std::log10(rough)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * decade >= rough) return m * decade;
+  return 10 * decade;
+}
+
+// A square floor grid centred under the box, at its lowest height, about 20 cells wide.
+std::vector<float> floor_grid(const Bounds& box) {
+  std::vector<float> v;
+  if (box.empty()) return v;
+  const Vec3 c = box.centre();
+  const double size =
+      std::max({box.hi.x - box.lo.x, box.hi.z - box.lo.z, 0.5 * box.diagonal(), 1e-3});
+  const double step = nice_step(size * 1.6 / 20);
+  const int half = static_cast<int>(std::ceil(size * 0.8 / step));
+  const double cx = std::round(c.x / step) * step, cz = std::round(c.z / step) * step;
+  const float y = float(box.lo.y);
+  auto vertex = [&](double x, double z, bool axis) {
+    const float shade = axis ? 0.35f : 0.52f;
+    v.insert(v.end(), {float(x), y, float(z), shade, shade, shade + 0.02f});
+  };
+  for (int i = -half; i <= half; ++i) {
+    const double x = cx + i * step, z = cz + i * step;
+    const bool axis = i == 0;
+    vertex(x, cz - half * step, axis);
+    vertex(x, cz + half * step, axis);
+    vertex(cx - half * step, z, axis);
+    vertex(cx + half * step, z, axis);
+  }
+  return v;
+}
+
+void set_uniform(GLuint program, const char* name, const Mat4& m) {
+  glProgramUniformMatrix4fv(program, glGetUniformLocation(program, name), 1, GL_FALSE, m.m.data());
+}
+
+}  // namespace
+
+Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
+  Gl& g = *gl_;
+  g.background = link_program("background", shaders::background_vs, shaders::background_fs);
+  g.lines = link_program("lines", shaders::lines_vs, shaders::lines_fs);
+  g.surface = link_program("surface", shaders::surface_vs, shaders::surface_fs);
+  g.links = link_program("links", shaders::links_vs, shaders::links_fs);
+  g.points = link_program("points", shaders::points_vs, shaders::points_fs);
+  glCreateVertexArrays(1, &g.empty_vao);
+  glCreateVertexArrays(1, &g.surface_vao);
+  glCreateVertexArrays(1, &g.lines_vao);
+  glCreateBuffers(1, &g.line_vertices);
+  glCreateBuffers(1, &g.contacts);
+  for (GLuint attrib : {0u, 1u}) {
+    glEnableVertexArrayAttrib(g.lines_vao, attrib);
+    glVertexArrayAttribFormat(g.lines_vao, attrib, 3, GL_FLOAT, GL_FALSE, attrib * 3 * 4);
+    glVertexArrayAttribBinding(g.lines_vao, attrib, 0);
+    glEnableVertexArrayAttrib(g.surface_vao, attrib);
+    glVertexArrayAttribFormat(g.surface_vao, attrib, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(g.surface_vao, attrib, attrib);
+  }
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::set_model(const Model& model) {
+  Gl& g = *gl_;
+  topology_ = make_topology(model);
+  positions_ = model.points.initial_position;
+  info_ = Snapshot{};
+  g.delete_buffers();
+
+  // Links not inside a cloth first, so that "links off the surface" is a prefix of the array.
+  const std::size_t n_links = topology_.link_rest.size();
+  std::vector<std::uint32_t> order(n_links);
+  for (std::size_t l = 0; l < n_links; ++l) order[l] = static_cast<std::uint32_t>(l);
+  std::stable_partition(order.begin(), order.end(),
+                        [&](std::uint32_t l) { return !topology_.link_on_surface[l]; });
+  std::vector<std::uint32_t> ends(2 * n_links);
+  std::vector<float> rest(n_links);
+  for (std::size_t k = 0; k < n_links; ++k) {
+    ends[2 * k] = topology_.link_ends[2 * order[k]];
+    ends[2 * k + 1] = topology_.link_ends[2 * order[k] + 1];
+    rest[k] = topology_.link_rest[order[k]];
+  }
+  g.links_total = static_cast<GLint>(n_links);
+  g.links_off_surface = static_cast<GLint>(
+      std::count(topology_.link_on_surface.begin(), topology_.link_on_surface.end(), 0));
+
+  g.positions = make_buffer(std::vector<float>(positions_.size() * 3), GL_DYNAMIC_STORAGE_BIT);
+  g.normals = make_buffer(std::vector<float>(positions_.size() * 3), GL_DYNAMIC_STORAGE_BIT);
+  g.triangles = make_buffer(topology_.triangles);
+  g.triangle_indices = static_cast<GLsizei>(topology_.triangles.size());
+  g.link_ends = make_buffer(ends);
+  g.link_rest = make_buffer(rest);
+  g.styles = make_buffer(topology_.point_style);
+  glVertexArrayVertexBuffer(g.surface_vao, 0, g.positions, 0, 12);
+  glVertexArrayVertexBuffer(g.surface_vao, 1, g.normals, 0, 12);
+  glVertexArrayElementBuffer(g.surface_vao, g.triangles);
+
+  grid_box_ = bounds_of(positions_);
+  g.grid = floor_grid(grid_box_);
+  g.grid_vertices = static_cast<GLsizei>(g.grid.size() / 6);
+  overlay_.clear();
+  upload_lines();
+  upload_positions();
+}
+
+void Renderer::set_snapshot(const Snapshot& snapshot) {
+  if (snapshot.positions.size() != positions_.size())
+    throw std::invalid_argument("renderer: snapshot has " +
+                                std::to_string(snapshot.positions.size()) + " points, the model " +
+                                std::to_string(positions_.size()));
+  std::copy(snapshot.positions.begin(), snapshot.positions.end(), positions_.begin());
+  info_.frame = snapshot.frame;
+  info_.step = snapshot.step;
+  info_.time = snapshot.time;
+  upload_positions();
+  // A chain swinging down or a net sagging goes below its initial box: the floor follows (by
+  // steps of 5% of the box, so that it does not creep every frame).
+  const Bounds now = bounds_of(positions_);
+  if (!now.empty() && !grid_box_.empty() &&
+      now.lo.y < grid_box_.lo.y - Real(0.01) * grid_box_.diagonal()) {
+    grid_box_.lo.y = now.lo.y - Real(0.05) * grid_box_.diagonal();
+    gl_->grid = floor_grid(grid_box_);
+    gl_->grid_vertices = static_cast<GLsizei>(gl_->grid.size() / 6);
+    upload_lines();
+  }
+}
+
+void Renderer::upload_positions() {
+  Gl& g = *gl_;
+  scratch_xyz_.resize(positions_.size() * 3);
+  for (std::size_t i = 0; i < positions_.size(); ++i) {
+    scratch_xyz_[3 * i] = float(positions_[i].x);
+    scratch_xyz_[3 * i + 1] = float(positions_[i].y);
+    scratch_xyz_[3 * i + 2] = float(positions_[i].z);
+  }
+  if (!scratch_xyz_.empty())
+    glNamedBufferSubData(g.positions, 0, GLsizeiptr(scratch_xyz_.size() * 4), scratch_xyz_.data());
+  if (g.triangle_indices > 0) {
+    surface_normals(topology_, positions_, scratch_normals_);
+    glNamedBufferSubData(g.normals, 0, GLsizeiptr(scratch_normals_.size() * 4),
+                         scratch_normals_.data());
+  }
+  scratch_contacts_.clear();
+  active_contacts(topology_, positions_, scratch_contacts_);
+  g.contact_count = static_cast<GLsizei>(scratch_contacts_.size() / 2);
+  if (g.contact_count > 0)
+    glNamedBufferData(g.contacts, GLsizeiptr(scratch_contacts_.size() * 4),
+                      scratch_contacts_.data(), GL_STREAM_DRAW);
+}
+
+void Renderer::set_overlay(std::span<const OverlaySegment> segments) {
+  overlay_.assign(segments.begin(), segments.end());
+  upload_lines();
+}
+
+void Renderer::upload_lines() {
+  Gl& g = *gl_;
+  std::vector<float> v = g.grid;
+  for (const auto& s : overlay_)
+    for (const Vec3& p : {s.a, s.b})
+      v.insert(v.end(),
+               {float(p.x), float(p.y), float(p.z), s.colour[0], s.colour[1], s.colour[2]});
+  g.overlay_vertices = static_cast<GLsizei>(v.size() / 6) - g.grid_vertices;
+  if (v.empty()) v.assign(6, 0.0f);
+  glNamedBufferData(g.line_vertices, GLsizeiptr(v.size() * 4), v.data(), GL_DYNAMIC_DRAW);
+  glVertexArrayVertexBuffer(g.lines_vao, 0, g.line_vertices, 0, 24);
+}
+
+void Renderer::draw(const Camera& camera, int width, int height, const RenderOptions& o) {
+  Gl& g = *gl_;
+  const double aspect = double(width) / std::max(1, height);
+  const Mat4 proj = camera.projection(aspect), view = camera.view();
+  const Mat4 view_proj = proj * view;
+
+  glViewport(0, 0, width, height);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_PROGRAM_POINT_SIZE);
+  glDepthMask(GL_TRUE);
+  glClear(GL_DEPTH_BUFFER_BIT);
+
+  // Background: depth test off, so it needs no clear of the colour buffer.
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(g.background);
+  glBindVertexArray(g.empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+
+  if (o.grid && g.grid_vertices > 0) {
+    glUseProgram(g.lines);
+    set_uniform(g.lines, "u_view_proj", view_proj);
+    glBindVertexArray(g.lines_vao);
+    glDrawArrays(GL_LINES, 0, g.grid_vertices);
+  }
+
+  if (o.surface && g.triangle_indices > 0) {
+    glUseProgram(g.surface);
+    set_uniform(g.surface, "u_view_proj", view_proj);
+    set_uniform(g.surface, "u_view", view);
+    // Pushed back a little so that links lying on the cloth win the depth test.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.0f, 1.0f);
+    glBindVertexArray(g.surface_vao);
+    glDrawElements(GL_TRIANGLES, g.triangle_indices, GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  }
+
+  glBindVertexArray(g.empty_vao);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions);
+  glUseProgram(g.links);
+  set_uniform(g.links, "u_view_proj", view_proj);
+  glProgramUniform2f(g.links, glGetUniformLocation(g.links, "u_viewport"), float(width),
+                     float(height));
+  glProgramUniform1f(g.links, glGetUniformLocation(g.links, "u_width"), o.link_width);
+  glProgramUniform1f(g.links, glGetUniformLocation(g.links, "u_strain_range"),
+                     std::max(o.strain_range, 1e-6f));
+  const GLint first = glGetUniformLocation(g.links, "u_first");
+  const GLint strain = glGetUniformLocation(g.links, "u_strain");
+  const GLint colour = glGetUniformLocation(g.links, "u_colour");
+  if (o.links) {
+    // Without the surface, a cloth's mesh is all there is to see: draw it.
+    const bool inner = o.links_on_surface || !o.surface;
+    const GLint count = inner ? g.links_total : g.links_off_surface;
+    if (count > 0) {
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.link_ends);
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.link_rest);
+      glProgramUniform1i(g.links, first, 0);
+      glProgramUniform1i(g.links, strain, 1);
+      glDrawArrays(GL_TRIANGLES, 0, count * 6);
+    }
+  }
+  if (o.contacts && g.contact_count > 0) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.contacts);
+    glProgramUniform1i(g.links, first, 0);
+    glProgramUniform1i(g.links, strain, 0);
+    glProgramUniform3f(g.links, colour, 0.95f, 0.85f, 0.10f);
+    glDrawArrays(GL_TRIANGLES, 0, g.contact_count * 6);
+  }
+
+  if (o.points && !positions_.empty()) {
+    glUseProgram(g.points);
+    set_uniform(g.points, "u_view_proj", view_proj);
+    glProgramUniform1f(g.points, glGetUniformLocation(g.points, "u_pixels_per_metre"),
+                       proj(1, 1) * float(height) / 2);
+    glProgramUniform1f(g.points, glGetUniformLocation(g.points, "u_radius"),
+                       topology_.point_radius * o.point_scale);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.styles);
+    glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(positions_.size()));
+  }
+
+  if (g.overlay_vertices > 0) {
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(g.lines);
+    set_uniform(g.lines, "u_view_proj", view_proj);
+    glBindVertexArray(g.lines_vao);
+    glDrawArrays(GL_LINES, g.grid_vertices, g.overlay_vertices);
+    glEnable(GL_DEPTH_TEST);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+}  // namespace maille::render

@@ -1,0 +1,118 @@
+#include "maille/render/topology.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "maille/render/camera.hpp"
+
+namespace maille::render {
+
+namespace {
+
+std::optional<std::size_t> field_index(const LinkPoolBase& pool, const std::string& name) {
+  const auto fields = pool.fields();
+  for (std::size_t k = 0; k < fields.size(); ++k)
+    if (fields[k].name == name) return k;
+  return std::nullopt;
+}
+
+}  // namespace
+
+RenderTopology make_topology(const Model& model) {
+  RenderTopology t;
+  const PointPool& points = model.points;
+  t.point_count = points.size();
+
+  std::vector<std::uint8_t> on_surface(points.size(), 0);
+  t.triangles.reserve(model.surface.triangles.size() * 3);
+  for (const auto& tri : model.surface.triangles)
+    for (std::uint32_t i : tri) {
+      t.triangles.push_back(i);
+      on_surface[i] = 1;
+    }
+
+  t.point_style.resize(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    switch (points.kind[i]) {
+      case PointKind::fixed:
+        t.point_style[i] = std::uint32_t(PointStyle::fixed);
+        break;
+      case PointKind::driven:
+        t.point_style[i] = std::uint32_t(PointStyle::driven);
+        break;
+      case PointKind::free:
+        t.point_style[i] = std::uint32_t(on_surface[i] ? PointStyle::hidden : PointStyle::free);
+        break;
+    }
+  }
+
+  // The drawn point size follows the typical link length (the median), so that beads of a
+  // chain touch and lattice nodes leave the links visible.
+  std::vector<float> lengths;
+  for (const auto& pool : model.links.pools()) {
+    const auto threshold = field_index(*pool, "threshold");
+    const auto rest = field_index(*pool, "rest_length");
+    for (std::size_t l = 0; l < pool->size(); ++l) {
+      const LinkEnds e = pool->ends(l);
+      if (threshold) {
+        t.contact_ends.push_back(e.a);
+        t.contact_ends.push_back(e.b);
+        t.contact_threshold.push_back(float(pool->param(l, *threshold)));
+        continue;
+      }
+      const Real initial = norm(points.initial_position[e.b] - points.initial_position[e.a]);
+      const Real r = rest ? pool->param(l, *rest) : initial;
+      t.link_ends.push_back(e.a);
+      t.link_ends.push_back(e.b);
+      t.link_rest.push_back(float(std::max<Real>(r, Real(1e-9))));
+      t.link_on_surface.push_back(on_surface[e.a] && on_surface[e.b] ? 1 : 0);
+      if (initial > 0) lengths.push_back(float(initial));
+    }
+  }
+  if (!lengths.empty()) {
+    std::nth_element(lengths.begin(), lengths.begin() + std::ptrdiff_t(lengths.size() / 2),
+                     lengths.end());
+    t.point_radius = 0.22f * lengths[lengths.size() / 2];
+  } else {
+    const Real size = bounds_of(points.initial_position).diagonal();
+    t.point_radius = size > 0 ? float(size) * 0.01f : 0.01f;
+  }
+  return t;
+}
+
+void active_contacts(const RenderTopology& t, std::span<const Vec3> x,
+                     std::vector<std::uint32_t>& active) {
+  for (std::size_t c = 0; c < t.contact_threshold.size(); ++c) {
+    const std::uint32_t a = t.contact_ends[2 * c], b = t.contact_ends[2 * c + 1];
+    const Real s = t.contact_threshold[c];
+    if (norm2(x[b] - x[a]) < s * s) {
+      active.push_back(a);
+      active.push_back(b);
+    }
+  }
+}
+
+void surface_normals(const RenderTopology& t, std::span<const Vec3> x,
+                     std::vector<float>& normals) {
+  std::vector<Vec3> sum(x.size(), Vec3{});
+  // The cross product's length is twice the face area: summing it weights faces by area.
+  for (std::size_t f = 0; f + 2 < t.triangles.size(); f += 3) {
+    const std::uint32_t a = t.triangles[f], b = t.triangles[f + 1], c = t.triangles[f + 2];
+    const Vec3 n = cross(x[b] - x[a], x[c] - x[a]);
+    sum[a] += n;
+    sum[b] += n;
+    sum[c] += n;
+  }
+  normals.resize(x.size() * 3);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const Real len = norm(sum[i]);
+    const Vec3 n = len > 0 && std::isfinite(len) ? sum[i] / len : Vec3{};
+    normals[3 * i] = float(n.x);
+    normals[3 * i + 1] = float(n.y);
+    normals[3 * i + 2] = float(n.z);
+  }
+}
+
+}  // namespace maille::render
