@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
+#include "study.hpp"
 
 int main(int argc, char** argv) {
   using namespace maille::app;
@@ -45,6 +46,18 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
 
+  StudyOptions so;
+  auto* study_cmd = app.add_subcommand(
+      "study", "Comparative studies written as CSV (integrators: stability, accuracy, energy, "
+               "cost, and the implicit/explicit crossover)");
+  study_cmd->add_option("topic", so.topic, "What to study")
+      ->check(CLI::IsMember({"integrators"}))
+      ->required();
+  study_cmd->add_option("--out", so.out, "Directory for the CSV files (default out/study)");
+  study_cmd->add_option("--threads", so.threads, "Threads for the cost table")
+      ->check(CLI::PositiveNumber);
+  study_cmd->add_flag("--quick", so.quick, "Two stiffnesses instead of five in the crossover");
+
 #ifdef MAILLE_WITH_RENDER
   RenderCommandOptions rn;
   auto* render_cmd = app.add_subcommand(
@@ -83,6 +96,7 @@ int main(int argc, char** argv) {
   if (*validate_cmd) return validate(scene);
   if (*info_cmd) return info(scene);
   if (*bench_cmd) return bench(bo);
+  if (*study_cmd) return study(so);
 #ifdef MAILLE_WITH_RENDER
   if (*render_cmd) return render(rn);
 #endif

@@ -1,6 +1,8 @@
 #include "maille/simulator.hpp"
 
+#ifdef _OPENMP
 #include <omp.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -56,8 +58,12 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   integrator_ = entry->make(settings_.implicit);
 
   const std::uint32_t n = model_.points.size();
-  threads_ = settings_.threads > 0 ? settings_.threads
-                                   : (n >= kParallelThreshold ? omp_get_num_procs() : 1);
+#ifdef _OPENMP
+  const int cores = omp_get_num_procs();
+#else
+  const int cores = 1;
+#endif
+  threads_ = settings_.threads > 0 ? settings_.threads : (n >= kParallelThreshold ? cores : 1);
   integrator_->set_threads(threads_);
   model_.prepare();
   if (const std::string why = integrator_->check(model_); !why.empty())
