@@ -48,8 +48,9 @@ int main(int argc, char** argv) {
 
   StudyOptions so;
   auto* study_cmd = app.add_subcommand(
-      "study", "Comparative studies written as CSV (integrators: stability, accuracy, energy, "
-               "cost, and the implicit/explicit crossover)");
+      "study",
+      "Comparative studies written as CSV (integrators: stability, accuracy, energy, "
+      "cost, and the implicit/explicit crossover)");
   study_cmd->add_option("topic", so.topic, "What to study")
       ->check(CLI::IsMember({"integrators"}))
       ->required();

@@ -28,8 +28,8 @@ namespace maille::app {
 
 namespace {
 
-const char* const kSchemes[] = {"explicit_euler", "symplectic_euler", "leapfrog",
-                                "velocity_verlet", "rk4",           "implicit_euler"};
+const char* const kSchemes[] = {
+    "explicit_euler", "symplectic_euler", "leapfrog", "velocity_verlet", "rk4", "implicit_euler"};
 
 SimulationSettings quiet(double h, const std::string& scheme) {
   SimulationSettings s;
@@ -120,7 +120,7 @@ void cost(std::ostream& out, int threads) {
   out << "scheme,points,threads,force_passes,ns_per_step,ns_per_particle_step,cg_iterations\n";
   for (const char* scheme : kSchemes) {
     Model m = study_flag(64, 64, 200);
-  m.fields.wind.velocity = {4, 0, 2};
+    m.fields.wind.velocity = {4, 0, 2};
     SimulationSettings s = quiet(scheme == std::string("implicit_euler") ? 1e-3 : 2e-5, scheme);
     s.threads = threads;
     Simulator sim(std::move(m), s);
@@ -194,10 +194,14 @@ Run run_flag(double stiffness, const std::string& scheme, double h) {
   return r;
 }
 
-// Comparable quality: sag within 2 % and peak stretch within 10 % of the reference's.
+// Comparable visual quality: the sag within 2 % of the reference's, and the peak stretch
+// within 10 % of the reference's or within 0.1 % absolute stretch (1.5 mm over the 1.5 m flag:
+// invisible; implicit Euler's numerical damping lowers the dynamic peak of a very stiff
+// flag, whose stretch is then far below anything one can see).
 bool comparable(const Quality& a, const Quality& ref) {
+  const double stretch_gap = std::abs(a.peak_stretch - ref.peak_stretch);
   return std::abs(a.sag - ref.sag) <= 0.02 * ref.sag &&
-         std::abs(a.peak_stretch - ref.peak_stretch) <= 0.1 * ref.peak_stretch;
+         (stretch_gap <= 0.1 * ref.peak_stretch || stretch_gap <= 1e-3);
 }
 
 void crossover(std::ostream& out, bool quick) {
@@ -237,7 +241,8 @@ void crossover(std::ostream& out, bool quick) {
     }
     if (!found) {
       out << k << ",implicit_euler,,," << limit << ",,,,,0\n";
-      std::printf("  k = %-8g implicit_euler   no step above leapfrog's limit keeps the quality\n", k);
+      std::printf("  k = %-8g implicit_euler   no step above leapfrog's limit keeps the quality\n",
+                  k);
     }
   }
 }
