@@ -75,7 +75,14 @@ int validate(const std::string& path) {
 int info(const std::string& path) {
   auto scene = load_or_report(path);
   if (!scene) return bad_input;
-  Simulator sim(std::move(scene->model), scene->settings);
+  std::optional<Simulator> built;
+  try {
+    built.emplace(std::move(scene->model), scene->settings);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << path << ": error: " << e.what() << '\n';
+    return bad_input;
+  }
+  Simulator& sim = *built;
   const Model& m = sim.model();
   const auto& s = sim.settings();
   std::cout << "scene        " << scene->name << '\n';
@@ -183,7 +190,14 @@ int bench(const BenchOptions& o) {
   std::uint64_t points = 0, links = 0;
   int threads = 1;
   for (int r = 0; r < o.repeat; ++r) {
-    Simulator sim(scene->model, settings);
+    std::optional<Simulator> built;
+    try {
+      built.emplace(scene->model, settings);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << o.scene << ": error: " << e.what() << '\n';
+      return bad_input;
+    }
+    Simulator& sim = *built;
     points = sim.model().points.size();
     links = sim.model().links.total();
     threads = sim.threads();

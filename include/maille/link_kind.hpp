@@ -98,7 +98,6 @@ class LinkPoolBase {
   // when the other end is free (Gershgorin bound on the eigenvalues of M^-1 K).
   virtual void stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
                                std::span<Real> c_row) const = 0;
-  virtual Real max_stiffness() const = 0;
   virtual WorstLink worst(const Vec3* x, const Vec3* v) const = 0;
   virtual std::unique_ptr<LinkPoolBase> clone() const = 0;
 
@@ -323,12 +322,6 @@ class LinkPool final : public LinkPoolBase {
       k_row[i] += kSimultaneousContacts * k_max[i];
       c_row[i] += kSimultaneousContacts * c_max[i];
     }
-  }
-
-  Real max_stiffness() const override {
-    Real m = 0;
-    for (const auto& p : params_) m = std::max<Real>(m, K::stiffness(p));
-    return m;
   }
 
   WorstLink worst(const Vec3* x, const Vec3* v) const override {
