@@ -25,7 +25,7 @@ std::optional<DragTarget> DragState::current() const {
   return drag_;
 }
 
-void DragSpring::apply(const Model& m, State& s, Profile&) {
+void DragSpring::apply(const Model& m, State& s, const StageContext&) {
   const auto d = state_->current();
   if (!d || d->point >= s.size() || m.points.inv_mass[d->point] == 0) return;
   const Vec3 x = s.x()[d->point], v = s.v()[d->point];

@@ -37,7 +37,7 @@ class DragSpring final : public ForceStage {
  public:
   explicit DragSpring(std::shared_ptr<const DragState> state) : state_(std::move(state)) {}
   std::string name() const override { return "mouse_drag"; }
-  void apply(const Model& m, State& s, Profile& profile) override;
+  void apply(const Model& m, State& s, const StageContext& ctx) override;
 
  private:
   std::shared_ptr<const DragState> state_;

@@ -46,7 +46,7 @@ std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, Simulation
   settings.sample_every =
       std::max(1, static_cast<int>(std::lround(1 / (kSamplesPerSecond * settings.step))));
   auto sim = std::make_unique<Simulator>(std::move(model), std::move(settings));
-  sim->add_force_stage(std::make_unique<DragSpring>(drag_));
+  sim->add_stage(std::make_unique<DragSpring>(drag_));
   // Runs on the physics thread, inside Simulator::publish_now.
   sim->on_publish([this](const Snapshot& s) { out_.publish(s); });
   sim->on_sample([this](const EnergySample& e, const Profile& p) {
@@ -110,14 +110,10 @@ void PhysicsThread::set_time_step(double h) {
 
 void PhysicsThread::set_integrator(const std::string& name) {
   send([this, name](Simulator& sim) {
-    // A new simulator around the current model (tuned parameters included) and state.
-    SimulationSettings settings = sim.settings();
-    settings.integrator = name;
-    const State state = sim.state();
+    // The simulator converts the velocities (a staggered scheme's half-step velocity is
+    // synchronised first) and keeps its model, tuned parameters and stages.
     try {
-      auto fresh = make_simulator(sim.model(), settings);
-      fresh->state_for_editing() = state;
-      sim_ = std::move(fresh);  // `sim` is gone from here on
+      sim.set_integrator(name);
       std::lock_guard lock(mutex_);
       status_.notice.clear();
     } catch (const std::exception& e) {
@@ -129,14 +125,16 @@ void PhysicsThread::set_integrator(const std::string& name) {
 
 void PhysicsThread::scale_link_param(std::size_t pool, std::size_t field, Real factor) {
   send([pool, field, factor](Simulator& sim) {
-    const auto pools = sim.model_for_editing().links.pools();
-    if (pool < pools.size() && field < pools[pool]->fields().size())
-      pools[pool]->scale_param(field, factor);
+    sim.edit_parameters([&](Model& m) {
+      const auto pools = m.links.pools();
+      if (pool < pools.size() && field < pools[pool]->fields().size())
+        pools[pool]->scale_param(field, factor);
+    });
   });
 }
 
 void PhysicsThread::set_fields(const Fields& fields) {
-  send([fields](Simulator& sim) { sim.model_for_editing().fields = fields; });
+  send([fields](Simulator& sim) { sim.edit_parameters([&](Model& m) { m.fields = fields; }); });
 }
 
 PhysicsStatus PhysicsThread::status() const {

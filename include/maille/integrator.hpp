@@ -12,6 +12,7 @@
 
 #include "maille/model.hpp"
 #include "maille/profile.hpp"
+#include "maille/stage.hpp"
 #include "maille/state.hpp"
 
 namespace maille {
@@ -50,6 +51,8 @@ class Integrator {
   // kinetic energy. s.f() must hold the forces at s.x.
   virtual void synchronized_velocity(const Model& m, const State& s, Real h,
                                      std::span<Vec3> out) const;
+  // Which velocity s.v() holds between steps (stages are told through StageContext).
+  virtual VelocityTime velocity_time(const State&) const { return VelocityTime::synchronous; }
   virtual Amplification increment(double h, double w2, double c) const = 0;
   // Force evaluations per step (the simulator's own pass included): the cost unit.
   virtual int force_evaluations() const { return 1; }
@@ -58,7 +61,7 @@ class Integrator {
   virtual bool accepts_state_rewrites() const { return true; }
   // Why the scheme cannot integrate this model (empty: it can).
   virtual std::string check(const Model&) const { return {}; }
-  // Forget any history (after a reset or a change of step).
+  // Drop scratch buffers sized for a model (the scheme's history lives in the State).
   virtual void reset() {}
   void set_threads(int threads) { threads_ = threads; }
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "maille/link_kind.hpp"
+#include "maille/link_pool.hpp"
 
 namespace maille {
 

@@ -9,8 +9,9 @@
 
 #include "maille/drive.hpp"
 #include "maille/fields.hpp"
-#include "maille/link_kind.hpp"
+#include "maille/link_set.hpp"
 #include "maille/points.hpp"
+#include "maille/stage.hpp"
 
 namespace maille {
 
@@ -35,6 +36,9 @@ struct Model {
   Surface surface;
   std::vector<Drive> drives;
   std::vector<Group> groups;
+  // Stages the scene installed ([self_collision], [[obstacle]], ...): every Simulator built from
+  // this model instantiates them (see stage_registry.hpp).
+  std::vector<StageSpec> stages;
 
   const Group* group(const std::string& name) const;
   // Groups links and faces for parallel, deterministic force passes. Call once after building

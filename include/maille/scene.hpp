@@ -9,6 +9,7 @@
 #include "maille/model.hpp"
 #include "maille/result.hpp"
 #include "maille/simulator.hpp"
+#include "maille/stage_registry.hpp"
 
 namespace maille {
 
@@ -20,12 +21,17 @@ struct Scene {
   SimulationSettings settings;
 };
 
-// Reads and validates a scene. Link kinds are looked up in `kinds` (the built-ins by default;
-// pass a registry with your own kinds added to use them in scene files).
+// Reads and validates a scene. Link kinds are looked up in `kinds` and stage tables in `stages`
+// (the built-ins by default; pass registries with your own entries added to use them in scene
+// files).
 Result<Scene> load_scene(const std::filesystem::path& path);
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds);
+Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
+                         const StageRegistry& stages);
 // Same, from text; `source_name` is used in error messages.
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
                           const LinkKindRegistry& kinds);
+Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
+                          const LinkKindRegistry& kinds, const StageRegistry& stages);
 
 }  // namespace maille

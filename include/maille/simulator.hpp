@@ -3,14 +3,18 @@
 // step(), as a table of contents (src/core/simulator.cpp):
 //   [forces]        drive (scripted fixed points at t), clear forces,
 //                   link forces (every link pool, in kind order), field forces (gravity, air
-//                   drag, wind on faces), then plugged-in force stages (collisions), in order
-//   integrate       the scene's scheme (may re-run the force stages: RK4, implicit)
-//   after hooks     stages that need the new positions (grids, signatures)
-//   health          non-finite values every step, runaway energy at the sampling cadence
+//                   drag, wind on faces), then Phase::forces stages (collisions), in order;
+//                   non-finite forces are caught here and blamed on the stage that made them
+//   [response]      Phase::response stages (rewrite forces or velocities: facets)
+//   integrate       the scene's scheme (may re-run the force pass: RK4, Verlet, Newton)
+//   [after]         driven points at t + h, Phase::after_integration stages (grids)
+//   health          non-finite values and a kinetic-energy bound every step; the full runaway
+//                   check at the sampling cadence and whenever the bound trips
 //   publish         every k steps: a snapshot of positions for renderers and writers
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +26,7 @@
 #include "maille/profile.hpp"
 #include "maille/snapshot.hpp"
 #include "maille/stability.hpp"
+#include "maille/stage.hpp"
 #include "maille/state.hpp"
 
 namespace maille {
@@ -35,28 +40,17 @@ struct SimulationSettings {
   int threads = 0;                      // 0: all cores when the scene is large, else 1
   double runaway_factor = 1e3;          // blow-up when energy exceeds this times its scale
   ImplicitSettings implicit;            // used by implicit_euler only
+  std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
 };
 
-// A stage that adds forces (or rewrites them) after the field forces: the extension point for
-// collisions. One virtual call per stage per step, never per brick.
-class ForceStage {
+// Convenience bases for the two common phases (see stage.hpp for the phases).
+class ForceStage : public Stage {
  public:
-  virtual ~ForceStage() = default;
-  virtual std::string name() const = 0;
-  virtual void apply(const Model& m, State& s, Profile& profile) = 0;
-  // True for stages that rewrite forces or velocities after the fact (inverse dynamics on
-  // facets): schemes that evaluate forces at intermediate states (RK4, velocity Verlet, Newton
-  // iterations) refuse them, because the rewrite would be applied to states that are not
-  // the step's.
-  virtual bool rewrites_state() const { return false; }
+  Phase phase() const override { return Phase::forces; }
 };
-
-// A stage run after integration, with the new positions.
-class AfterIntegrationStage {
+class AfterIntegrationStage : public Stage {
  public:
-  virtual ~AfterIntegrationStage() = default;
-  virtual std::string name() const = 0;
-  virtual void apply(const Model& m, State& s, Profile& profile) = 0;
+  Phase phase() const override { return Phase::after_integration; }
 };
 
 struct BlowUp {
@@ -75,7 +69,8 @@ struct EnergySample {
 class Simulator : private ForceEvaluator {
  public:
   // Throws std::invalid_argument for an unknown integrator, a model the integrator cannot
-  // handle (e.g. a link kind without Jacobian under implicit_euler) or settings out of range.
+  // handle (e.g. a link kind without Jacobian under implicit_euler), a scene stage the scheme
+  // cannot run, or settings out of range. Installs the model's stages (Model::stages).
   Simulator(Model model, SimulationSettings settings);
   ~Simulator() override;
 
@@ -83,35 +78,72 @@ class Simulator : private ForceEvaluator {
   bool step();
   bool run_steps(std::uint64_t n);  // false when stopped by a blow-up
 
-  // Throws std::invalid_argument when the stage rewrites state and the scheme cannot take it.
-  void add_force_stage(std::unique_ptr<ForceStage> stage);
-  void add_after_integration(std::unique_ptr<AfterIntegrationStage> stage);
+  // Installs a stage at its phase. Throws std::invalid_argument when it is a response stage
+  // (rewrites forces or velocities) and the scheme evaluates forces at intermediate states.
+  void add_stage(std::unique_ptr<Stage> stage);
   void on_publish(SnapshotListener listener);
   // Energies are sampled every sample_every steps at t_n, between the force pass and the
   // integration; listeners get the sample at the end of that step, with its complete timings.
   void on_sample(std::function<void(const EnergySample&, const Profile&)> listener);
 
   const Model& model() const { return model_; }
-  Model& model_for_editing() { return model_; }  // between steps only
   const State& state() const { return state_; }
-  State& state_for_editing() { return state_; }  // between steps only
   const SimulationSettings& settings() const { return settings_; }
   const Integrator& integrator() const { return *integrator_; }
   const Profile& profile() const { return profile_; }
   const std::optional<BlowUp>& blow_up() const { return blow_up_; }
   const StabilityEstimate& stability() const { return stability_; }
   int threads() const { return threads_; }
+  std::uint64_t frames_published() const { return snapshot_.frame; }
 
-  void set_step(double h);  // between steps; the scheme re-primes
+  // Edits, between steps only. Structural edits (points, links, faces, stages) go through
+  // edit_model, which re-prepares the pools, resizes the state (new points start at their
+  // initial position and velocity), rebuilds the scheme's buffers and the stages and
+  // re-estimates stability; the scheme's history in the State is kept. Parameter edits (link
+  // parameters, fields, masses) go through edit_parameters, which is cheap; a structural change
+  // made there is detected and handled as by edit_model.
+  void edit_model(const std::function<void(Model&)>& edit);
+  void edit_parameters(const std::function<void(Model&)>& edit);
+  // Replaces the whole state (a checkpoint, a copy from another simulator of the same model).
+  // Throws std::invalid_argument when its size does not match the model.
+  void restore(State state, std::uint64_t frames_published = 0);
+  State& state_for_editing() { return state_; }  // between steps only (positions, velocities)
+
+  // Switches scheme between steps: velocities are first synchronised to the time of x (a
+  // staggered scheme's half-step velocity is converted), then the new scheme starts afresh.
+  // Throws std::invalid_argument (and changes nothing) when the scheme refuses the model or a
+  // stage.
+  void set_integrator(const std::string& name);
+  void set_step(double h);  // between steps; leapfrog re-centres its kick by itself
   void reset();             // back to the model's initial state
-  Energies energies();      // energies of the current state (synchronised velocities)
-  void publish_now();       // a snapshot of the current state, outside the cadence
+  // Energies of the current state (synchronised velocities). Runs the force stages only, never
+  // the response stages (which rewrite state).
+  Energies energies();
+  // The full runaway check now (apps call it at the end of a run): false, with blow_up() set,
+  // when the energy ran away since the last check.
+  bool check_energy();
+  void publish_now();  // a snapshot of the current state, outside the cadence
 
  private:
-  void evaluate(State& s) override;  // ForceEvaluator: every force stage, timed
-  void drive(double t);
+  struct Installed {
+    std::unique_ptr<Stage> stage;
+    int profile_id = 0;
+    bool from_model = false;  // made from Model::stages (rebuilt by edit_model)
+  };
+
+  void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
+  void respond();                     // response stages, once per step
+  void build_integrator(const std::string& name);
+  void install_model_stages();
+  void add_installed(std::unique_ptr<Stage> stage, bool from_model);
+  void check_stage(const Stage& stage) const;
+  void model_structure_changed();
+  StageContext context(const State& s) const;
   void sample_energies();
+  bool runaway(double kinetic_plus_elastic);
+  void check_forces(State& s);
   void check_health();
+  std::string blame_forces(State& s);
   void publish();
   void fail(std::string module, std::string detail);
   double energy_scale() const;
@@ -120,8 +152,7 @@ class Simulator : private ForceEvaluator {
   SimulationSettings settings_;
   State state_;
   std::unique_ptr<Integrator> integrator_;
-  std::vector<std::unique_ptr<ForceStage>> force_stages_;
-  std::vector<std::unique_ptr<AfterIntegrationStage>> after_stages_;
+  std::vector<Installed> force_stages_, response_stages_, after_stages_;
   std::vector<SnapshotListener> publish_listeners_;
   std::vector<std::function<void(const EnergySample&, const Profile&)>> sample_listeners_;
   Profile profile_;

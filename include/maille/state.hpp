@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string>
+#include <vector>
 
 #include "maille/vec3.hpp"
 
@@ -34,6 +36,21 @@ class PointArrays {
   std::unique_ptr<std::byte[]> storage_;
 };
 
+// What a scheme carries from one step to the next. It lives in the State, so that a copy of the
+// State is a checkpoint and a fresh simulator (or another scheme) continues exactly.
+struct SchemeHistory {
+  std::string scheme;   // the scheme whose convention v() follows; empty: synchronous, fresh
+  bool primed = false;  // leapfrog: v() holds v(n - 1/2) (the start-up half kick was applied)
+  double last_h = 0;    // leapfrog: the step of the last kick, s (a change of step re-centres)
+};
+
+// Small evolving data of a plugged-in stage (a tuned cell size, a warm start), by stage name:
+// part of the State, so checkpoints and copies carry it.
+struct StageMemory {
+  std::string stage;
+  std::vector<double> values;
+};
+
 struct State {
   State() = default;
   explicit State(std::size_t points);
@@ -48,11 +65,16 @@ struct State {
 
   double time = 0;         // s, time of x
   std::uint64_t step = 0;  // steps taken since the start
+  SchemeHistory history;
+  std::vector<StageMemory> stage_memory;
+  // The slot of `stage` (created empty on first use).
+  std::vector<double>& memory(const std::string& stage);
 
   PointArrays buffers;
 };
 
-// A 64-bit hash of positions, velocities, time and step: equal hashes mean bit-identical states.
+// A 64-bit hash of positions, velocities, time, step, scheme history and stage memory: equal
+// hashes mean bit-identical states.
 std::uint64_t state_hash(const State& s);
 
 }  // namespace maille

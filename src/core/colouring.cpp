@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "maille/link_kind.hpp"
+#include "maille/colouring.hpp"
 
 namespace maille {
 

@@ -1,3 +1,6 @@
+#include <stdexcept>
+#include <string>
+
 #include "stages.hpp"
 
 namespace maille::stages {
@@ -10,6 +13,13 @@ LinkCounters link_forces(const Model& m, State& s, int threads) {
   const Vec3* v = s.v().data();
   Vec3* f = s.f().data();
   const auto pools = m.links.pools();
+  // A pool edited since prepare() would silently skip its links: refuse (programmer error),
+  // before the parallel region where an exception cannot cross.
+  for (const auto& pool : pools)
+    if (!pool->prepared())
+      throw std::logic_error("link pool '" + std::string(pool->keyword()) +
+                             "' changed since prepare(): edit models through "
+                             "Simulator::edit_model");
   if (threads > 1) {
 #pragma omp parallel num_threads(threads)
     for (const auto& pool : pools) pool->accumulate(x, v, f, counters);

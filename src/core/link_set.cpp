@@ -1,4 +1,4 @@
-#include "maille/link_kind.hpp"
+#include "maille/link_set.hpp"
 
 namespace maille {
 

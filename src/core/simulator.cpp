@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "health.hpp"
 #include "stages.hpp"
 
 namespace maille {
@@ -42,7 +43,6 @@ class Timed {
 struct Simulator::StageIds {
   int drive, clear, links, fields, integrate, after, health, publish;
   int active_links, wind_faces;
-  std::vector<int> force_stages, after_stages;
 };
 
 Simulator::Simulator(Model model, SimulationSettings settings)
@@ -51,11 +51,6 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   if (settings_.publish_every < 1) throw std::invalid_argument("publish_every must be >= 1");
   if (settings_.sample_every < 0) throw std::invalid_argument("sample_every must be >= 0");
   if (settings_.sample_every == 0) settings_.sample_every = settings_.publish_every;
-  const auto* entry = IntegratorRegistry::builtin().find(settings_.integrator);
-  if (!entry)
-    throw std::invalid_argument("unknown integrator '" + settings_.integrator +
-                                "' (known: " + IntegratorRegistry::builtin().names() + ")");
-  integrator_ = entry->make(settings_.implicit);
 
   const std::uint32_t n = model_.points.size();
 #ifdef _OPENMP
@@ -64,11 +59,8 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   const int cores = 1;
 #endif
   threads_ = settings_.threads > 0 ? settings_.threads : (n >= kParallelThreshold ? cores : 1);
-  integrator_->set_threads(threads_);
   model_.prepare();
-  if (const std::string why = integrator_->check(model_); !why.empty())
-    throw std::invalid_argument(why);
-  stability_ = estimate_stability(model_, *integrator_);
+  build_integrator(settings_.integrator);
 
   auto& ids = *ids_;
   ids.drive = profile_.stage("drive");
@@ -81,10 +73,42 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   ids.publish = profile_.stage("publish");
   ids.active_links = profile_.counter("active_conditional_links");
   ids.wind_faces = profile_.counter("wind_faces");
+  install_model_stages();
   reset();
 }
 
 Simulator::~Simulator() = default;
+
+// A scheme from the registry, checked against the model and the installed stages; the
+// simulator's own scheme is replaced only when every check passes.
+void Simulator::build_integrator(const std::string& name) {
+  const auto* entry = IntegratorRegistry::builtin().find(name);
+  if (!entry)
+    throw std::invalid_argument("unknown integrator '" + name +
+                                "' (known: " + IntegratorRegistry::builtin().names() + ")");
+  std::unique_ptr<Integrator> scheme = entry->make(settings_.implicit);
+  scheme->set_threads(threads_);
+  if (const std::string why = scheme->check(model_); !why.empty())
+    throw std::invalid_argument(why);
+  if (!scheme->accepts_state_rewrites() && !response_stages_.empty())
+    throw std::invalid_argument("stage '" + response_stages_.front().stage->name() +
+                                "' rewrites forces and velocities after the fact; " + name +
+                                " cannot be combined with it (use leapfrog, symplectic_euler or "
+                                "explicit_euler)");
+  integrator_ = std::move(scheme);
+  settings_.integrator = name;
+  stability_ = estimate_stability(model_, *integrator_);
+}
+
+void Simulator::install_model_stages() {
+  for (const StageSpec& spec : model_.stages) {
+    const auto& off = settings_.disabled_stages;
+    if (std::find(off.begin(), off.end(), spec.name) != off.end()) continue;
+    std::unique_ptr<Stage> stage = spec.make();
+    check_stage(*stage);
+    add_installed(std::move(stage), true);
+  }
+}
 
 void Simulator::reset() {
   const std::uint32_t n = model_.points.size();
@@ -95,6 +119,8 @@ void Simulator::reset() {
             state_.v().begin());
   stages::drive(model_, state_, 0);
   integrator_->reset();
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (auto& st : *list) st.stage->model_changed(model_);
   blow_up_.reset();
   pending_sample_.reset();
   snapshot_ = Snapshot{};
@@ -102,20 +128,27 @@ void Simulator::reset() {
   energy_scale_ = energy_scale();
 }
 
-void Simulator::add_force_stage(std::unique_ptr<ForceStage> stage) {
-  if (stage->rewrites_state() && !integrator_->accepts_state_rewrites())
-    throw std::invalid_argument("stage '" + stage->name() +
+void Simulator::check_stage(const Stage& stage) const {
+  if (stage.phase() == Phase::response && !integrator_->accepts_state_rewrites())
+    throw std::invalid_argument("stage '" + stage.name() +
                                 "' rewrites forces and velocities after the fact; " +
                                 std::string(integrator_->name()) +
-                                " evaluates forces at intermediate states and cannot be combined "
-                                "with it (use leapfrog, symplectic_euler or explicit_euler)");
-  ids_->force_stages.push_back(profile_.stage(stage->name()));
-  force_stages_.push_back(std::move(stage));
+                                " evaluates forces at intermediate states (or solves for "
+                                "velocities after them) and cannot be combined with it (use "
+                                "leapfrog, symplectic_euler or explicit_euler)");
 }
 
-void Simulator::add_after_integration(std::unique_ptr<AfterIntegrationStage> stage) {
-  ids_->after_stages.push_back(profile_.stage(stage->name()));
-  after_stages_.push_back(std::move(stage));
+void Simulator::add_stage(std::unique_ptr<Stage> stage) {
+  check_stage(*stage);
+  add_installed(std::move(stage), false);
+}
+
+void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model) {
+  const int id = profile_.stage(stage->name());
+  auto& list = stage->phase() == Phase::forces     ? force_stages_
+               : stage->phase() == Phase::response ? response_stages_
+                                                   : after_stages_;
+  list.push_back({std::move(stage), id, from_model});
 }
 
 void Simulator::on_publish(SnapshotListener listener) {
@@ -128,7 +161,38 @@ void Simulator::on_sample(std::function<void(const EnergySample&, const Profile&
 
 void Simulator::set_step(double h) {
   if (!(h > 0)) throw std::invalid_argument("step must be > 0");
-  settings_.step = h;  // leapfrog re-primes by itself: its kick spans (h_old + h_new) / 2
+  settings_.step = h;  // leapfrog re-centres by itself: its kick spans (h_old + h_new) / 2
+  stability_ = estimate_stability(model_, *integrator_);
+}
+
+// The old scheme's velocities are synchronised to the time of x (its forces at x first), and
+// the new scheme starts from a synchronous state, as at t = 0.
+void Simulator::set_integrator(const std::string& name) {
+  if (name == integrator_->name()) return;
+  std::unique_ptr<Integrator> old = std::move(integrator_);
+  const std::string old_name = settings_.integrator;
+  try {
+    build_integrator(name);
+  } catch (...) {
+    integrator_ = std::move(old);
+    settings_.integrator = old_name;
+    throw;
+  }
+  evaluate(state_);
+  old->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step),
+                             scratch_velocity_);
+  std::copy(scratch_velocity_.begin(), scratch_velocity_.end(), state_.v().begin());
+  state_.history = SchemeHistory{};
+}
+
+void Simulator::restore(State state, std::uint64_t frames_published) {
+  if (state.size() != model_.points.size())
+    throw std::invalid_argument("the state has " + std::to_string(state.size()) +
+                                " points, the model " + std::to_string(model_.points.size()));
+  state_ = std::move(state);
+  blow_up_.reset();
+  pending_sample_.reset();
+  snapshot_.frame = frames_published;
 }
 
 // The step, as a table of contents. Energies are sampled between the force pass and the
@@ -139,6 +203,10 @@ bool Simulator::step() {
   const auto& ids = *ids_;
   const Real h = static_cast<Real>(settings_.step);
   evaluate(state_);
+  check_forces(state_);
+  if (blow_up_) return false;
+  respond();
+  if (blow_up_) return false;
   if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) sample_energies();
   if (blow_up_) return false;
   {
@@ -151,9 +219,10 @@ bool Simulator::step() {
     Timed t(profile_, ids.after);
     stages::drive(model_, state_, state_.time);
   }
-  for (std::size_t k = 0; k < after_stages_.size(); ++k) {
-    Timed t(profile_, ids.after_stages[k]);
-    after_stages_[k]->apply(model_, state_, profile_);
+  const StageContext ctx = context(state_);
+  for (auto& st : after_stages_) {
+    Timed t(profile_, st.profile_id);
+    st.stage->apply(model_, state_, ctx);
   }
   {
     Timed t(profile_, ids.health);
@@ -177,7 +246,18 @@ bool Simulator::run_steps(std::uint64_t n) {
   return true;
 }
 
-// Every force stage at the state's current positions, velocities and time.
+StageContext Simulator::context(const State& s) const {
+  StageContext ctx;
+  ctx.h = settings_.step;
+  ctx.t = s.time;
+  ctx.step = s.step;
+  ctx.threads = threads_;
+  ctx.velocity = integrator_->velocity_time(s);
+  ctx.profile = const_cast<Profile*>(&profile_);  // counters only; timing stays here
+  return ctx;
+}
+
+// Every force-phase stage at the state's current positions, velocities and time.
 void Simulator::evaluate(State& s) {
   const auto& ids = *ids_;
   {
@@ -196,9 +276,29 @@ void Simulator::evaluate(State& s) {
     Timed t(profile_, ids.fields);
     profile_.set_count(ids.wind_faces, stages::field_forces(model_, s, threads_));
   }
-  for (std::size_t k = 0; k < force_stages_.size(); ++k) {
-    Timed t(profile_, ids.force_stages[k]);
-    force_stages_[k]->apply(model_, s, profile_);
+  if (force_stages_.empty()) return;
+  const StageContext ctx = context(s);
+  for (auto& st : force_stages_) {
+    Timed t(profile_, st.profile_id);
+    st.stage->apply(model_, s, ctx);
+  }
+}
+
+// Response stages rewrite forces and velocities once per step, after the force pass; a
+// non-finite value they leave is theirs.
+void Simulator::respond() {
+  if (response_stages_.empty()) return;
+  const StageContext ctx = context(state_);
+  for (auto& st : response_stages_) {
+    {
+      Timed t(profile_, st.profile_id);
+      st.stage->apply(model_, state_, ctx);
+    }
+    if (!all_finite(state_.f()) || !all_finite(state_.v())) {
+      fail(st.stage->name(), "non-finite force or velocity written by stage '" +
+                                 st.stage->name() + "'");
+      return;
+    }
   }
 }
 
@@ -209,93 +309,30 @@ Energies Simulator::energies() {
   return compute_energies(model_, state_, scratch_velocity_);
 }
 
+bool Simulator::check_energy() {
+  if (blow_up_) return false;
+  const Energies e = energies();
+  return !runaway(e.kinetic + e.elastic);
+}
+
 void Simulator::sample_energies() {
   integrator_->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step),
                                      scratch_velocity_);
   const EnergySample sample{state_.step, state_.time,
                             compute_energies(model_, state_, scratch_velocity_)};
-  // Runaway: the energy that can grow without bound (kinetic + elastic) far above anything
-  // the scene can supply. Gravity's share is excluded: a falling body is not a blow-up.
-  const double e = sample.energies.kinetic + sample.energies.elastic;
-  if (!std::isfinite(e) || e > settings_.runaway_factor * energy_scale_) {
-    std::ostringstream why;
-    why << "runaway energy " << e << " J (" << settings_.runaway_factor
-        << " times the scene's energy scale " << energy_scale_ << " J)";
-    fail("", why.str());
-    return;
-  }
+  if (runaway(sample.energies.kinetic + sample.energies.elastic)) return;
   pending_sample_ = sample;  // handed to listeners at the end of the step, with its timings
 }
 
-// The energy a sane run of this scene can reach: initial kinetic and elastic energy, a fall
-// across the scene's extent, the wind's and the drives' kinetic energy, and 1 J/kg at least.
-double Simulator::energy_scale() const {
-  const auto& p = model_.points;
-  constexpr Real big = std::numeric_limits<Real>::max();
-  Vec3 lo{big, big, big}, hi{-big, -big, -big};
-  double free_mass = 0;
-  for (std::uint32_t i = 0; i < p.size(); ++i) {
-    const Vec3& x = p.initial_position[i];
-    lo = {std::min(lo.x, x.x), std::min(lo.y, x.y), std::min(lo.z, x.z)};
-    hi = {std::max(hi.x, x.x), std::max(hi.y, x.y), std::max(hi.z, x.z)};
-    if (p.inv_mass[i] > 0) free_mass += p.mass[i];
-  }
-  const double extent = p.size() ? norm(hi - lo) + 1.0 : 1.0;
-  const double wind = norm(model_.fields.wind.velocity) * (1 + model_.fields.wind.turbulence);
-  double drive = 0;
-  for (const auto& d : model_.drives) drive = std::max<double>(drive, d.path.max_speed());
-  const double speed2 = wind * wind + drive * drive + 1.0;
-  const std::vector<Vec3> v0(p.initial_velocity.begin(), p.initial_velocity.end());
-  double e0 = kinetic_energy(model_, v0);
-  for (const auto& pool : model_.links.pools()) e0 += pool->energy(state_.x().data());
-  return e0 + free_mass * (norm(model_.fields.gravity) * extent + 0.5 * speed2 * 4);
-}
-
-// Every step: one pass summing positions and velocities; a NaN or infinity anywhere makes the
-// sum non-finite. Cheap (vectorised, ~0.3 ns per point), so a blow-up is caught at its step.
-void Simulator::check_health() {
-  const auto x = state_.x();
-  const auto v = state_.v();
-  Real sum = 0;
-  const Real* xs = &x.data()->x;
-  const Real* vs = &v.data()->x;
-  const std::size_t n = 3 * x.size();
-#pragma omp simd reduction(+ : sum)
-  for (std::size_t i = 0; i < n; ++i) sum += xs[i] * 0 + vs[i] * 0;  // NaN/inf survive "* 0"
-  if (std::isfinite(sum)) return;
-  std::size_t bad = 0;
-  while (bad < x.size() && is_finite(x[bad]) && is_finite(v[bad])) ++bad;
+// Runaway: the energy that can grow without bound (kinetic + elastic) far above anything the
+// scene can supply. Gravity's share is excluded: a falling body is not a blow-up.
+bool Simulator::runaway(double e) {
+  if (std::isfinite(e) && e <= settings_.runaway_factor * energy_scale_) return false;
   std::ostringstream why;
-  why << "non-finite position or velocity at point " << bad << " ("
-      << to_string(model_.points.kind[bad]) << ")";
+  why << "runaway energy " << e << " J (" << settings_.runaway_factor
+      << " times the scene's energy scale " << energy_scale_ << " J)";
   fail("", why.str());
-}
-
-// Names the brick kind where a blow-up started: the link pool whose worst link is the most
-// broken (non-finite, or stretched furthest from its rest length), with the stability hint.
-void Simulator::fail(std::string module, std::string detail) {
-  std::ostringstream msg;
-  msg << "blow-up detected at step " << state_.step << " (t = " << state_.time << " s): " << detail;
-  WorstLink worst{0, {}, -1};
-  std::string worst_kind;
-  for (const auto& pool : model_.links.pools()) {
-    if (pool->size() == 0) continue;
-    const WorstLink w = pool->worst(state_.x().data(), state_.v().data());
-    if (w.badness > worst.badness) {
-      worst = w;
-      worst_kind = std::string(pool->keyword());
-    }
-  }
-  if (module.empty()) module = worst_kind.empty() ? "field_forces" : worst_kind;
-  if (!worst_kind.empty())
-    msg << "; started in " << worst_kind << " links: link #" << worst.index << " (points "
-        << worst.ends.a << "-" << worst.ends.b << ") strain " << worst.badness;
-  if (settings_.step > stability_.max_step)
-    msg << "; the step h = " << settings_.step << " s exceeds the " << integrator_->name()
-        << " stability limit " << stability_.max_step << " s set by " << stability_.link_kind
-        << " links at point " << stability_.point << " (omega = " << stability_.omega
-        << " rad/s): reduce the step or the stiffness";
-  blow_up_ = BlowUp{state_.step, state_.time, module, msg.str()};
+  return true;
 }
 
 void Simulator::publish() {

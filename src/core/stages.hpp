@@ -2,7 +2,7 @@
 // field_forces.cpp). Internal: the simulator calls them; tests reach them through it.
 #pragma once
 
-#include "maille/link_kind.hpp"
+#include "maille/link_set.hpp"
 #include "maille/model.hpp"
 #include "maille/state.hpp"
 

@@ -37,6 +37,13 @@ Vec3* PointArrays::base(int which) const {
 
 State::State(std::size_t points) : buffers(points, 3) {}
 
+std::vector<double>& State::memory(const std::string& stage) {
+  for (auto& m : stage_memory)
+    if (m.stage == stage) return m.values;
+  stage_memory.push_back({stage, {}});
+  return stage_memory.back().values;
+}
+
 std::uint64_t state_hash(const State& s) {
   // FNV-1a over the raw bytes: any bit difference shows.
   std::uint64_t h = 1469598103934665603ull;
@@ -48,6 +55,13 @@ std::uint64_t state_hash(const State& s) {
   mix(s.v().data(), s.size() * sizeof(Vec3));
   mix(&s.time, sizeof s.time);
   mix(&s.step, sizeof s.step);
+  mix(s.history.scheme.data(), s.history.scheme.size());
+  mix(&s.history.primed, sizeof s.history.primed);
+  mix(&s.history.last_h, sizeof s.history.last_h);
+  for (const auto& m : s.stage_memory) {
+    mix(m.stage.data(), m.stage.size());
+    mix(m.values.data(), m.values.size() * sizeof(double));
+  }
   return h;
 }
 

@@ -42,7 +42,7 @@ class EigenSystem final : public ImplicitSystem {
     // Row a: (m + C) u_a - C u_b; row b: -C u_a + (m + C) u_b.
     for (std::size_t p = 0; p < pools.size(); ++p)
       for (std::size_t l = 0; l < pools[p]->size(); ++l) {
-        const auto [a, b] = pools[p]->ends(l);
+        const auto [a, b] = pools[p]->slot_ends()[l];  // blocks are in storage order
         const Mat3& c = blocks_[p][l];
         add_block(a, a, c);
         add_block(b, b, c);

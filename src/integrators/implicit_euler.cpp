@@ -96,8 +96,9 @@ class ImplicitEuler final : public Integrator {
     return {{{-h * h * w2 / det, h / det}, {-h * w2 / det, (-h * h * w2 - h * c) / det}}};
   }
   int force_evaluations() const override { return settings_.newton_iterations; }
-  bool accepts_state_rewrites() const override { return settings_.newton_iterations == 1; }
-  void reset() override {}
+  // A response stage zeroes a velocity into a facet, then the solve adds a dv that couples it to
+  // every neighbour and undoes the rewrite: refused rather than run wrong.
+  bool accepts_state_rewrites() const override { return false; }
 
  private:
   // Iteration 0 (Baraff-Witkin): b = h f(x_n, v_n), plus h^2 df/dx v_n added by the pools.

@@ -3,7 +3,8 @@
 //   x(n+1)   = x(n) + h v(n+1/2)
 // Started with a half kick, v(1/2) = v(0) + h/2 a(0), which makes it second order (Stormer-
 // Verlet); velocity-dependent forces see v(n-1/2), as in CORDIS. When the step changes, the kick
-// spans the two half steps, (h_old + h_new)/2.
+// spans the two half steps, (h_old + h_new)/2. Whether the half kick was applied and the last
+// step are kept in the State (SchemeHistory): a copy of the State continues exactly.
 #include "integrators.hpp"
 
 namespace maille {
@@ -15,17 +16,22 @@ class Leapfrog final : public Integrator {
   std::string_view name() const override { return "leapfrog"; }
 
   void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
-    const Real kick = primed_ ? Real(0.5) * (last_h_ + h) : Real(0.5) * h;
+    const bool primed = primed_here(s);
+    const Real kick =
+        primed ? Real(0.5) * (static_cast<Real>(s.history.last_h) + h) : Real(0.5) * h;
     kick_drift(m, s, kick, h, threads_);
-    primed_ = true;
-    last_h_ = h;
+    s.history = {std::string(name()), true, static_cast<double>(h)};
+  }
+
+  VelocityTime velocity_time(const State& s) const override {
+    return primed_here(s) ? VelocityTime::half_step : VelocityTime::synchronous;
   }
 
   void synchronized_velocity(const Model& m, const State& s, Real h,
                              std::span<Vec3> out) const override {
     const auto v = s.v();
     const auto f = s.f();
-    const Real half = primed_ ? Real(0.5) * h : Real(0);
+    const Real half = primed_here(s) ? Real(0.5) * h : Real(0);
     for (std::size_t i = 0; i < out.size(); ++i)
       out[i] = v[i] + f[i] * (m.points.inv_mass[i] * half);
   }
@@ -35,11 +41,9 @@ class Leapfrog final : public Integrator {
   Amplification increment(double h, double w2, double c) const override {
     return kick_drift_increment(h, w2, c);
   }
-  void reset() override { primed_ = false; }
 
  private:
-  bool primed_ = false;
-  Real last_h_ = 0;
+  bool primed_here(const State& s) const { return s.history.primed && s.history.scheme == name(); }
 };
 
 }  // namespace

@@ -21,10 +21,15 @@ namespace {
 
 constexpr std::size_t kMaxContactLinks = 20'000'000;
 
+const StageRegistry& builtin_stages() {
+  static const StageRegistry builtins = StageRegistry::with_builtins();
+  return builtins;
+}
+
 class SceneReader {
  public:
-  SceneReader(const LinkKindRegistry& kinds, std::string file)
-      : kinds_(kinds), file_(std::move(file)) {}
+  SceneReader(const LinkKindRegistry& kinds, const StageRegistry& stages, std::string file)
+      : kinds_(kinds), stages_(stages), file_(std::move(file)) {}
 
   Scene read(const toml::table& root) {
     TomlCursor top(root, file_, "");
@@ -42,6 +47,7 @@ class SceneReader {
       for (auto& t : top.tables(b.keyword)) builder(t, scene.model, b);
     for (auto& t : top.tables("link")) link(t, scene.model);
     for (auto& t : top.tables("contact")) contact(t, scene.model);
+    stage_tables(top, scene.model);
     top.finish();
     if (scene.model.points.size() == 0)
       throw SceneFailure{{file_, 0, 0, "", "the scene has no point (add [[mass]] or a builder)"}};
@@ -49,6 +55,23 @@ class SceneReader {
   }
 
  private:
+  // Tables registered by stages ([self_collision], [[obstacle]], ...), read against the
+  // finished model; each yields a StageSpec that every simulator of the model installs.
+  void stage_tables(TomlCursor& top, Model& model) {
+    auto install = [&](TomlCursor& t, const StageRegistry::Entry& e) {
+      StageSpec spec = e.parse(t, model);
+      t.finish();
+      model.stages.push_back(std::move(spec));
+    };
+    for (const auto& e : stages_.entries()) {
+      if (e.array) {
+        for (auto& t : top.tables(e.table)) install(t, e);
+      } else if (auto t = top.table(e.table)) {
+        install(*t, e);
+      }
+    }
+  }
+
   SimulationSettings simulation(TomlCursor& t) {
     SimulationSettings s;
     s.integrator = t.text("integrator", s.integrator);
@@ -267,6 +290,7 @@ class SceneReader {
   }
 
   const LinkKindRegistry& kinds_;
+  const StageRegistry& stages_;
   std::string file_;
   std::set<std::string> names_;
 };
@@ -275,9 +299,14 @@ class SceneReader {
 
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
                           const LinkKindRegistry& kinds) {
+  return parse_scene(text, source_name, kinds, builtin_stages());
+}
+
+Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
+                          const LinkKindRegistry& kinds, const StageRegistry& stages) {
   try {
     const toml::table root = toml::parse(text, source_name);
-    Scene scene = SceneReader(kinds, source_name).read(root);
+    Scene scene = SceneReader(kinds, stages, source_name).read(root);
     return scene;
   } catch (const toml::parse_error& e) {
     return InputError{source_name, static_cast<int>(e.source().begin.line),
@@ -289,11 +318,16 @@ Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
 }
 
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds) {
+  return load_scene(path, kinds, builtin_stages());
+}
+
+Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
+                         const StageRegistry& stages) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return InputError{path.string(), 0, 0, "", "cannot open the scene file"};
   std::stringstream text;
   text << in.rdbuf();
-  Result<Scene> r = parse_scene(text.str(), path.string(), kinds);
+  Result<Scene> r = parse_scene(text.str(), path.string(), kinds, stages);
   if (r) {
     r->source = path;
     if (r->name.empty()) r->name = path.stem().string();

@@ -173,4 +173,18 @@ void TomlCursor::finish() const {
     if (!used_.contains(k.str())) fail_at(k.source(), k.str(), "unknown key");
 }
 
+std::vector<std::string> TomlCursor::texts(std::string_view key,
+                                           std::vector<std::string> fallback) {
+  const toml::node* n = node(key);
+  if (!n) return fallback;
+  const toml::array* a = n->as_array();
+  if (!a) fail(key, "must be an array of strings");
+  std::vector<std::string> out;
+  for (const auto& e : *a) {
+    if (!e.is_string()) fail_at(e.source(), key, "must be an array of strings");
+    out.push_back(*e.value<std::string>());
+  }
+  return out;
+}
+
 }  // namespace maille

@@ -15,6 +15,7 @@
 
 #include "maille/link_kind.hpp"
 #include "maille/result.hpp"
+#include "maille/scene_table.hpp"
 
 namespace maille {
 
@@ -22,25 +23,29 @@ struct SceneFailure {
   InputError error;
 };
 
-class TomlCursor {
+class TomlCursor final : public SceneTable {
  public:
   TomlCursor(const toml::table& table, std::string file, std::string path);
+  TomlCursor(const TomlCursor&) = default;
+  TomlCursor(TomlCursor&&) = default;
 
-  const std::string& path() const { return path_; }
-  const std::string& file() const { return file_; }
-  bool has(std::string_view key) const { return table_.contains(key); }
+  const std::string& path() const override { return path_; }
+  const std::string& file() const override { return file_; }
+  bool has(std::string_view key) const override { return table_.contains(key); }
 
-  Real real(std::string_view key, Bound bound);  // required
-  Real real(std::string_view key, Real fallback, Bound bound);
+  Real real(std::string_view key, Bound bound) override;  // required
+  Real real(std::string_view key, Real fallback, Bound bound) override;
   std::optional<Real> maybe_real(std::string_view key, Bound bound);
   std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min,
-                       std::int64_t max);
-  bool boolean(std::string_view key, bool fallback);
+                       std::int64_t max) override;
+  bool boolean(std::string_view key, bool fallback) override;
   std::string text(std::string_view key);  // required
   std::string text(std::string_view key, std::string fallback,
-                   std::initializer_list<std::string_view> choices = {});
+                   std::initializer_list<std::string_view> choices = {}) override;
   Vec3 vec3(std::string_view key);  // required
-  Vec3 vec3(std::string_view key, Vec3 fallback);
+  Vec3 vec3(std::string_view key, Vec3 fallback) override;
+  std::vector<std::string> texts(std::string_view key,
+                                 std::vector<std::string> fallback) override;
   // An array of `n` integers >= min (resolutions).
   std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback,
                                      std::int64_t min);
@@ -49,7 +54,7 @@ class TomlCursor {
   std::optional<TomlCursor> table(std::string_view key);
   std::vector<TomlCursor> tables(std::string_view key);  // an array of tables
 
-  [[noreturn]] void fail(std::string_view key, const std::string& message) const;
+  [[noreturn]] void fail(std::string_view key, const std::string& message) const override;
   [[noreturn]] void fail_at(const toml::source_region& where, std::string_view key,
                             const std::string& message) const;
   void finish() const;  // fails on the first key never read

@@ -114,10 +114,10 @@ TEST(Integrators, BlowUpDetectedBeyondEachLimit) {
   }
 }
 
-struct RewritingStage final : ForceStage {
+struct RewritingStage final : Stage {
   std::string name() const override { return "facet_responses"; }
-  void apply(const Model&, State&, Profile&) override {}
-  bool rewrites_state() const override { return true; }
+  Phase phase() const override { return Phase::response; }
+  void apply(const Model&, State&, const StageContext&) override {}
 };
 
 // A stage that rewrites state after the fact cannot be combined with schemes that evaluate
@@ -125,14 +125,17 @@ struct RewritingStage final : ForceStage {
 TEST(Integrators, IncompatibleStageIsRefused) {
   Simulator rk4(test::oscillator(1, 100, 0, 1, 0.1), test::settings(1e-3, "rk4"));
   try {
-    rk4.add_force_stage(std::make_unique<RewritingStage>());
+    rk4.add_stage(std::make_unique<RewritingStage>());
     FAIL() << "rk4 accepted a state-rewriting stage";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("facet_responses"), std::string::npos);
     EXPECT_NE(std::string(e.what()).find("rk4"), std::string::npos);
   }
   Simulator leapfrog(test::oscillator(1, 100, 0, 1, 0.1), test::settings(1e-3));
-  EXPECT_NO_THROW(leapfrog.add_force_stage(std::make_unique<RewritingStage>()));
+  EXPECT_NO_THROW(leapfrog.add_stage(std::make_unique<RewritingStage>()));
+  // Implicit Euler's solve would undo the rewrite: refused too, even with one Newton iteration.
+  Simulator implicit(test::oscillator(1, 100, 0, 1, 0.1), test::settings(1e-3, "implicit_euler"));
+  EXPECT_THROW(implicit.add_stage(std::make_unique<RewritingStage>()), std::invalid_argument);
 }
 
 Model stiff_flag() {

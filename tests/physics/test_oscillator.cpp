@@ -135,7 +135,11 @@ TEST(Stability, EstimateExactForOneSpringAndBlowUpIsNamed) {
   EXPECT_FALSE(outside.run_steps(100000));
   ASSERT_TRUE(outside.blow_up().has_value());
   EXPECT_EQ(outside.blow_up()->module, "spring");
-  EXPECT_GT(outside.blow_up()->step, 10u);
+  // At 1.05x the limit the amplitude grows by ~1.9 per step (eigenvalue of the leapfrog map at
+  // h omega = 2.1), so the energy passes 1000x its scale after ~6 steps; the per-step kinetic
+  // bound catches it then rather than at the next sample.
+  EXPECT_GT(outside.blow_up()->step, 3u);
+  EXPECT_LT(outside.blow_up()->step, 12u);
   EXPECT_NE(outside.blow_up()->message.find("exceeds the leapfrog stability limit"),
             std::string::npos)
       << outside.blow_up()->message;

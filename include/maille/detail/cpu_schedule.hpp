@@ -1,0 +1,73 @@
+// How one link pool runs on CPU threads. Private to the CPU executor: the pools hold the links
+// (ends and parameters, in the schedule's order), this decides the order and the grouping, and a
+// second executor (the GPU) reads the same pools' arrays with a schedule of its own.
+//
+// Links are grouped into bands by their first point (about kBands bands over the points' range,
+// whatever the thread count), and inside a band always-active kinds are sorted by (b - a, a):
+// links of one family (every horizontal link of a grid, say) then follow each other with both
+// ends advancing by one point, and such runs are computed with contiguous loads instead of
+// gathers. Bands are coloured so that no two bands of one colour share a point: on a grid, a
+// band touches only its neighbours, so two colours suffice and a step costs two barriers per pool
+// (each barrier is a futex wake-up with OMP_WAIT_POLICY=passive, tens of microseconds on a busy
+// machine; colouring small chunks instead gave ~20 colours and made two threads slower than one
+// at 128^2). Serial runs use the same order, so every point sums its forces in the same order
+// whatever the thread count.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "maille/link_kind.hpp"
+
+namespace maille::detail {
+
+class CpuSchedule {
+ public:
+  static constexpr std::size_t kChunk = 256;  // links per chunk, at most
+  static constexpr std::size_t kMinRun = 8;   // shorter runs are not worth a chunk of their own
+
+  // Step 1: the order the links should be stored in: order[slot] = current position.
+  // `by_reach`: sort by (b - a, a) inside bands (always-active kinds; conditional kinds keep
+  // their order inside a band).
+  std::vector<std::uint32_t> order(std::span<const LinkEnds> ends, bool by_reach);
+  // Step 2, once the pool stored its links in that order: chunks, bands and colours.
+  void build(std::span<const LinkEnds> ends, std::uint32_t point_count);
+  void clear();
+  bool ready() const { return ready_; }
+
+  std::uint32_t chunk_begin(std::size_t c) const { return chunk_begin_[c]; }
+  std::uint32_t chunk_end(std::size_t c) const { return chunk_begin_[c + 1]; }
+  bool chunk_is_run(std::size_t c) const { return chunk_is_run_[c] != 0; }
+
+  // Runs f(chunk) over every chunk, colour by colour. Callable inside an OpenMP parallel region
+  // (the threads split each colour's bands) or outside it (serially, in the same order).
+  template <class F>
+  void for_each_chunk(F&& f) const {
+    for (std::size_t g = 0; g + 1 < groups_.size(); ++g) {
+      const auto begin = static_cast<std::int64_t>(groups_[g]);
+      const auto end = static_cast<std::int64_t>(groups_[g + 1]);
+#pragma omp for schedule(static)
+      for (std::int64_t k = begin; k < end; ++k) {
+        const std::uint32_t band = band_order_[static_cast<std::size_t>(k)];
+        for (std::uint32_t c = band_begin_[band]; c < band_begin_[band + 1]; ++c) f(c);
+      }
+    }
+  }
+
+ private:
+  static constexpr std::uint32_t kBands = 16;
+  static constexpr std::uint32_t kMinBandPoints = 256;
+  std::uint32_t band_of(std::uint32_t a) const { return (a - band_origin_) / band_points_; }
+  void cut_chunks(std::span<const LinkEnds> ends);
+
+  bool ready_ = false;
+  std::uint32_t band_origin_ = 0, band_points_ = 1;  // band of point a: (a - origin) / points
+  std::vector<std::uint32_t> chunk_begin_;           // chunk c spans links [begin[c], begin[c+1])
+  std::vector<std::uint8_t> chunk_is_run_;           // chunk c is a run: a and b advance by one
+  std::vector<std::uint32_t> band_begin_;            // band b spans chunks [begin[b], begin[b+1])
+  std::vector<std::uint32_t> band_order_;            // bands grouped by colour
+  std::vector<std::uint32_t> groups_;  // colour c spans band_order_[groups_[c]..[c+1])
+};
+
+}  // namespace maille::detail

@@ -1,0 +1,352 @@
+// The typed pool that stores one link kind (struct of arrays, one record per link) and runs it
+// in an inlined loop: one virtual call per pool per step, never per link. The CPU schedule
+// (bands, chunks, colours, OpenMP) is private to detail/cpu_schedule.hpp.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/colouring.hpp"
+#include "maille/detail/cpu_schedule.hpp"
+#include "maille/link_kind.hpp"
+#include "maille/mat3.hpp"
+
+namespace maille {
+
+class LinkPoolBase {
+ public:
+  virtual ~LinkPoolBase() = default;
+  virtual std::string_view keyword() const = 0;
+  virtual std::size_t size() const = 0;
+  // Links are numbered by id, in the order they were added (the scene's order); prepare()
+  // reorders their storage for the CPU schedule and keeps the ids through a remap. Everything
+  // that takes or returns a link index at this interface uses ids.
+  virtual LinkEnds ends(std::size_t id) const = 0;
+  // Storage order (after prepare()): ends in the order the pool runs them, and the id of each
+  // slot. Per-link buffers of the implicit solver are in storage order.
+  virtual std::span<const LinkEnds> slot_ends() const = 0;
+  virtual std::uint32_t id_of_slot(std::size_t slot) const = 0;
+  virtual bool prepared() const = 0;
+  virtual std::vector<ParamInfo> fields() const = 0;
+  // Params in `fields()` order; used by the scene reader and the viewer.
+  virtual void add_generic(LinkEnds ends, std::span<const Real> params) = 0;
+  virtual Real param(std::size_t id, std::size_t field) const = 0;
+  virtual void scale_param(std::size_t field, Real factor) = 0;  // live tuning, between steps
+  // Orders and groups links so that no two groups running together share a point (after
+  // building, and again after any structural edit: Simulator::edit_model does it): they run in
+  // parallel without atomics, and the sum order per point is fixed (determinism). A pool that
+  // gained links since is not prepared(), and accumulate() refuses to run it.
+  virtual void prepare(std::uint32_t point_count) = 0;
+  // Adds every link's force into f. Callable inside an OpenMP parallel region (orphaned
+  // work-sharing): the threads split each group.
+  virtual void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const = 0;
+  virtual double energy(const Vec3* x) const = 0;
+  // Adds, per point, the stiffness and damping seen through this pool's links, counted twice
+  // when the other end is free (Gershgorin bound on the eigenvalues of M^-1 K).
+  virtual void stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
+                               std::span<Real> c_row) const = 0;
+  virtual WorstLink worst(const Vec3* x, const Vec3* v) const = 0;  // index: the link's id
+  virtual std::unique_ptr<LinkPoolBase> clone() const = 0;
+
+  // Implicit integration (kinds that define `jacobian`; others return false / do nothing).
+  virtual bool has_jacobian() const = 0;
+  virtual LinkJacobian jacobian(std::size_t id, const Vec3* x, const Vec3* v,
+                                JacobianMode mode) const = 0;
+  // For every link l (storage order): C_l = h dv + h^2 dx (definite mode) into blocks[l], and, when rhs is not
+  // null, the right-hand side term h^2 (df/dx v): rhs_a += h^2 dx (v_b - v_a), rhs_b -= it.
+  virtual void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
+                               Vec3* rhs) const = 0;
+  // out -= (h df/dv + h^2 df/dx) u, link by link: w = C_l (u_b - u_a); out_a -= w; out_b += w.
+  virtual void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const = 0;
+  // Adds every C_l to the diagonal blocks of its two points (block-Jacobi preconditioner).
+  virtual void add_block_diagonal(const Mat3* blocks, Mat3* diagonal) const = 0;
+};
+
+template <LinkKind K>
+class LinkPool final : public LinkPoolBase {
+ public:
+  using Params = typename K::Params;
+
+  std::string_view keyword() const override { return K::keyword; }
+  std::size_t size() const override { return ends_.size(); }
+  LinkEnds ends(std::size_t id) const override { return ends_[slot_of_id_[id]]; }
+  const Params& params(std::size_t id) const { return params_[slot_of_id_[id]]; }
+  Params& params_for_editing(std::size_t id) { return params_[slot_of_id_[id]]; }
+  std::span<const LinkEnds> slot_ends() const override { return ends_; }
+  std::span<const Params> slot_params() const { return params_; }
+  std::uint32_t id_of_slot(std::size_t slot) const override { return id_of_slot_[slot]; }
+  bool prepared() const override { return schedule_.ready() || ends_.empty(); }
+
+  // Adds a link; its id is the number of links added before it. The pool must be prepared
+  // again before it runs (Simulator::edit_model does it).
+  std::uint32_t add(LinkEnds e, const Params& p) {
+    const auto id = static_cast<std::uint32_t>(ends_.size());
+    ends_.push_back(e);
+    params_.push_back(p);
+    slot_of_id_.push_back(id);
+    id_of_slot_.push_back(id);
+    schedule_.clear();
+    return id;
+  }
+
+  std::vector<ParamInfo> fields() const override {
+    std::vector<ParamInfo> out;
+    for (const auto& f : K::fields)
+      out.push_back({std::string(f.name), std::string(f.unit), std::string(f.doc), f.bound,
+                     f.default_value, f.default_is_distance, std::string(f.default_from)});
+    return out;
+  }
+
+  void add_generic(LinkEnds e, std::span<const Real> values) override {
+    Params p{};
+    for (std::size_t k = 0; k < K::fields.size() && k < values.size(); ++k)
+      p.*(K::fields[k].member) = values[k];
+    add(e, p);
+  }
+
+  Real param(std::size_t id, std::size_t field) const override {
+    return params_[slot_of_id_[id]].*(K::fields[field].member);
+  }
+
+  void scale_param(std::size_t field, Real factor) override {
+    for (auto& p : params_) p.*(K::fields[field].member) *= factor;
+  }
+
+  // Stores the links in the CPU schedule's order (detail/cpu_schedule.hpp) and remembers
+  // where each id went.
+  void prepare(std::uint32_t point_count) override {
+    const std::vector<std::uint32_t> order = schedule_.order(ends_, kAlwaysActive);
+    std::vector<LinkEnds> e(ends_.size());
+    std::vector<Params> p(params_.size());
+    std::vector<std::uint32_t> ids(ends_.size());
+    for (std::size_t s = 0; s < order.size(); ++s) {
+      e[s] = ends_[order[s]];
+      p[s] = params_[order[s]];
+      ids[s] = id_of_slot_[order[s]];
+      slot_of_id_[ids[s]] = static_cast<std::uint32_t>(s);
+    }
+    ends_ = std::move(e);
+    params_ = std::move(p);
+    id_of_slot_ = std::move(ids);
+    schedule_.build(ends_, point_count);
+  }
+
+  void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
+    std::uint64_t active = 0;  // this thread's count
+    schedule_.for_each_chunk([&](std::uint32_t c) { active += run_chunk(c, x, v, f); });
+    if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
+#pragma omp atomic
+      counters.active += active;
+    }
+  }
+
+  static constexpr bool kHasJacobian = requires(const Vec3& q, const Params& p) {
+    K::jacobian(q, q, q, q, p, JacobianMode::exact);
+  };
+  bool has_jacobian() const override {
+    return kHasJacobian;
+  }
+
+  LinkJacobian jacobian(std::size_t id, const Vec3* x, const Vec3* v,
+                        JacobianMode mode) const override {
+    if constexpr (kHasJacobian) {
+      const std::size_t l = slot_of_id_[id];
+      const auto [a, b] = ends_[l];
+      return K::jacobian(x[a], x[b], v[a], v[b], params_[l], mode);
+    } else {
+      return {};
+    }
+  }
+
+  void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
+                       Vec3* rhs) const override {
+    if constexpr (kHasJacobian) {
+      schedule_.for_each_chunk([&](std::uint32_t c) {
+        for (std::size_t l = schedule_.chunk_begin(c); l < schedule_.chunk_end(c); ++l) {
+          const auto [a, b] = ends_[l];
+          const LinkJacobian j =
+              K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
+          blocks[l] = j.dv * h + j.dx * (h * h);
+          if (!rhs) continue;
+          const Vec3 r = (j.dx * (v[b] - v[a])) * (h * h);
+          rhs[a] += r;
+          rhs[b] -= r;
+        }
+      });
+    }
+  }
+
+  void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const override {
+    if constexpr (kHasJacobian) {
+      schedule_.for_each_chunk([&](std::uint32_t c) {
+        for (std::size_t l = schedule_.chunk_begin(c); l < schedule_.chunk_end(c); ++l) {
+          const auto [a, b] = ends_[l];
+          const Vec3 w = blocks[l] * (u[b] - u[a]);
+          out[a] -= w;
+          out[b] += w;
+        }
+      });
+    }
+  }
+
+  void add_block_diagonal(const Mat3* blocks, Mat3* diagonal) const override {
+    for (std::size_t l = 0; l < ends_.size(); ++l) {
+      diagonal[ends_[l].a] += blocks[l];
+      diagonal[ends_[l].b] += blocks[l];
+    }
+  }
+
+  double energy(const Vec3* x) const override {
+    double sum = 0;
+    for (std::size_t l = 0; l < ends_.size(); ++l)
+      sum += K::energy(x[ends_[l].a], x[ends_[l].b], params_[l]);
+    return sum;
+  }
+
+  void stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
+                       std::span<Real> c_row) const override {
+    if constexpr (requires { K::is_active(Vec3{}, Vec3{}, params_[0]); }) {
+      conditional_stability_terms(inv_mass, k_row, c_row);
+    } else {
+      for (std::size_t l = 0; l < ends_.size(); ++l) {
+        const auto [a, b] = ends_[l];
+        const Real k = K::stiffness(params_[l]), c = K::damping(params_[l]);
+        const Real wa = inv_mass[b] > 0 ? 2 : 1, wb = inv_mass[a] > 0 ? 2 : 1;
+        k_row[a] += wa * k;
+        c_row[a] += wa * c;
+        k_row[b] += wb * k;
+        c_row[b] += wb * c;
+      }
+    }
+  }
+
+  // A point may hold hundreds of conditional links (one per floor point) of which only a few
+  // can be active at once: counting them all would make the bound uselessly small. A point is
+  // assumed to touch at most kSimultaneousContacts partners at a time (4: a point resting in the
+  // hollow of a square bed of spheres), each as stiff as its stiffest conditional link.
+  static constexpr Real kSimultaneousContacts = 4;
+  void conditional_stability_terms(std::span<const Real> inv_mass, std::span<Real> k_row,
+                                   std::span<Real> c_row) const {
+    std::vector<Real> k_max(k_row.size(), 0), c_max(k_row.size(), 0);
+    for (std::size_t l = 0; l < ends_.size(); ++l) {
+      const auto [a, b] = ends_[l];
+      const Real k = K::stiffness(params_[l]), c = K::damping(params_[l]);
+      const Real wa = inv_mass[b] > 0 ? 2 : 1, wb = inv_mass[a] > 0 ? 2 : 1;
+      k_max[a] = std::max(k_max[a], wa * k);
+      c_max[a] = std::max(c_max[a], wa * c);
+      k_max[b] = std::max(k_max[b], wb * k);
+      c_max[b] = std::max(c_max[b], wb * c);
+    }
+    for (std::size_t i = 0; i < k_row.size(); ++i) {
+      k_row[i] += kSimultaneousContacts * k_max[i];
+      c_row[i] += kSimultaneousContacts * c_max[i];
+    }
+  }
+
+  WorstLink worst(const Vec3* x, const Vec3* v) const override {
+    WorstLink w;
+    w.badness = -1;
+    for (std::size_t l = 0; l < ends_.size(); ++l) {
+      const auto [a, b] = ends_[l];
+      const Vec3 fa = K::force(x[a], x[b], v[a], v[b], params_[l]);
+      Real bad;
+      if (!is_finite(x[a]) || !is_finite(x[b]) || !is_finite(fa)) {
+        bad = INFINITY;
+      } else {
+        const Real d = norm(x[b] - x[a]), d0 = rest_hint(l);
+        bad = std::abs(d - d0) / std::max<Real>(d0, Real(1e-9));
+      }
+      if (bad > w.badness) w = {id_of_slot_[l], ends_[l], bad};
+    }
+    return w;
+  }
+
+  std::unique_ptr<LinkPoolBase> clone() const override {
+    return std::make_unique<LinkPool<K>>(*this);
+  }
+
+  // The distance scale of link l, for strain in diagnostics: a field named rest_length or
+  // threshold when the kind has one, else 1 m.
+  Real rest_hint(std::size_t l) const {
+    for (const auto& f : K::fields)
+      if (f.name == "rest_length" || f.name == "threshold") return params_[l].*(f.member);
+    return 1;
+  }
+
+ private:
+  static constexpr bool kAlwaysActive = !requires(const Vec3& q, const Params& p) {
+    K::is_active(q, q, p);
+  };
+  static constexpr std::size_t kChunk = detail::CpuSchedule::kChunk;
+
+  // Forces of one chunk of links. Kinds that are always active compute all forces first in a
+  // loop the compiler vectorises (packed sqrt and division; contiguous loads on runs, gathers
+  // otherwise), then scatter them: the fused gather-compute-scatter loop is bound by the scalar
+  // sqrt/div chain and by store-to-load forwarding between links sharing a point. Conditional
+  // kinds test cheaply first and compute only the few active links.
+  std::uint64_t run_chunk(std::size_t c, const Vec3* x, const Vec3* v, Vec3* f) const {
+    const std::size_t begin = schedule_.chunk_begin(c), end = schedule_.chunk_end(c);
+    const LinkEnds* e = ends_.data();
+    const Params* p = params_.data();
+    if constexpr (requires { K::is_active(x[0], x[0], p[0]); }) {
+      std::uint64_t active = 0;
+      for (std::size_t l = begin; l < end; ++l) {
+        const std::uint32_t a = e[l].a, b = e[l].b;
+        if (!K::is_active(x[a], x[b], p[l])) continue;
+        ++active;
+        const Vec3 fa = K::force(x[a], x[b], v[a], v[b], p[l]);
+        f[a] += fa;
+        f[b] -= fa;
+      }
+      return active;
+    } else {
+      Real fx[kChunk], fy[kChunk], fz[kChunk];  // uninitialised on purpose: fully written
+      const std::size_t n = end - begin;
+      if (schedule_.chunk_is_run(c)) {
+        const std::uint32_t a0 = e[begin].a, b0 = e[begin].b;
+        const Vec3 *xa = x + a0, *xb = x + b0, *va = v + a0, *vb = v + b0;
+#pragma omp simd
+        for (std::size_t k = 0; k < n; ++k) {
+          const Vec3 fa = K::force(xa[k], xb[k], va[k], vb[k], p[begin + k]);
+          fx[k] = fa.x;
+          fy[k] = fa.y;
+          fz[k] = fa.z;
+        }
+        Vec3* fa = f + a0;
+        Vec3* fb = f + b0;
+        for (std::size_t k = 0; k < n; ++k) fa[k] += Vec3{fx[k], fy[k], fz[k]};
+        for (std::size_t k = 0; k < n; ++k) fb[k] -= Vec3{fx[k], fy[k], fz[k]};
+        return 0;
+      }
+#pragma omp simd
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::uint32_t a = e[begin + k].a, b = e[begin + k].b;
+        const Vec3 fa = K::force(x[a], x[b], v[a], v[b], p[begin + k]);
+        fx[k] = fa.x;
+        fy[k] = fa.y;
+        fz[k] = fa.z;
+      }
+      for (std::size_t k = 0; k < n; ++k) {
+        const Vec3 fa{fx[k], fy[k], fz[k]};
+        f[e[begin + k].a] += fa;
+        f[e[begin + k].b] -= fa;
+      }
+      return 0;
+    }
+  }
+
+  std::vector<LinkEnds> ends_;              // [links] storage order
+  std::vector<Params> params_;              // [links] storage order
+  std::vector<std::uint32_t> slot_of_id_;   // [links] id -> storage slot
+  std::vector<std::uint32_t> id_of_slot_;   // [links] storage slot -> id
+  detail::CpuSchedule schedule_;
+};
+
+}  // namespace maille

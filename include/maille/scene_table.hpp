@@ -1,0 +1,38 @@
+// One table of a scene file, as stage factories and custom builders read it: typed getters that
+// check ranges, remember which keys were read (the reader then names any unknown key) and fail
+// with the file, line, column and dotted key path. The scene reader's TomlCursor implements it.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/link_kind.hpp"
+
+namespace maille {
+
+class SceneTable {
+ public:
+  virtual ~SceneTable() = default;
+  virtual const std::string& path() const = 0;  // dotted path of the table, e.g. "obstacle[1]"
+  virtual const std::string& file() const = 0;  // the scene file
+  virtual bool has(std::string_view key) const = 0;
+
+  virtual Real real(std::string_view key, Bound bound) = 0;  // required
+  virtual Real real(std::string_view key, Real fallback, Bound bound) = 0;
+  virtual std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min,
+                               std::int64_t max) = 0;
+  virtual bool boolean(std::string_view key, bool fallback) = 0;
+  virtual std::string text(std::string_view key, std::string fallback,
+                           std::initializer_list<std::string_view> choices = {}) = 0;
+  virtual Vec3 vec3(std::string_view key, Vec3 fallback) = 0;
+  virtual std::vector<std::string> texts(std::string_view key,
+                                         std::vector<std::string> fallback) = 0;
+
+  // Throws the scene error for `key` (at the key's line when present, else the table's).
+  [[noreturn]] virtual void fail(std::string_view key, const std::string& message) const = 0;
+};
+
+}  // namespace maille

@@ -1,0 +1,69 @@
+// Stages: what plugs into the step beside the built-in forces (collisions, obstacles, the
+// viewer's mouse spring). A stage declares its phase, and the simulator runs it there:
+//
+//   step():  [forces]            drive, clear, link forces, field forces, then Phase::forces
+//                                stages (also re-run by multi-pass schemes at their
+//                                intermediate states)
+//            [response]          Phase::response stages: rewrite forces or velocities after the
+//                                fact (inverse dynamics on facets); run once per step, never by
+//                                Simulator::energies(), refused by schemes that evaluate forces
+//                                at intermediate states
+//            integrate
+//            [after_integration] Phase::after_integration stages, with the new positions
+//                                (grid binning, cell signatures)
+//
+// One virtual call per stage per step, never per brick. Stages are installed by code
+// (Simulator::add_stage) or by scene tables through StageRegistry (stage_registry.hpp).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+
+namespace maille {
+
+struct Model;
+struct State;
+class Profile;
+
+enum class Phase : std::uint8_t { forces, response, after_integration };
+std::string_view to_string(Phase p);
+
+// Which velocity State::v() holds when a stage runs (see Integrator::velocity_time).
+enum class VelocityTime : std::uint8_t {
+  synchronous,  // v at the time of x
+  half_step,    // v(n - 1/2): leapfrog's staggered velocity
+};
+
+// What a stage knows about the step it runs in.
+struct StageContext {
+  double h = 0;               // step, s
+  double t = 0;               // time of the state being evaluated, s
+  std::uint64_t step = 0;     // steps taken since the start
+  int threads = 1;            // threads the simulator runs with
+  VelocityTime velocity = VelocityTime::synchronous;
+  Profile* profile = nullptr;  // counters and gauges (stage time is measured by the simulator)
+};
+
+class Stage {
+ public:
+  virtual ~Stage() = default;
+  virtual std::string name() const = 0;  // also the profile's stage name
+  virtual Phase phase() const = 0;
+  virtual void apply(const Model& m, State& s, const StageContext& ctx) = 0;
+  // Called after the model's structure changed (Simulator::edit_model) or after a reset:
+  // drop anything sized or derived from the old model.
+  virtual void model_changed(const Model&) {}
+};
+
+// A validated stage description kept in the Model: it makes a fresh stage for each simulator
+// built from the model (the viewer's reset and integrator switch, benchmarks' repeats).
+struct StageSpec {
+  std::string name;
+  Phase phase = Phase::forces;
+  std::function<std::unique_ptr<Stage>()> make;
+};
+
+}  // namespace maille

@@ -1,0 +1,84 @@
+// Edits between steps. A model is prepared once (pools reordered and grouped, faces coloured)
+// and the simulator sizes buffers from it, so a structural edit must rebuild all of that; a
+// parameter edit must not pay for it. The two entry points make the difference explicit, and a
+// structural change sneaked into a parameter edit is detected rather than left stale.
+#include <algorithm>
+#include <stdexcept>
+
+#include "maille/simulator.hpp"
+
+namespace maille {
+
+namespace {
+
+// What a parameter edit must leave unchanged.
+struct Structure {
+  std::size_t points = 0, faces = 0, drives = 0, stages = 0;
+  std::vector<std::size_t> pools;
+  bool operator==(const Structure&) const = default;
+};
+
+Structure structure_of(const Model& m) {
+  Structure s{m.points.size(), m.surface.triangles.size(), m.drives.size(), m.stages.size(), {}};
+  for (const auto& p : m.links.pools()) s.pools.push_back(p->size());
+  return s;
+}
+
+}  // namespace
+
+void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
+  const Structure before = structure_of(model_);
+  edit(model_);
+  if (structure_of(model_) != before) {
+    model_structure_changed();
+    return;
+  }
+  stability_ = estimate_stability(model_, *integrator_);
+}
+
+// The edit is made on a copy: when the result is a model the scheme or a stage refuses, the
+// simulator keeps the old one and throws std::invalid_argument.
+void Simulator::edit_model(const std::function<void(Model&)>& edit) {
+  Model previous = model_;
+  edit(model_);
+  try {
+    model_structure_changed();
+  } catch (...) {
+    model_ = std::move(previous);
+    model_structure_changed();
+    throw;
+  }
+}
+
+// Re-prepares the pools, resizes the state (new points start at their initial position and
+// velocity; the scheme's history is kept), rebuilds the scheme and the stages.
+void Simulator::model_structure_changed() {
+  model_.prepare();
+  const std::size_t n = model_.points.size();
+  if (n != state_.size()) {
+    State s(n);
+    const std::size_t keep = std::min(n, state_.size());
+    std::copy_n(state_.x().begin(), keep, s.x().begin());
+    std::copy_n(state_.v().begin(), keep, s.v().begin());
+    for (std::size_t i = keep; i < n; ++i) {
+      s.x()[i] = model_.points.initial_position[i];
+      s.v()[i] = model_.points.initial_velocity[i];
+    }
+    s.time = state_.time;
+    s.step = state_.step;
+    s.history = state_.history;
+    s.stage_memory = state_.stage_memory;
+    state_ = std::move(s);
+    scratch_velocity_.assign(n, Vec3{});
+  }
+  // Stages made from the model are made again; stages added by code are told.
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_}) {
+    std::erase_if(*list, [](const Installed& st) { return st.from_model; });
+    for (auto& st : *list) st.stage->model_changed(model_);
+  }
+  build_integrator(settings_.integrator);  // fresh buffers sized for the new model
+  install_model_stages();
+  energy_scale_ = energy_scale();
+}
+
+}  // namespace maille
