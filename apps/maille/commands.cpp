@@ -6,9 +6,11 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 
+#include "maille/checkpoint.hpp"
 #include "maille/io.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
@@ -49,6 +51,24 @@ void warn_if_unstable(const Simulator& sim) {
     std::cerr << "warning: step " << sim.settings().step << " s exceeds the "
               << sim.integrator().name() << " stability estimate " << st.max_step << " s (set by "
               << st.link_kind << " links at point " << st.point << "); expect a blow-up\n";
+}
+
+// The header and the first `rows` rows of a previous stats.csv (resuming from a checkpoint taken
+// after those rows). Throws std::invalid_argument when the file has fewer.
+std::vector<std::string> kept_stats(const std::filesystem::path& path, std::uint64_t rows) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  std::string line;
+  while (lines.size() < rows + 1 && std::getline(in, line)) lines.push_back(line);
+  if (lines.size() < rows + 1)
+    throw std::invalid_argument(path.string() + " has fewer rows than the checkpoint recorded (" +
+                                std::to_string(rows) + "): cannot resume its statistics");
+  return lines;
+}
+
+Checkpoint checkpoint_of(const Simulator& sim, std::uint64_t stats_rows) {
+  return {sim.state(), sim.settings().integrator, sim.settings().step, sim.frames_published(),
+          stats_rows, model_fingerprint(sim.model())};
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -128,24 +148,53 @@ int run(const RunOptions& o) {
               : static_cast<std::uint64_t>(
                     std::llround((o.duration ? *o.duration : settings.duration) / settings.step));
   const std::filesystem::path out =
-      o.out.empty() ? std::filesystem::path("out") / scene->name : std::filesystem::path(o.out);
+      !o.out.empty()      ? std::filesystem::path(o.out)
+      : !o.resume.empty() ? std::filesystem::path(o.resume)
+                          : std::filesystem::path("out") / scene->name;
 
   try {
     std::filesystem::create_directories(out);
     Simulator sim(std::move(scene->model), settings);
     warn_if_unstable(sim);
+    // Resuming: the state, the frame count and the statistics rows continue from the
+    // checkpoint; `--steps`/`--duration` still count from the start of the simulation.
+    std::vector<std::string> kept;
+    if (!o.resume.empty()) {
+      const auto path = std::filesystem::path(o.resume) / "checkpoint.bin";
+      Result<Checkpoint> c = read_checkpoint(path, sim.model());
+      if (!c) {
+        std::cerr << c.error().to_string() << '\n';
+        return bad_input;
+      }
+      if (c->integrator != settings.integrator || c->step != settings.step)
+        throw std::invalid_argument("the checkpoint was taken with " + c->integrator + " at h = " +
+                                    std::to_string(c->step) + " s; the scene now says " +
+                                    settings.integrator + " at h = " +
+                                    std::to_string(settings.step) + " s");
+      kept = kept_stats(std::filesystem::path(o.resume) / "stats.csv", c->stats_rows);
+      sim.restore(std::move(c->state), c->frames_published);
+    }
     FrameWriter frames(out, *format, sim.model());
-    StatsWriter stats(out / "stats.csv");
+    StatsWriter stats(out / "stats.csv", kept);
     if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
     sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
-    sim.publish_now();  // frame 0: the initial state
+    if (o.resume.empty()) sim.publish_now();  // frame 0: the initial state
+    auto checkpoint = [&] {
+      write_checkpoint(out / "checkpoint.bin", checkpoint_of(sim, stats.rows()));
+    };
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     const auto t0 = std::chrono::steady_clock::now();
     std::uint64_t done = 0;
-    while (done < steps && !g_stop && sim.step()) ++done;
+    while (sim.state().step < steps && !g_stop && sim.step()) {
+      ++done;
+      if (o.checkpoint_every && sim.state().step % *o.checkpoint_every == 0) checkpoint();
+    }
+    if (!sim.blow_up()) sim.check_energy();  // a runaway since the last check
     const double wall = seconds_since(t0);
+    if (o.checkpoint_every && !sim.blow_up() && sim.state().step % *o.checkpoint_every != 0)
+      checkpoint();  // where this run stopped (the end, or an interrupt)
     stats.close();
 
     const double particle_steps = double(done) * sim.model().points.size();

@@ -26,6 +26,8 @@ struct RunOptions {
   std::string format = "ply";
   std::optional<int> threads;
   bool no_frames = false;
+  std::optional<std::uint64_t> checkpoint_every;  // steps between checkpoints (DIR/checkpoint.bin)
+  std::string resume;                             // DIR of a checkpoint to continue from
 };
 int run(const RunOptions& o);
 int validate(const std::string& scene);

@@ -26,6 +26,14 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
+  run_cmd
+      ->add_option("--checkpoint-every", ro.checkpoint_every,
+                   "Write the whole state to OUT/checkpoint.bin every N steps (and at the end)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--resume", ro.resume,
+                      "Continue from DIR/checkpoint.bin (frames and stats.csv continue in DIR "
+                      "unless --out); --steps/--duration count from the start")
+      ->check(CLI::ExistingDirectory);
 
   std::string scene;
   auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");

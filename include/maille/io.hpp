@@ -64,6 +64,9 @@ class FrameWriter {
 class StatsWriter {
  public:
   explicit StatsWriter(std::filesystem::path path);
+  // Resuming: the file starts with `kept` (the header and the rows written before the
+  // checkpoint, read from the previous stats.csv) and continues after them.
+  StatsWriter(std::filesystem::path path, const std::vector<std::string>& kept);
   ~StatsWriter();
   StatsWriter(const StatsWriter&) = delete;
   StatsWriter& operator=(const StatsWriter&) = delete;
@@ -75,6 +78,7 @@ class StatsWriter {
  private:
   AtomicFile file_;
   std::uint64_t rows_ = 0;
+  bool header_written_ = false;
   bool closed_ = false;
 };
 

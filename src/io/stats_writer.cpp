@@ -4,6 +4,13 @@ namespace maille {
 
 StatsWriter::StatsWriter(std::filesystem::path path) : file_(std::move(path)) {}
 
+StatsWriter::StatsWriter(std::filesystem::path path, const std::vector<std::string>& kept)
+    : file_(std::move(path)) {
+  for (const auto& line : kept) file_.stream() << line << '\n';
+  rows_ = kept.empty() ? 0 : kept.size() - 1;  // the first line is the header
+  header_written_ = !kept.empty();
+}
+
 StatsWriter::~StatsWriter() {
   try {
     close();
@@ -13,7 +20,8 @@ StatsWriter::~StatsWriter() {
 
 void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
   auto& o = file_.stream();
-  if (rows_ == 0) {
+  if (!header_written_) {
+    header_written_ = true;
     o << "time,step,kinetic,elastic,gravity,total";
     for (const auto& s : profile.stages()) o << ",ns_" << s.name;
     for (const auto& c : profile.counters()) o << ',' << c.name;

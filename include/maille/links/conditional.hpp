@@ -3,9 +3,13 @@
 // continuous) while closer. The CORDIS contact brick: it works between any two points.
 //
 // The distance is a policy: `Distance::separation(xa, xb)` returns the length and unit direction
-// the law acts along, and `Distance::within(xa, xb, s)` the cheap activity test. Point-to-point
-// contact uses the Euclidean one; geometric contacts (a point against a canonical shape through
-// affine maps) plug their own in and keep the same law.
+// the law acts along, `Distance::within(xa, xb, s)` the cheap activity test, and
+// `Distance::keyword` names the instantiation in scenes and registries (so a second policy does
+// not collide with the first). Point-to-point contact uses the Euclidean one. Geometric contacts
+// (a point against a canonical shape through affine maps) need per-link data (which shape, its
+// matrices): they are built as their own kind whose Params carry the geometric point's index
+// (Params may hold members that are not scene fields), reusing `spring_damper_force` for the
+// law; see docs/architecture.md, "Geometric contacts".
 #pragma once
 
 #include <array>
@@ -15,6 +19,7 @@
 namespace maille {
 
 struct EuclideanDistance {
+  static constexpr std::string_view keyword = "conditional";
   static Separation separation(const Vec3& xa, const Vec3& xb) {
     return maille::separation(xa, xb);
   }
@@ -24,7 +29,7 @@ struct EuclideanDistance {
 
 template <class Distance = EuclideanDistance>
 struct ConditionalSpringDamperT {
-  static constexpr std::string_view keyword = "conditional";
+  static constexpr std::string_view keyword = Distance::keyword;
   struct Params {
     Real stiffness = 0;    // k, N/m
     Real damping = 0;      // z, N.s/m
