@@ -34,6 +34,8 @@ class LinkPoolBase {
   virtual std::span<const LinkEnds> slot_ends() const = 0;
   virtual std::uint32_t id_of_slot(std::size_t slot) const = 0;
   virtual bool prepared() const = 0;
+  // Conditional kinds (with is_active) are contacts, not topology.
+  virtual bool conditional() const = 0;
   virtual std::vector<ParamInfo> fields() const = 0;
   // Params in `fields()` order; used by the scene reader and the viewer.
   virtual void add_generic(LinkEnds ends, std::span<const Real> params) = 0;
@@ -83,6 +85,7 @@ class LinkPool final : public LinkPoolBase {
   std::span<const Params> slot_params() const { return params_; }
   std::uint32_t id_of_slot(std::size_t slot) const override { return id_of_slot_[slot]; }
   bool prepared() const override { return schedule_.ready() || ends_.empty(); }
+  bool conditional() const override { return !kAlwaysActive; }
 
   // Adds a link; its id is the number of links added before it. The pool must be prepared
   // again before it runs (Simulator::edit_model does it).

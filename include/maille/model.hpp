@@ -27,6 +27,9 @@ struct Group {
   std::string builder;  // "flag", "rope", ..., or "points" for explicit bricks
   std::uint32_t first = 0;
   std::uint32_t count = 0;
+  // Grid builders (flag, net) lay points out row-major: point first + j * grid_nx + i is (i, j).
+  // 0: not a grid. Self-collision uses it for topological signatures.
+  std::uint32_t grid_nx = 0, grid_ny = 0;
 };
 
 struct Model {

@@ -59,11 +59,12 @@ class Stage {
 };
 
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator
-// built from the model (the viewer's reset and integrator switch, benchmarks' repeats).
+// built from the model (benchmarks' repeats, the viewer's reload), given that simulator's own
+// copy of the model (stages may keep a reference to it: a Simulator never moves).
 struct StageSpec {
   std::string name;
   Phase phase = Phase::forces;
-  std::function<std::unique_ptr<Stage>()> make;
+  std::function<std::unique_ptr<Stage>(const Model&)> make;
 };
 
 }  // namespace maille

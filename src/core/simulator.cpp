@@ -104,7 +104,7 @@ void Simulator::install_model_stages() {
   for (const StageSpec& spec : model_.stages) {
     const auto& off = settings_.disabled_stages;
     if (std::find(off.begin(), off.end(), spec.name) != off.end()) continue;
-    std::unique_ptr<Stage> stage = spec.make();
+    std::unique_ptr<Stage> stage = spec.make(model_);
     check_stage(*stage);
     add_installed(std::move(stage), true);
   }

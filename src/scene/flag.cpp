@@ -49,7 +49,10 @@ Group build_flag(Model& m, const FlagParams& p, const std::string& name) {
       m.surface.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       m.surface.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
-  return build::group(m, name, "flag", first);
+  Group g = build::group(m, name, "flag", first);
+  m.groups.back().grid_nx = g.grid_nx = p.nx;
+  m.groups.back().grid_ny = g.grid_ny = p.ny;
+  return g;
 }
 
 }  // namespace maille

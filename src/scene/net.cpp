@@ -37,7 +37,10 @@ Group build_net(Model& m, const NetParams& p, const std::string& name) {
       if (j + 1 < p.ny)
         build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping);
     }
-  return build::group(m, name, "net", first);
+  Group g = build::group(m, name, "net", first);
+  m.groups.back().grid_nx = g.grid_nx = p.nx;
+  m.groups.back().grid_ny = g.grid_ny = p.ny;
+  return g;
 }
 
 }  // namespace maille

@@ -32,6 +32,10 @@ class TomlCursor final : public SceneTable {
   const std::string& path() const override { return path_; }
   const std::string& file() const override { return file_; }
   bool has(std::string_view key) const override { return table_.contains(key); }
+  bool has_text(std::string_view key) const override {
+    const toml::node* n = table_.get(key);
+    return n && n->is_string();
+  }
 
   Real real(std::string_view key, Bound bound) override;  // required
   Real real(std::string_view key, Real fallback, Bound bound) override;

@@ -62,12 +62,14 @@ StageRegistry test_registry(int* after_calls) {
            c.target = t.vec3("target", {0, 0, 0});
            c.stiffness = t.real("stiffness", Bound::positive);
            return StageSpec{"test_anchor", Phase::forces,
-                            [c] { return std::make_unique<AnchorStage>(c); }};
+                            [c](const Model&) { return std::make_unique<AnchorStage>(c); }};
          }});
   r.add({"test_after", true, "counts after-integration calls (test only)",
          [after_calls](SceneTable&, const Model&) {
            return StageSpec{"test_after", Phase::after_integration,
-                            [after_calls] { return std::make_unique<AfterStage>(after_calls); }};
+                            [after_calls](const Model&) {
+                              return std::make_unique<AfterStage>(after_calls);
+                            }};
          }});
   return r;
 }

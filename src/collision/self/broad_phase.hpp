@@ -1,0 +1,109 @@
+// The broad phases of self-collision. Each finds every unordered pair of particles closer than
+// r exactly once, tests it (distance, then exclusion) and records close pairs into the calling
+// thread's sink, in both orders. They differ only in how they avoid testing far pairs.
+//
+//   brute          all n (n - 1) / 2 pairs (the reference)
+//   UniformGrid    cells of size c >= r over the bounding box, particles counting-sorted into
+//                  them; each cell meets itself and its 13 "forward" neighbours (half of the
+//                  26), so each pair of cells is visited once
+//   HashedGrid     the same cells, hashed into 2n buckets (memory follows the particles, not
+//                  the box); a particle checks its own cell and 13 forward neighbours by exact
+//                  cell coordinates, so hash collisions cost time, never a duplicate or a miss
+//   Octree         the hierarchical grid: Morton-sorted particles split into up to 8 children
+//                  while a node holds more than a leaf's worth and is wider than r; a dual
+//                  traversal visits node pairs whose boxes are closer than r
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "exclusion.hpp"
+#include "maille/vec3.hpp"
+
+namespace maille::collision {
+
+struct Sink {
+  std::vector<std::uint32_t> pairs;  // a, b, b, a, ... (close pairs, both orders)
+  std::uint64_t tested = 0, excluded = 0, skipped = 0;
+  void clear() { pairs.clear(), tested = excluded = skipped = 0; }
+};
+
+struct Query {
+  const Vec3* x = nullptr;  // [n] positions of the colliding particles
+  std::uint32_t n = 0;
+  Real r = 0;  // contact distance
+  const TopologicalExclusion* exclusion = nullptr;  // null: nothing excluded
+  bool signatures = false;                          // skip cell pairs by signatures
+};
+
+inline void test_pair(const Query& q, std::uint32_t a, std::uint32_t b, Sink& s) {
+  ++s.tested;
+  const Vec3 d = q.x[b] - q.x[a];
+  if (dot(d, d) >= q.r * q.r) return;
+  if (q.exclusion && q.exclusion->excluded(a, b)) {
+    ++s.excluded;
+    return;
+  }
+  s.pairs.push_back(a), s.pairs.push_back(b), s.pairs.push_back(b), s.pairs.push_back(a);
+}
+
+// Sinks: one per thread (resized by the callers to the thread count).
+void brute_pairs(const Query& q, std::vector<Sink>& sinks, int threads);
+
+struct Box {
+  Vec3 lo, hi;
+};
+Box bounds(const Vec3* x, std::uint32_t n);
+
+class UniformGrid {
+ public:
+  // Returns the cell size used: c, or larger when the box would need more than the cell budget
+  // (max(8 n, 2^20) cells), so memory stays O(n).
+  Real find(const Query& q, Real c, std::vector<Sink>& sinks, int threads);
+  std::uint64_t occupied() const { return occupied_.size(); }
+
+ private:
+  std::vector<std::uint32_t> cell_of_, start_, cursor_, order_, occupied_;
+  std::vector<CellSignature> sig_;
+};
+
+class HashedGrid {
+ public:
+  Real find(const Query& q, Real c, std::vector<Sink>& sinks, int threads);
+  std::uint64_t occupied() const { return occupied_; }
+
+ private:
+  std::vector<std::uint32_t> bucket_of_, start_, cursor_, order_;
+  std::vector<std::int32_t> coords_;  // [3 n] cell coordinates, by particle
+  std::vector<std::int32_t> cell_;    // [3 n] cell coordinates, in sorted order
+  std::vector<CellSignature> sig_;
+  std::uint64_t occupied_ = 0;
+};
+
+class Octree {
+ public:
+  void find(const Query& q, std::vector<Sink>& sinks, int threads);
+  std::uint64_t occupied() const { return leaves_; }
+
+ private:
+  struct Node {
+    std::uint32_t begin = 0, end = 0;  // range in order_
+    std::uint32_t child = 0, children = 0;  // first child index, count (0: leaf)
+    Box box;
+    CellSignature sig;
+  };
+  std::uint32_t build(std::uint32_t idx, std::uint32_t begin, std::uint32_t end, int level,
+                      const Query& q);
+  void self(std::uint32_t a, const Query& q, Sink& s) const;
+  void pair(std::uint32_t a, std::uint32_t b, const Query& q, Sink& s) const;
+  void tasks(std::uint32_t a, std::uint32_t b, std::size_t want);
+  bool far(const Node& a, const Node& b, Real r) const;
+
+  std::vector<std::uint64_t> code_, key_scratch_;
+  std::vector<std::uint32_t> order_, order_scratch_;
+  std::vector<Node> nodes_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> tasks_;  // (a, a): self; (a, b): pair
+  std::uint64_t leaves_ = 0;
+};
+
+}  // namespace maille::collision

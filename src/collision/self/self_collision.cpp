@@ -1,0 +1,360 @@
+// Self-collision: gather the colliding particles, find close pairs with the chosen broad phase
+// (cell size tuned by measurement when "auto"), remove topological neighbours, and apply the
+// conditional spring-damper per pair. See include/maille/self_collision.hpp.
+#include "maille/self_collision.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "broad_phase.hpp"
+#include "maille/links/spring_damper.hpp"
+#include "maille/profile.hpp"
+#include "maille/state.hpp"
+
+namespace maille {
+
+std::string_view to_string(BroadPhase b) {
+  switch (b) {
+    case BroadPhase::brute: return "brute";
+    case BroadPhase::uniform: return "uniform";
+    case BroadPhase::hashed: return "hashed";
+    case BroadPhase::hierarchical: return "hierarchical";
+  }
+  return "?";
+}
+
+std::string_view to_string(Exclusion e) {
+  switch (e) {
+    case Exclusion::none: return "none";
+    case Exclusion::matrix: return "matrix";
+    case Exclusion::signature: return "signature";
+  }
+  return "?";
+}
+
+namespace {
+
+// The free points of the named groups (all groups when none is named), sorted.
+std::vector<std::uint32_t> colliding_points(const Model& m, const std::vector<std::string>& groups) {
+  std::vector<std::uint8_t> in(m.points.size(), 0);
+  if (groups.empty()) {
+    for (const Group& g : m.groups)
+      for (std::uint32_t p = g.first; p < g.first + g.count; ++p) in[p] = 1;
+  } else {
+    for (const auto& name : groups) {
+      const Group* g = m.group(name);
+      if (!g) throw std::invalid_argument("self_collision: no group named '" + name + "'");
+      for (std::uint32_t p = g->first; p < g->first + g->count; ++p) in[p] = 1;
+    }
+  }
+  std::vector<std::uint32_t> set;
+  for (std::uint32_t p = 0; p < m.points.size(); ++p)
+    if (in[p] && m.points.inv_mass[p] > 0) set.push_back(p);
+  return set;
+}
+
+// Half the shortest link touching the set, at rest (the initial positions): close enough that
+// neighbours never touch at rest, far enough that particles cannot slip between two others.
+Real default_radius(const Model& m, const std::vector<std::uint32_t>& set) {
+  std::vector<std::uint8_t> in(m.points.size(), 0);
+  for (auto p : set) in[p] = 1;
+  Real shortest = std::numeric_limits<Real>::max();
+  for (const auto& pool : m.links.pools()) {
+    if (pool->conditional()) continue;
+    for (const LinkEnds& e : pool->slot_ends())
+      if (in[e.a] || in[e.b])
+        shortest = std::min(shortest, norm(m.points.initial_position[e.b] -
+                                           m.points.initial_position[e.a]));
+  }
+  if (shortest == std::numeric_limits<Real>::max() || shortest <= 0)
+    throw std::invalid_argument(
+        "self_collision: cannot default the radius (no link among the colliding points): set "
+        "radius");
+  return shortest / 2;
+}
+
+constexpr double kCellFactors[] = {1.0, 1.25, 1.5, 2.0, 3.0, 4.0};
+constexpr double kRetuneBox = 1.5;      // re-tune when the box diagonal changes by this factor
+constexpr double kRetuneDensity = 2.0;  // ... or the particles per occupied cell
+constexpr Real kFrictionSpeed = Real(1e-3);  // m/s: below, friction is viscous (no chatter)
+
+}  // namespace
+
+class SelfCollision {
+ public:
+  SelfCollision(const Model& m, SelfCollisionSettings s) : s_(std::move(s)) {
+    set_ = colliding_points(m, s_.groups);
+    if (set_.empty()) throw std::invalid_argument("self_collision: no free point in the groups");
+    if (s_.radius <= 0) s_.radius = default_radius(m, set_);
+    if (s_.cell_size != 0 && s_.cell_size < s_.radius)
+      throw std::invalid_argument("self_collision: cell_size must be >= radius");
+    xs_.resize(set_.size());
+    model_ = &m;
+    rebuild_exclusion();
+  }
+
+  const SelfCollisionSettings& settings() const { return s_; }
+  std::size_t particles() const { return set_.size(); }
+  std::size_t exclusion_bytes() const { return exclusion_ ? exclusion_->bytes() : 0; }
+  const std::vector<SelfCollisionEngine::TuneRecord>& tuning() const { return tuning_; }
+  double tuned_cell() const { return tuned_cell_; }
+  void restore_tuning(double cell, double diag, double density) {
+    tuned_cell_ = cell, tuned_diag_ = diag, tuned_density_ = density;
+  }
+  std::array<double, 3> tuning_memory() const { return {tuned_cell_, tuned_diag_, tuned_density_}; }
+
+  void set_broad_phase(BroadPhase b) { s_.broad_phase = b; }
+  void set_cell_size(Real c) {
+    s_.cell_size = c;
+    tuned_cell_ = 0;
+  }
+  void set_exclusion(Exclusion e) {
+    s_.exclusion = e;
+    rebuild_exclusion();
+  }
+
+  // Close pairs into rows_ (CSR by local particle, partners sorted).
+  SelfCollisionStats find(const Vec3* x, int threads) {
+    for (std::size_t k = 0; k < set_.size(); ++k) xs_[k] = x[set_[k]];
+    collision::Query q;
+    q.x = xs_.data();
+    q.n = std::uint32_t(xs_.size());
+    q.r = s_.radius;
+    q.exclusion = s_.exclusion == Exclusion::none ? nullptr : exclusion_.get();
+    q.signatures = s_.exclusion == Exclusion::signature;
+    sinks_.resize(std::size_t(std::max(threads, 1)));
+    SelfCollisionStats st;
+    switch (s_.broad_phase) {
+      case BroadPhase::brute:
+        run([&] { collision::brute_pairs(q, sinks_, threads); });
+        break;
+      case BroadPhase::hierarchical:
+        run([&] { octree_.find(q, sinks_, threads); });
+        st.occupied_cells = octree_.occupied();
+        st.cell_size = s_.radius;
+        break;
+      case BroadPhase::uniform:
+      case BroadPhase::hashed:
+        st.cell_size = grid_pass(q, threads);
+        st.occupied_cells = s_.broad_phase == BroadPhase::uniform ? uniform_.occupied()
+                                                                   : hashed_.occupied();
+        break;
+    }
+    for (const auto& sink : sinks_) {
+      st.candidate_pairs += sink.tested;
+      st.excluded += sink.excluded;
+      st.skipped_cells += sink.skipped;
+    }
+    build_rows();
+    st.contacts = partners_.size() / 2;
+    return st;
+  }
+
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> close_pairs(const Vec3* x, int threads) {
+    find(x, threads);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+    for (std::uint32_t a = 0; a < set_.size(); ++a)
+      for (std::uint32_t k = start_[a]; k < start_[a + 1]; ++k)
+        if (partners_[k] > a) out.push_back({set_[a], set_[partners_[k]]});
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+  // Each particle sums its own contacts in its partners' order: no atomics, and the same sums
+  // whatever the broad phase, the cell size or the thread count.
+  SelfCollisionStats apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
+    const SelfCollisionStats st = find(x, threads);
+    const auto n = static_cast<std::int64_t>(set_.size());
+    const Real r = s_.radius, k = s_.stiffness, z = s_.damping, mu = s_.friction;
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+    for (std::int64_t a = 0; a < n; ++a) {
+      const std::uint32_t pa = set_[std::size_t(a)];
+      Vec3 sum{};
+      for (std::uint32_t e = start_[std::size_t(a)]; e < start_[std::size_t(a) + 1]; ++e) {
+        const std::uint32_t pb = set_[partners_[e]];
+        const Separation sep = separation(x[pa], x[pb]);
+        const Vec3 dv = v[pb] - v[pa];
+        const Vec3 fn = spring_damper_force(sep, dv, k, r, z);
+        sum += fn;
+        if (mu > 0) {  // Coulomb-like: mu |F_n| along the tangential relative velocity
+          const Vec3 vt = dv - sep.n * dot(dv, sep.n);
+          const Real speed = norm(vt);
+          sum += vt * (mu * std::abs(dot(fn, sep.n)) / std::max(speed, kFrictionSpeed));
+        }
+      }
+      f[pa] += sum;
+    }
+    return st;
+  }
+
+ private:
+  template <class F>
+  double run(F&& f) {
+    for (auto& s : sinks_) s.clear();
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    return double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count());
+  }
+
+  // Uniform or hashed grid at the fixed cell size, or at the tuned one. The tuner runs every
+  // candidate size (each gives the same pairs), keeps the fastest, and logs the P n^2 model's
+  // prediction beside the measured time; it runs again when the box or the density drifts.
+  double grid_pass(const collision::Query& q, int threads) {
+    auto pass = [&](Real c, double& used) {
+      return run([&] {
+        used = s_.broad_phase == BroadPhase::uniform ? uniform_.find(q, c, sinks_, threads)
+                                                     : hashed_.find(q, c, sinks_, threads);
+      });
+    };
+    auto occupied = [&] {
+      return double(s_.broad_phase == BroadPhase::uniform ? uniform_.occupied()
+                                                           : hashed_.occupied());
+    };
+    double used = 0;
+    if (s_.cell_size > 0) {
+      pass(s_.cell_size, used);
+      return used;
+    }
+    const collision::Box box = collision::bounds(q.x, q.n);
+    const double diag = double(norm(box.hi - box.lo)) + 1e-12;
+    const bool drifted = tuned_cell_ > 0 && (diag > tuned_diag_ * kRetuneBox ||
+                                             diag < tuned_diag_ / kRetuneBox);
+    if (tuned_cell_ > 0 && !drifted) {
+      pass(Real(tuned_cell_), used);
+      const double density = double(q.n) / std::max(occupied(), 1.0);
+      if (density > tuned_density_ * kRetuneDensity || density < tuned_density_ / kRetuneDensity)
+        tuned_cell_ = 0;  // next step re-tunes
+      return used;
+    }
+    tuning_.clear();
+    double best = std::numeric_limits<double>::max();
+    for (double factor : kCellFactors) {
+      SelfCollisionEngine::TuneRecord rec;
+      rec.measured_ns = pass(Real(factor) * s_.radius, used);
+      rec.cell_size = used;
+      rec.occupied = std::uint64_t(occupied());
+      const double per_cell = double(q.n) / std::max(occupied(), 1.0);
+      rec.predicted = occupied() * per_cell * per_cell;  // P n^2
+      tuning_.push_back(rec);
+      if (rec.measured_ns < best) {
+        best = rec.measured_ns;
+        tuned_cell_ = used;
+        tuned_density_ = per_cell;
+      }
+    }
+    tuned_diag_ = diag;
+    return used;  // the sinks hold the last candidate's pairs: the same set for every size
+  }
+
+  void build_rows() {
+    const std::size_t n = set_.size();
+    start_.assign(n + 1, 0);
+    std::size_t total = 0;
+    for (const auto& s : sinks_) {
+      for (std::size_t k = 0; k < s.pairs.size(); k += 2) ++start_[s.pairs[k] + 1];
+      total += s.pairs.size() / 2;
+    }
+    for (std::size_t a = 0; a < n; ++a) start_[a + 1] += start_[a];
+    partners_.resize(total);
+    cursor_.assign(start_.begin(), start_.end() - 1);
+    for (const auto& s : sinks_)
+      for (std::size_t k = 0; k < s.pairs.size(); k += 2) partners_[cursor_[s.pairs[k]]++] = s.pairs[k + 1];
+    for (std::size_t a = 0; a < n; ++a)
+      std::sort(partners_.begin() + start_[a], partners_.begin() + start_[a + 1]);
+  }
+
+  void rebuild_exclusion() {
+    if (s_.exclusion == Exclusion::none) return;
+    exclusion_ = std::make_unique<collision::TopologicalExclusion>(
+        *model_, set_, s_.topological_radius, s_.exclusion == Exclusion::signature);
+  }
+
+  SelfCollisionSettings s_;
+  const Model* model_ = nullptr;
+  std::vector<std::uint32_t> set_;  // [n] global ids of the colliding particles
+  std::vector<Vec3> xs_;            // [n] their positions, gathered each pass
+  std::unique_ptr<collision::TopologicalExclusion> exclusion_;
+  collision::UniformGrid uniform_;
+  collision::HashedGrid hashed_;
+  collision::Octree octree_;
+  std::vector<collision::Sink> sinks_;                 // one per thread
+  std::vector<std::uint32_t> start_, cursor_, partners_;  // close partners per particle (CSR)
+  std::vector<SelfCollisionEngine::TuneRecord> tuning_;
+  double tuned_cell_ = 0, tuned_diag_ = 0, tuned_density_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+SelfCollisionEngine::SelfCollisionEngine(const Model& m, SelfCollisionSettings s)
+    : impl_(std::make_unique<SelfCollision>(m, std::move(s))) {}
+SelfCollisionEngine::~SelfCollisionEngine() = default;
+SelfCollisionEngine::SelfCollisionEngine(SelfCollisionEngine&&) noexcept = default;
+
+std::vector<std::pair<std::uint32_t, std::uint32_t>> SelfCollisionEngine::close_pairs(
+    const Vec3* x, int threads) {
+  return impl_->close_pairs(x, threads);
+}
+SelfCollisionStats SelfCollisionEngine::apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
+  return impl_->apply(x, v, f, threads);
+}
+const SelfCollisionSettings& SelfCollisionEngine::settings() const { return impl_->settings(); }
+std::size_t SelfCollisionEngine::particles() const { return impl_->particles(); }
+std::size_t SelfCollisionEngine::exclusion_bytes() const { return impl_->exclusion_bytes(); }
+const std::vector<SelfCollisionEngine::TuneRecord>& SelfCollisionEngine::last_tuning() const {
+  return impl_->tuning();
+}
+void SelfCollisionEngine::set_broad_phase(BroadPhase b) { impl_->set_broad_phase(b); }
+void SelfCollisionEngine::set_exclusion(Exclusion e) { impl_->set_exclusion(e); }
+void SelfCollisionEngine::set_cell_size(Real c) { impl_->set_cell_size(c); }
+
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+// The stage: counters into the profile; the tuner's choice kept in the State's stage memory, so
+// a checkpoint resumes with it.
+class SelfCollisionStage final : public Stage {
+ public:
+  SelfCollisionStage(const Model& m, const SelfCollisionSettings& s) : settings_(s), engine_(m, s) {}
+  std::string name() const override { return "self_collision"; }
+  Phase phase() const override { return Phase::forces; }
+  void model_changed(const Model& m) override { engine_ = SelfCollision(m, settings_); }
+
+  void apply(const Model&, State& s, const StageContext& ctx) override {
+    auto& memory = s.memory("self_collision");
+    if (memory.size() == 3 && engine_.tuned_cell() == 0)
+      engine_.restore_tuning(memory[0], memory[1], memory[2]);
+    const SelfCollisionStats st = engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
+    const auto t = engine_.tuning_memory();
+    memory.assign(t.begin(), t.end());
+    if (!ctx.profile) return;
+    Profile& p = *ctx.profile;
+    if (ids_[0] < 0) {
+      ids_ = {p.counter("self_candidate_pairs"), p.counter("self_contacts"),
+              p.counter("self_occupied_cells"), p.counter("self_excluded_pairs"),
+              p.counter("self_skipped_cells"), p.gauge("self_cell_size")};
+    }
+    p.set_count(ids_[0], st.candidate_pairs);
+    p.set_count(ids_[1], st.contacts);
+    p.set_count(ids_[2], st.occupied_cells);
+    p.set_count(ids_[3], st.excluded);
+    p.set_count(ids_[4], st.skipped_cells);
+    p.set_gauge(ids_[5], st.cell_size);
+  }
+
+ private:
+  SelfCollisionSettings settings_;
+  SelfCollision engine_;
+  std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfCollisionSettings& s) {
+  return std::make_unique<SelfCollisionStage>(m, s);
+}
+
+}  // namespace maille
