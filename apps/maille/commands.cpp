@@ -136,6 +136,7 @@ int run(const RunOptions& o) {
   auto scene = load_or_report(o.scene);
   if (!scene) return bad_input;
   SimulationSettings settings = scene->settings;
+  if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
   if (o.every) settings.publish_every = *o.every;
   if (o.threads) settings.threads = *o.threads;
   const auto format = parse_frame_format(o.format);
@@ -232,6 +233,7 @@ int bench(const BenchOptions& o) {
   if (!scene) return bad_input;
   SimulationSettings settings = scene->settings;
   if (o.threads) settings.threads = *o.threads;
+  if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
   settings.publish_every = 1 << 30;  // no publication cost in a benchmark
   settings.sample_every = 1 << 30;
   double best = 1e300;
@@ -338,6 +340,7 @@ bool parse_camera(const std::string& text, render::MovieSettings& m) {
 int render(const RenderCommandOptions& o) {
   auto scene = load_or_report(o.scene);
   if (!scene) return bad_input;
+  if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
   render::MovieSettings m;
   m.width = o.width;
   m.height = o.height;

@@ -28,6 +28,7 @@ struct RunOptions {
   bool no_frames = false;
   std::optional<std::uint64_t> checkpoint_every;  // steps between checkpoints (DIR/checkpoint.bin)
   std::string resume;                             // DIR of a checkpoint to continue from
+  bool no_self_collision = false;                 // skip the scene's [self_collision] stage
 };
 int run(const RunOptions& o);
 int validate(const std::string& scene);
@@ -39,6 +40,7 @@ struct BenchOptions {
   std::optional<int> threads;
   int repeat = 3;
   bool header = true;
+  bool no_self_collision = false;
 };
 int bench(const BenchOptions& o);
 
@@ -53,6 +55,7 @@ struct RenderCommandOptions {
   int samples = 4;                 // antialiasing samples per pixel
   bool mesh = false;               // draw the links inside cloth surfaces too
   std::optional<int> threads;
+  bool no_self_collision = false;
 };
 int render(const RenderCommandOptions& o);
 

@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
+  run_cmd->add_flag("--no-self-collision", ro.no_self_collision,
+                    "Ignore the scene's [self_collision] table (to see what it prevents)");
   run_cmd
       ->add_option("--checkpoint-every", ro.checkpoint_every,
                    "Write the whole state to OUT/checkpoint.bin every N steps (and at the end)")
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--repeat", bo.repeat, "Repetitions (the fastest is reported)")
       ->check(CLI::PositiveNumber);
   bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
+  bench_cmd->add_flag("--no-self-collision", bo.no_self_collision,
+                      "Ignore the scene's [self_collision] table");
 
   StudyOptions so;
   auto* study_cmd = app.add_subcommand(
@@ -91,6 +95,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--samples", rn.samples, "Antialiasing samples per pixel (1-8)")
       ->check(CLI::Range(1, 8));
   render_cmd->add_flag("--mesh", rn.mesh, "Also draw the links inside cloth surfaces");
+  render_cmd->add_flag("--no-self-collision", rn.no_self_collision,
+                       "Ignore the scene's [self_collision] table");
   render_cmd->add_option("--threads", rn.threads, "Simulation threads (default: the scene's)")
       ->check(CLI::PositiveNumber);
 #endif

@@ -1,0 +1,87 @@
+// Self-collision against physics: a head-on collision of two particles compresses the contact
+// by u sqrt(m_r / k) and gives back the kinetic energy; a cloth folding onto itself never
+// passes through itself with self-collision on (and does without, so the check can fail); runs
+// are bit-identical on 1 and 2 threads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "intersections.hpp"
+#include "maille/scene.hpp"
+#include "maille/self_collision.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using namespace maille;
+
+// Two free masses m approach at relative speed u; the contact spring k (no damping) stops them
+// after a compression delta = u sqrt(m_r / k) with the reduced mass m_r = m / 2, then they
+// separate at speed u (elastic). Leapfrog at h = T/2000 is accurate to ~1e-5 here.
+TEST(SelfCollisionPhysics, HeadOnCollisionCompressionAndRebound) {
+  const Real m = 0.01, k = 400, u = 0.5, r = 0.05;
+  Model model;
+  model.fields.gravity = {0, 0, 0};
+  model.points.add(PointKind::free, m, {-0.1, 0, 0}, {u / 2, 0, 0});
+  model.points.add(PointKind::free, m, {0.1, 0, 0}, {-u / 2, 0, 0});
+  model.groups.push_back({"pair", "points", 0, 2});
+  SelfCollisionSettings s;
+  s.radius = r;
+  s.stiffness = k;
+  s.damping = 0;
+  s.exclusion = Exclusion::none;
+  model.stages.push_back({"self_collision", Phase::forces,
+                          [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+  const double period = 2 * std::numbers::pi * std::sqrt(m / 2 / k);
+  Simulator sim(std::move(model), test::settings(period / 2000));
+  double closest = 1;
+  for (int i = 0; i < 200000 && sim.state().x()[1].x - sim.state().x()[0].x < 0.25; ++i) {
+    sim.step();
+    closest = std::min<double>(closest, sim.state().x()[1].x - sim.state().x()[0].x);
+  }
+  const double delta = u * std::sqrt(m / 2 / k);
+  EXPECT_NEAR(r - closest, delta, 1e-3 * delta);
+  const double after = sim.state().v()[1].x - sim.state().v()[0].x;
+  EXPECT_NEAR(after, u, 1e-4 * u);  // elastic: the relative speed comes back
+  EXPECT_NEAR(sim.state().v()[0].x + sim.state().v()[1].x, 0, 1e-12);  // momentum
+}
+
+Scene load(const std::string& name) {
+  auto scene = load_scene(std::string(MAILLE_SOURCE_DIR) + "/examples/" + name + ".toml");
+  if (!scene) ADD_FAILURE() << scene.error().to_string();
+  return std::move(scene.value());
+}
+
+// The triangles of one group (the floor's faces are not the cloth's business).
+std::vector<std::array<std::uint32_t, 3>> faces_of(const Model& m, const std::string& group) {
+  const Group* g = m.group(group);
+  std::vector<std::array<std::uint32_t, 3>> out;
+  for (const auto& t : m.surface.triangles)
+    if (t[0] >= g->first && t[0] < g->first + g->count) out.push_back(t);
+  return out;
+}
+
+// The largest number of intersecting non-adjacent triangle pairs of `group`, every 100 steps.
+std::size_t worst_intersections(Scene scene, const std::string& group, std::uint64_t steps,
+                                bool self_collision) {
+  SimulationSettings s = scene.settings;
+  if (!self_collision) s.disabled_stages.push_back("self_collision");
+  s.threads = 1;
+  Simulator sim(scene.model, s);
+  const auto faces = faces_of(sim.model(), group);
+  std::size_t worst = 0;
+  for (std::uint64_t i = 0; i < steps; i += 100) {
+    EXPECT_TRUE(sim.run_steps(100));
+    worst = std::max(worst, test::count_self_intersections(sim.state().x(), faces));
+  }
+  return worst;
+}
+
+TEST(SelfCollisionPhysics, FoldingClothNeverPassesThroughItself) {
+  const Scene scene = load("cloth_heap");
+  EXPECT_EQ(worst_intersections(scene, "cloth", 8000, true), 0u);
+  EXPECT_GT(worst_intersections(scene, "cloth", 8000, false), 0u);  // without it, it does
+}
+
+}  // namespace
