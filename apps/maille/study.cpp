@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -240,7 +241,9 @@ void crossover(std::ostream& out, bool quick) {
       }
     }
     if (!found) {
-      out << k << ",implicit_euler,,," << limit << ",,,,,0\n";
+      // No step: the limit goes in leapfrog_limit_s, the reference quality in its columns.
+      out << k << ",implicit_euler,," << limit << ",,,," << ref.q.sag << ','
+          << ref.q.peak_stretch << ",0\n";
       std::printf("  k = %-8g implicit_euler   no step above leapfrog's limit keeps the quality\n",
                   k);
     }
@@ -254,21 +257,31 @@ int study(const StudyOptions& o) {
     std::cerr << "unknown study '" << o.topic << "' (known: integrators)\n";
     return 2;
   }
-  std::filesystem::create_directories(o.out);
-  // Each CSV appears whole or not at all (written under a temporary name, then renamed).
-  auto write = [&](const char* name, auto&& body) {
-    AtomicFile f(o.out / name);
-    f.stream().precision(8);
-    body(f.stream());
-    f.commit();
-  };
-  std::printf("maille study integrators -> %s\n", o.out.string().c_str());
-  write("stability.csv", [](std::ostream& f) { stability(f); });
-  write("accuracy.csv", [](std::ostream& f) { accuracy(f); });
-  write("energy.csv", [](std::ostream& f) { energy(f); });
-  write("cost.csv", [&](std::ostream& f) { cost(f, o.threads); });
-  std::printf("crossover (flag 24 x 16 hanging under gravity, 3 s simulated):\n");
-  write("crossover.csv", [&](std::ostream& f) { crossover(f, o.quick); });
+  // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
+  try {
+    std::filesystem::create_directories(o.out);
+    // Each CSV appears whole or not at all (written under a temporary name, then renamed).
+    auto write = [&](const char* name, auto&& body) {
+      AtomicFile f(o.out / name);
+      f.stream().precision(8);
+      body(f.stream());
+      f.commit();
+    };
+    std::printf("maille study integrators -> %s\n", o.out.string().c_str());
+    write("stability.csv", [](std::ostream& f) { stability(f); });
+    write("accuracy.csv", [](std::ostream& f) { accuracy(f); });
+    write("energy.csv", [](std::ostream& f) { energy(f); });
+    write("cost.csv", [&](std::ostream& f) { cost(f, o.threads); });
+    std::printf("crossover (flag 24 x 16 hanging under gravity, 3 s simulated):\n");
+    write("crossover.csv", [&](std::ostream& f) { crossover(f, o.quick); });
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "error: cannot write the study to " << o.out.string() << ": "
+              << e.code().message() << '\n';
+    return 4;
+  } catch (const std::runtime_error& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return 4;
+  }
   return 0;
 }
 
