@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
-# A full disk: `maille run` whose stats.csv (or first frame) lands on /dev/full must exit 4 with
-# the cause ("No space left on device"), leave no temporary file and keep what was there before.
+# cli_full_disk.sh OUT VICTIM COMMAND [ARGS...]: a full disk. OUT/VICTIM's temporary
+# (VICTIM.tmp) is a link to /dev/full; COMMAND (which writes into OUT) must exit 4 naming the
+# cause ("No space left on device"), leave no temporary file and keep the VICTIM already there.
 set -u
-maille=$1 scene=$2 out=$3 victim=$4  # victim: stats.csv or frame_000000.ply
+out=$1 victim=$2
+shift 2
 rm -rf "$out"
 mkdir -p "$out"
 echo "previous" >"$out/$victim"
 ln -s /dev/full "$out/$victim.tmp"  # the temporary is opened through the link: writes fail
-timeout 60 "$maille" run "$scene" --steps 20 --out "$out" >"$out.log" 2>&1
+timeout 120 "$@" >"$out.log" 2>&1
 rc=$?
 cat "$out.log"
 [ $rc -eq 4 ] || { echo "exit code $rc, expected 4"; exit 1; }

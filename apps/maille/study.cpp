@@ -214,20 +214,29 @@ void crossover(std::ostream& out, bool quick) {
     Simulator probe(hanging_flag(k), quiet(1e-6, "leapfrog"));
     const double limit = probe.stability().max_step;
     const Run ref = run_flag(k, "leapfrog", 0.25 * limit);  // the reference: a quarter step
-    auto row = [&](const std::string& scheme, double h, const Run& r) {
-      const bool ok = r.stable && comparable(r.q, ref.q);
-      out << k << ',' << scheme << ',' << h << ',' << limit << ',' << r.wall_per_simulated_second
-          << ',' << r.q.sag << ',' << r.q.peak_stretch << ',' << ref.q.sag << ','
-          << ref.q.peak_stretch << ',' << ok << '\n';
-      std::printf("  k = %-8g %-16s h = %-10.3g %8.3f s wall per simulated s%s\n", k,
-                  scheme.c_str(), h, r.wall_per_simulated_second,
-                  ok ? "" : "  (quality not comparable)");
+    // One row, its columns written in this one place; a scheme with no usable step
+    // (r == nullptr) leaves its own columns empty.
+    auto row = [&](const std::string& scheme, double h, const Run* r) {
+      const bool ok = r && r->stable && comparable(r->q, ref.q);
+      out << k << ',' << scheme << ',';
+      if (r) out << h;
+      out << ',' << limit << ',';
+      if (r)
+        out << r->wall_per_simulated_second << ',' << r->q.sag << ',' << r->q.peak_stretch;
+      else
+        out << ",,";
+      out << ',' << ref.q.sag << ',' << ref.q.peak_stretch << ',' << ok << '\n';
+      if (r)
+        std::printf("  k = %-8g %-16s h = %-10.3g %8.3f s wall per simulated s%s\n", k,
+                    scheme.c_str(), h, r->wall_per_simulated_second,
+                    ok ? "" : "  (quality not comparable)");
     };
     // Explicit schemes at 90 % of their own limit.
     for (const char* scheme : {"leapfrog", "symplectic_euler", "velocity_verlet", "rk4"}) {
       Simulator p(hanging_flag(k), quiet(1e-6, scheme));
       const double h = 0.9 * p.stability().max_step;
-      row(scheme, h, run_flag(k, scheme, h));
+      const Run r = run_flag(k, scheme, h);
+      row(scheme, h, &r);
     }
     // Implicit Euler at its usable step: the largest of 1/30, 1/60, ... s whose quality is
     // comparable to the reference, searched down to leapfrog's limit (below it there is no
@@ -236,14 +245,12 @@ void crossover(std::ostream& out, bool quick) {
     for (double h = 1.0 / 30; h >= limit && !found; h /= 2) {
       const Run r = run_flag(k, "implicit_euler", h);
       if (r.stable && comparable(r.q, ref.q)) {
-        row("implicit_euler", h, r);
+        row("implicit_euler", h, &r);
         found = true;
       }
     }
     if (!found) {
-      // No step: the limit goes in leapfrog_limit_s, the reference quality in its columns.
-      out << k << ",implicit_euler,," << limit << ",,,," << ref.q.sag << ','
-          << ref.q.peak_stretch << ",0\n";
+      row("implicit_euler", 0, nullptr);  // the limit stays in leapfrog_limit_s
       std::printf("  k = %-8g implicit_euler   no step above leapfrog's limit keeps the quality\n",
                   k);
     }
