@@ -17,6 +17,7 @@ namespace {
 // 18446744073709551616 steps is refused instead of wrapped.
 CLI::Validator number_in(double lo, double hi, bool open_low = false) {
   std::ostringstream desc;
+  desc.precision(10);
   desc << (open_low ? "in (" : "in [") << lo << ", " << hi << "]";
   return CLI::Validator(
       [lo, hi, open_low, d = desc.str()](std::string& text) -> std::string {

@@ -105,6 +105,7 @@ class SceneReader {
     Fields f;
     f.gravity = t.vec3("gravity", f.gravity);
     f.air_drag = t.real("air_drag", f.air_drag, Bound::non_negative);
+    t.check_range("air_drag", f.air_drag, 0, limits::max_stiffness, "1/s");
     if (auto w = t.table("wind")) {
       f.wind.velocity = w->vec3("velocity", f.wind.velocity);
       f.wind.density = w->real("density", f.wind.density, Bound::positive);
@@ -113,6 +114,13 @@ class SceneReader {
       f.wind.turbulence = w->real("turbulence", f.wind.turbulence, Bound::non_negative);
       f.wind.gust_frequency = w->real("gust_frequency", f.wind.gust_frequency, Bound::positive);
       f.wind.gust_wavelength = w->real("gust_wavelength", f.wind.gust_wavelength, Bound::positive);
+      // Beyond these the wind's force or phase overflows (see limits.hpp).
+      w->check_range("density", f.wind.density, 0, 1e6, "kg/m^3");
+      w->check_range("drag_coefficient", f.wind.drag_coefficient, 0, 1e6, "");
+      w->check_range("turbulence", f.wind.turbulence, 0, 1e6, "");
+      w->check_range("gust_frequency", f.wind.gust_frequency, 0, 1e6, "Hz");
+      w->check_range("gust_wavelength", f.wind.gust_wavelength, 0, 2 * limits::max_coordinate,
+                     "m");
       w->finish();
     }
     t.finish();
