@@ -26,8 +26,10 @@ inline constexpr std::uint64_t max_steps = 1'000'000'000'000;  // 1e12 steps
 // Sizes. A model is refused before it is built when its estimated size exceeds either cap.
 inline constexpr std::uint64_t max_points = std::uint64_t{1} << 28;
 inline constexpr std::uint64_t max_links = std::uint64_t{1} << 31;
-// Estimated bytes of the built model, simulator and frame writers included (measured peaks
-// stay below these; links include the colouring and the implicit solver's blocks).
+// Estimated bytes of the built model, simulator and frame writers included; links include the
+// colouring and the implicit solver's blocks. Measured: a 60^3 lattice (216,000 points,
+// 2.7 million links) peaks at 200 MB with leapfrog and 383 MB with implicit Euler, against an
+// estimate of 640 MB.
 inline constexpr std::uint64_t bytes_per_point = 400;
 inline constexpr std::uint64_t bytes_per_link = 200;
 inline constexpr std::uint64_t bytes_per_face = 24;
