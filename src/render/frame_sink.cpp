@@ -120,7 +120,9 @@ class FfmpegVideo final : public FrameSink {
     while (left > 0) {
       const ssize_t n = ::write(pipe_, p, left);
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) throw std::runtime_error("ffmpeg stopped reading frames for " + file_.string());
+      if (n <= 0)
+        throw std::runtime_error("ffmpeg stopped reading frames for " + file_.string() + " (" +
+                                 std::strerror(n < 0 ? errno : EPIPE) + ")");
       p += n;
       left -= static_cast<std::size_t>(n);
     }
@@ -133,7 +135,10 @@ class FfmpegVideo final : public FrameSink {
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
       std::error_code ignored;
       std::filesystem::remove(tmp_, ignored);
-      throw std::runtime_error("ffmpeg failed to encode " + file_.string());
+      throw std::runtime_error(
+          "ffmpeg failed to encode " + file_.string() +
+          (WIFEXITED(status) ? " (exit status " + std::to_string(WEXITSTATUS(status)) + ")"
+                             : " (killed by signal " + std::to_string(WTERMSIG(status)) + ")"));
     }
     std::error_code ec;
     std::filesystem::rename(tmp_, file_, ec);
