@@ -12,8 +12,8 @@
 #include "maille/io.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
-#include "maille/stability.hpp"
 #include "maille/simulator.hpp"
+#include "maille/stability.hpp"
 #ifdef MAILLE_WITH_RENDER
 #include <unistd.h>
 
