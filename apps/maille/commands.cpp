@@ -69,9 +69,8 @@ bool make_output_directory(const std::filesystem::path& dir) {
 std::optional<std::uint64_t> steps_for(double duration, double step, const char* what) {
   const double n = std::round(duration / step);
   if (!(n <= double(limits::max_steps))) {
-    std::cerr << "error: " << what << " " << duration << " s at a step of " << step
-              << " s is " << n << " steps, more than the limit of "
-              << double(limits::max_steps) << '\n';
+    std::cerr << "error: " << what << " " << duration << " s at a step of " << step << " s is " << n
+              << " steps, more than the limit of " << double(limits::max_steps) << '\n';
     return std::nullopt;
   }
   return static_cast<std::uint64_t>(n);
@@ -146,9 +145,9 @@ int info(const std::string& path) {
     if (std::isinf(ref.max_step)) {
       std::cout << "stability    no stiff link: any step is stable\n";
     } else {
-      std::cout << "stability    every step is stable for " << s.integrator << "; stiffest: "
-                << ref.link_kind << " links at point " << ref.point << ", omega " << ref.omega
-                << " rad/s, damping " << ref.damping_rate
+      std::cout << "stability    every step is stable for " << s.integrator
+                << "; stiffest: " << ref.link_kind << " links at point " << ref.point << ", omega "
+                << ref.omega << " rad/s, damping " << ref.damping_rate
                 << " 1/s; for reference, the leapfrog limit is " << ref.max_step
                 << " s (the scene's step is " << s.step / ref.max_step << " of it)\n";
     }

@@ -25,7 +25,8 @@ CLI::Validator number_in(double lo, double hi, bool open_low = false) {
         const double v = std::strtod(text.c_str(), &end);
         if (text.empty() || *end != '\0' || !std::isfinite(v))
           return "must be a finite number (got '" + text + "')";
-        if (v < lo || v > hi || (open_low && v == lo)) return "must be " + d + " (got " + text + ")";
+        if (v < lo || v > hi || (open_low && v == lo))
+          return "must be " + d + " (got " + text + ")";
         return {};
       },
       desc.str());
@@ -104,8 +105,7 @@ int main(int argc, char** argv) {
                    "(frame_000000.png, ...)")
       ->required();
   render_cmd->add_option("--width", rn.width, "Image width, pixels")->check(number_in(1, 16384));
-  render_cmd->add_option("--height", rn.height, "Image height, pixels")
-      ->check(number_in(1, 16384));
+  render_cmd->add_option("--height", rn.height, "Image height, pixels")->check(number_in(1, 16384));
   render_cmd->add_option("--fps", rn.fps, "Frames per simulated second")
       ->check(number_in(0, 1000, true));
   render_cmd->add_option("--duration", rn.duration, "Simulated time, s (default: the scene's)")

@@ -282,8 +282,8 @@ int study(const StudyOptions& o) {
     std::printf("crossover (flag 24 x 16 hanging under gravity, 3 s simulated):\n");
     write("crossover.csv", [&](std::ostream& f) { crossover(f, o.quick); });
   } catch (const std::filesystem::filesystem_error& e) {
-    std::cerr << "error: cannot write the study to " << o.out.string() << ": "
-              << e.code().message() << '\n';
+    std::cerr << "error: cannot write the study to " << o.out.string() << ": " << e.code().message()
+              << '\n';
     return 4;
   } catch (const std::runtime_error& e) {
     std::cerr << "error: " << e.what() << '\n';

@@ -12,15 +12,15 @@ namespace maille::limits {
 
 // Physical values. Beyond these, omega^2 = k/m or positions overflow double arithmetic long
 // before a simulation could mean anything.
-inline constexpr Real min_mass = Real(1e-12);        // kg, any point mass or builder total
-inline constexpr Real max_stiffness = Real(1e12);    // N/m (and N.s/m for damping): every
-                                                     // link parameter, by magnitude
-inline constexpr Real max_coordinate = Real(1e6);    // m (m/s, m/s^2): every vector component
-                                                     // and length in a scene
+inline constexpr Real min_mass = Real(1e-12);      // kg, any point mass or builder total
+inline constexpr Real max_stiffness = Real(1e12);  // N/m (and N.s/m for damping): every
+                                                   // link parameter, by magnitude
+inline constexpr Real max_coordinate = Real(1e6);  // m (m/s, m/s^2): every vector component
+                                                   // and length in a scene
 
 // Time. The total step count of a run (duration / step, or --steps) is bounded.
-inline constexpr Real min_step = Real(1e-12);             // s
-inline constexpr Real max_duration = Real(1e9);           // s
+inline constexpr Real min_step = Real(1e-12);                  // s
+inline constexpr Real max_duration = Real(1e9);                // s
 inline constexpr std::uint64_t max_steps = 1'000'000'000'000;  // 1e12 steps
 
 // Sizes. A model is refused before it is built when its estimated size exceeds either cap.

@@ -22,7 +22,8 @@ std::uint32_t count(TomlCursor& t, std::string_view key, std::int64_t fallback,
 // +-1e6 m box, a total mass of at least 1e-12 kg.
 Real stiffness(TomlCursor& t, std::string_view key, Real fallback) {
   const Real k = t.real(key, fallback, Bound::non_negative);
-  t.check_range(key, k, 0, limits::max_stiffness, key.find("damping") != key.npos ? "N.s/m" : "N/m");
+  t.check_range(key, k, 0, limits::max_stiffness,
+                key.find("damping") != key.npos ? "N.s/m" : "N/m");
   return k;
 }
 

@@ -35,8 +35,8 @@ std::string check_size(const SizeEstimate& total) {
     return {};
   std::ostringstream s;
   s.precision(3);
-  s << "the model would have " << total.points << " points and " << total.links
-    << " links, about " << bytes / double(1 << 30) << " GiB: " << why.str();
+  s << "the model would have " << total.points << " points and " << total.links << " links, about "
+    << bytes / double(1 << 30) << " GiB: " << why.str();
   return s.str();
 }
 

@@ -119,8 +119,7 @@ class SceneReader {
       w->check_range("drag_coefficient", f.wind.drag_coefficient, 0, 1e6, "");
       w->check_range("turbulence", f.wind.turbulence, 0, 1e6, "");
       w->check_range("gust_frequency", f.wind.gust_frequency, 0, 1e6, "Hz");
-      w->check_range("gust_wavelength", f.wind.gust_wavelength, 0, 2 * limits::max_coordinate,
-                     "m");
+      w->check_range("gust_wavelength", f.wind.gust_wavelength, 0, 2 * limits::max_coordinate, "m");
       w->finish();
     }
     t.finish();
@@ -268,8 +267,7 @@ class SceneReader {
         // 1e12: beyond, omega^2 = k / m overflows.
         const Real most = f.unit == "m" ? 2 * limits::max_coordinate : limits::max_stiffness;
         t.check_range(f.name, *v, -most, most, f.unit);
-      }
-      else if (f.default_value)
+      } else if (f.default_value)
         values[k] = *f.default_value;
       else if (f.default_is_distance)
         values[k] = norm(m.points.initial_position[b] - m.points.initial_position[a]);
@@ -314,8 +312,8 @@ class SceneReader {
     if (pairs > kMaxContactLinks || !too_big.empty())
       t.fail("between", "too many pairs: " + std::to_string(g[0]->count) + " x " +
                             std::to_string(g[1]->count) + " = " + std::to_string(pairs) +
-                            " conditional links (limit " + std::to_string(kMaxContactLinks) +
-                            ")" + (too_big.empty() ? "" : "; " + too_big));
+                            " conditional links (limit " + std::to_string(kMaxContactLinks) + ")" +
+                            (too_big.empty() ? "" : "; " + too_big));
     build_contacts(m, *g[0], *g[1], p);
     t.finish();
   }

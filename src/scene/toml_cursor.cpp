@@ -138,8 +138,8 @@ Vec3 TomlCursor::vec3(std::string_view key, Vec3 fallback) {
 }
 
 std::vector<std::int64_t> TomlCursor::integers(std::string_view key,
-                                               std::vector<std::int64_t> fallback,
-                                               std::int64_t min, std::int64_t max) {
+                                               std::vector<std::int64_t> fallback, std::int64_t min,
+                                               std::int64_t max) {
   const toml::node* n = node(key);
   if (!n) return fallback;
   const toml::array* a = n->as_array();
