@@ -12,8 +12,10 @@
 
 #include "maille/checkpoint.hpp"
 #include "maille/io.hpp"
+#include "maille/limits.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
+#include "maille/stability.hpp"
 #ifdef MAILLE_WITH_RENDER
 #include <unistd.h>
 
@@ -32,13 +34,48 @@ extern "C" void on_signal(int) {
   g_stop = true;
 }
 
+// Installed first thing by the commands that write files, so that an interrupt while a large
+// scene builds or while frame 0 is written still ends with complete files (and exit 130).
+void install_interrupt_handler() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+
 std::optional<Scene> load_or_report(const std::string& path) {
-  Result<Scene> r = load_scene(path);
-  if (!r) {
-    std::cerr << r.error().to_string() << '\n';
+  try {
+    Result<Scene> r = load_scene(path);
+    if (!r) {
+      std::cerr << r.error().to_string() << '\n';
+      return std::nullopt;
+    }
+    return std::move(r.value());
+  } catch (const std::bad_alloc&) {  // the size checks should make this unreachable
+    std::cerr << path << ": error: out of memory while building the scene\n";
     return std::nullopt;
   }
-  return std::move(r.value());
+}
+
+// Creates the output directory; on failure says which and why ("Permission denied", "No space
+// left on device", "Not a directory") and returns false (exit 4).
+bool make_output_directory(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!ec && std::filesystem::is_directory(dir, ec)) return true;
+  std::cerr << "error: cannot create the output directory " << dir.string() << ": "
+            << (ec ? ec.message() : std::string("a file of that name exists")) << '\n';
+  return false;
+}
+
+// The number of steps a run of `duration` seconds takes, refused (usage error) above
+// limits::max_steps: a run that cannot end is a mistake, not a request.
+std::optional<std::uint64_t> steps_for(double duration, double step, const char* what) {
+  const double n = std::round(duration / step);
+  if (!(n <= double(limits::max_steps))) {
+    std::cerr << "error: " << what << " " << duration << " s at a step of " << step << " s is " << n
+              << " steps, more than the limit of " << double(limits::max_steps) << '\n';
+    return std::nullopt;
+  }
+  return static_cast<std::uint64_t>(n);
 }
 
 std::uint64_t points_of(const Model& m, PointKind k) {
@@ -121,7 +158,19 @@ int info(const std::string& path) {
             << sim.threads() << '\n';
   const auto& st = sim.stability();
   if (std::isinf(st.max_step)) {
-    std::cout << "stability    no stiff link: any step is stable\n";
+    // Unconditionally stable schemes (implicit Euler): say so, and give the stiffest link and
+    // the explicit (leapfrog) limit for reference.
+    const auto leapfrog = IntegratorRegistry::builtin().find("leapfrog")->make(s.implicit);
+    const StabilityEstimate ref = estimate_stability(m, *leapfrog);
+    if (std::isinf(ref.max_step)) {
+      std::cout << "stability    no stiff link: any step is stable\n";
+    } else {
+      std::cout << "stability    every step is stable for " << s.integrator
+                << "; stiffest: " << ref.link_kind << " links at point " << ref.point << ", omega "
+                << ref.omega << " rad/s, damping " << ref.damping_rate
+                << " 1/s; for reference, the leapfrog limit is " << ref.max_step
+                << " s (the scene's step is " << s.step / ref.max_step << " of it)\n";
+    }
   } else {
     std::cout << "stability    largest stable step " << st.max_step << " s (" << st.link_kind
               << " links at point " << st.point << ", omega " << st.omega << " rad/s, damping "
@@ -133,6 +182,7 @@ int info(const std::string& path) {
 }
 
 int run(const RunOptions& o) {
+  install_interrupt_handler();
   auto scene = load_or_report(o.scene);
   if (!scene) return bad_input;
   SimulationSettings settings = scene->settings;
@@ -144,17 +194,18 @@ int run(const RunOptions& o) {
     std::cerr << "unknown format '" << o.format << "'\n";
     return usage;
   }
-  const std::uint64_t steps =
-      o.steps ? *o.steps
-              : static_cast<std::uint64_t>(
-                    std::llround((o.duration ? *o.duration : settings.duration) / settings.step));
+  const std::optional<std::uint64_t> steps =
+      o.steps ? o.steps
+              : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
+                          o.duration ? "--duration" : "the scene's duration");
+  if (!steps) return usage;
   const std::filesystem::path out =
       !o.out.empty()      ? std::filesystem::path(o.out)
       : !o.resume.empty() ? std::filesystem::path(o.resume)
                           : std::filesystem::path("out") / scene->name;
 
+  if (!make_output_directory(out)) return output_error;
   try {
-    std::filesystem::create_directories(out);
     Simulator sim(std::move(scene->model), settings);
     warn_if_unstable(sim);
     // Resuming: the state, the frame count and the statistics rows continue from the
@@ -179,16 +230,14 @@ int run(const RunOptions& o) {
     StatsWriter stats(out / "stats.csv", kept);
     if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
     sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
-    if (o.resume.empty()) sim.publish_now();  // frame 0: the initial state
+    if (o.resume.empty() && !g_stop) sim.publish_now();  // frame 0: the initial state
     auto checkpoint = [&] {
       write_checkpoint(out / "checkpoint.bin", checkpoint_of(sim, stats.rows()));
     };
 
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
     const auto t0 = std::chrono::steady_clock::now();
     std::uint64_t done = 0;
-    while (sim.state().step < steps && !g_stop && sim.step()) {
+    while (sim.state().step < *steps && !g_stop && sim.step()) {
       ++done;
       if (o.checkpoint_every && sim.state().step % *o.checkpoint_every == 0) checkpoint();
     }
@@ -196,7 +245,7 @@ int run(const RunOptions& o) {
     const double wall = seconds_since(t0);
     if (o.checkpoint_every && !sim.blow_up() && sim.state().step % *o.checkpoint_every != 0)
       checkpoint();  // where this run stopped (the end, or an interrupt)
-    stats.close();
+    stats.close(sim.profile());  // the header is there even when no row is
 
     const double particle_steps = double(done) * sim.model().points.size();
     std::printf(
@@ -223,6 +272,9 @@ int run(const RunOptions& o) {
     return output_error;
   } catch (const std::invalid_argument& e) {
     std::cerr << o.scene << ": error: " << e.what() << '\n';
+    return bad_input;
+  } catch (const std::bad_alloc&) {
+    std::cerr << o.scene << ": error: out of memory\n";
     return bad_input;
   }
   return ok;
@@ -328,7 +380,10 @@ bool parse_camera(const std::string& text, render::MovieSettings& m) {
     if (comma == std::string::npos) break;
     pos = comma + 1;
   }
-  if (n < 2 || !(v[2] > 0)) return false;
+  // Finite angles, a pitch that keeps the up vector defined, a zoom that frames something.
+  if (n < 2 || !std::isfinite(v[0]) || !(std::abs(v[0]) <= 3600) || !(std::abs(v[1]) <= 89) ||
+      !(v[2] > 0.001 && v[2] <= 1000))
+    return false;
   m.yaw = v[0];
   m.pitch = v[1];
   m.zoom = v[2];
@@ -338,6 +393,7 @@ bool parse_camera(const std::string& text, render::MovieSettings& m) {
 }  // namespace
 
 int render(const RenderCommandOptions& o) {
+  install_interrupt_handler();
   auto scene = load_or_report(o.scene);
   if (!scene) return bad_input;
   if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
@@ -350,12 +406,25 @@ int render(const RenderCommandOptions& o) {
   m.options.links_on_surface = o.mesh;
   if (o.threads) m.threads = *o.threads;
   if (!parse_camera(o.camera, m)) {
-    std::cerr << "--camera: expected yaw,pitch[,zoom] (degrees, degrees, factor > 0), got '"
+    std::cerr << "--camera: expected yaw,pitch[,zoom] (yaw within +-3600 degrees, pitch within "
+                 "+-89 degrees, zoom in (0.001, 1000]), got '"
               << o.camera << "'\n";
     return usage;
   }
   const std::filesystem::path out(o.out);
   const std::string ext = out.extension().string();
+  // Usage errors before anything is opened: the frame count and the video's even size.
+  if (!steps_for(m.duration, scene->settings.step, "the duration")) return usage;
+  if (const double frames = std::floor(m.duration * m.fps) + 1; frames > 1e7) {
+    std::cerr << "error: " << m.duration << " s at " << m.fps << " frames per second is " << frames
+              << " frames, more than the limit of 1e7\n";
+    return usage;
+  }
+  if (ext == ".mp4" && (m.width % 2 || m.height % 2)) {
+    std::cerr << "error: an MP4 video needs an even width and height (got " << m.width << "x"
+              << m.height << ")\n";
+    return usage;
+  }
   try {
     std::unique_ptr<render::FrameSink> sink;
     if (ext == ".mp4") {
@@ -368,8 +437,6 @@ int render(const RenderCommandOptions& o) {
     } else {
       sink = render::png_sequence(out);
     }
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
     const auto t0 = std::chrono::steady_clock::now();
     render::MovieReport r;
     {

@@ -1,8 +1,42 @@
 // maille: run, check and measure scenes from the command line.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
 #include "commands.hpp"
+#include "maille/limits.hpp"
 #include "study.hpp"
+
+namespace {
+
+// A number in [lo, hi] (lo excluded when `open_low`), NaN and infinity refused, with a short
+// message: CLI::PositiveNumber lets NaN through and prints a 309-digit range. Bad values are
+// usage errors (exit 2). Integer options are range-checked here before CLI11 converts them, so
+// 18446744073709551616 steps is refused instead of wrapped.
+CLI::Validator number_in(double lo, double hi, bool open_low = false) {
+  std::ostringstream desc;
+  desc.precision(10);
+  desc << (open_low ? "in (" : "in [") << lo << ", " << hi << "]";
+  return CLI::Validator(
+      [lo, hi, open_low, d = desc.str()](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(v))
+          return "must be a finite number (got '" + text + "')";
+        if (v < lo || v > hi || (open_low && v == lo))
+          return "must be " + d + " (got " + text + ")";
+        return {};
+      },
+      desc.str());
+}
+
+const CLI::Validator kThreads = number_in(1, maille::limits::max_threads);
+const CLI::Validator kSteps = number_in(1, double(maille::limits::max_steps));
+const CLI::Validator kDuration = number_in(0, maille::limits::max_duration, true);
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace maille::app;
@@ -13,18 +47,18 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "Run a scene headless: frames, stats.csv, a summary");
   run_cmd->add_option("scene", ro.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   auto* steps = run_cmd->add_option("--steps", ro.steps, "Number of steps (default: duration/step)")
-                    ->check(CLI::PositiveNumber);
+                    ->check(kSteps);
   run_cmd->add_option("--duration", ro.duration, "Simulated time, s (default: the scene's)")
-      ->check(CLI::PositiveNumber)
+      ->check(kDuration)
       ->excludes(steps);
   run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)");
   run_cmd
       ->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(1, 1 << 30));
   run_cmd->add_option("--format", ro.format, "Frame format")
       ->check(CLI::IsMember({"ply", "obj", "vtk"}));
   run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
-      ->check(CLI::PositiveNumber);
+      ->check(kThreads);
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
   run_cmd->add_flag("--no-self-collision", ro.no_self_collision,
                     "Ignore the scene's [self_collision] table (to see what it prevents)");
@@ -49,11 +83,11 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("scene", bo.scene, "Scene file (TOML)")
       ->required()
       ->check(CLI::ExistingFile);
-  bench_cmd->add_option("--steps", bo.steps, "Steps per repetition")->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--steps", bo.steps, "Steps per repetition")->check(kSteps);
   bench_cmd->add_option("--threads", bo.threads, "Threads (default: the scene's, else auto)")
-      ->check(CLI::PositiveNumber);
+      ->check(kThreads);
   bench_cmd->add_option("--repeat", bo.repeat, "Repetitions (the fastest is reported)")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(1, 1000));
   bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
   bench_cmd->add_flag("--no-self-collision", bo.no_self_collision,
                       "Ignore the scene's [self_collision] table");
@@ -67,8 +101,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"integrators"}))
       ->required();
   study_cmd->add_option("--out", so.out, "Directory for the CSV files (default out/study)");
-  study_cmd->add_option("--threads", so.threads, "Threads for the cost table")
-      ->check(CLI::PositiveNumber);
+  study_cmd->add_option("--threads", so.threads, "Threads for the cost table")->check(kThreads);
   study_cmd->add_flag("--quick", so.quick, "Two stiffnesses instead of five in the crossover");
 
 #ifdef MAILLE_WITH_RENDER
@@ -83,12 +116,12 @@ int main(int argc, char** argv) {
                    "FILE.mp4 (video through ffmpeg), FILE.png (the last frame) or a directory "
                    "(frame_000000.png, ...)")
       ->required();
-  render_cmd->add_option("--width", rn.width, "Image width, pixels")->check(CLI::PositiveNumber);
-  render_cmd->add_option("--height", rn.height, "Image height, pixels")->check(CLI::PositiveNumber);
+  render_cmd->add_option("--width", rn.width, "Image width, pixels")->check(number_in(1, 16384));
+  render_cmd->add_option("--height", rn.height, "Image height, pixels")->check(number_in(1, 16384));
   render_cmd->add_option("--fps", rn.fps, "Frames per simulated second")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in(0, 1000, true));
   render_cmd->add_option("--duration", rn.duration, "Simulated time, s (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(kDuration);
   render_cmd->add_option("--camera", rn.camera,
                          "yaw,pitch[,zoom]: view direction in degrees (yaw 0 looks along -z, "
                          "pitch from above) and distance over the auto-framed one");
@@ -98,7 +131,7 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--no-self-collision", rn.no_self_collision,
                        "Ignore the scene's [self_collision] table");
   render_cmd->add_option("--threads", rn.threads, "Simulation threads (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(kThreads);
 #endif
 
   try {

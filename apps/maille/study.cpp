@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -213,20 +214,29 @@ void crossover(std::ostream& out, bool quick) {
     Simulator probe(hanging_flag(k), quiet(1e-6, "leapfrog"));
     const double limit = probe.stability().max_step;
     const Run ref = run_flag(k, "leapfrog", 0.25 * limit);  // the reference: a quarter step
-    auto row = [&](const std::string& scheme, double h, const Run& r) {
-      const bool ok = r.stable && comparable(r.q, ref.q);
-      out << k << ',' << scheme << ',' << h << ',' << limit << ',' << r.wall_per_simulated_second
-          << ',' << r.q.sag << ',' << r.q.peak_stretch << ',' << ref.q.sag << ','
-          << ref.q.peak_stretch << ',' << ok << '\n';
-      std::printf("  k = %-8g %-16s h = %-10.3g %8.3f s wall per simulated s%s\n", k,
-                  scheme.c_str(), h, r.wall_per_simulated_second,
-                  ok ? "" : "  (quality not comparable)");
+    // One row, its columns written in this one place; a scheme with no usable step
+    // (r == nullptr) leaves its own columns empty.
+    auto row = [&](const std::string& scheme, double h, const Run* r) {
+      const bool ok = r && r->stable && comparable(r->q, ref.q);
+      out << k << ',' << scheme << ',';
+      if (r) out << h;
+      out << ',' << limit << ',';
+      if (r)
+        out << r->wall_per_simulated_second << ',' << r->q.sag << ',' << r->q.peak_stretch;
+      else
+        out << ",,";
+      out << ',' << ref.q.sag << ',' << ref.q.peak_stretch << ',' << ok << '\n';
+      if (r)
+        std::printf("  k = %-8g %-16s h = %-10.3g %8.3f s wall per simulated s%s\n", k,
+                    scheme.c_str(), h, r->wall_per_simulated_second,
+                    ok ? "" : "  (quality not comparable)");
     };
     // Explicit schemes at 90 % of their own limit.
     for (const char* scheme : {"leapfrog", "symplectic_euler", "velocity_verlet", "rk4"}) {
       Simulator p(hanging_flag(k), quiet(1e-6, scheme));
       const double h = 0.9 * p.stability().max_step;
-      row(scheme, h, run_flag(k, scheme, h));
+      const Run r = run_flag(k, scheme, h);
+      row(scheme, h, &r);
     }
     // Implicit Euler at its usable step: the largest of 1/30, 1/60, ... s whose quality is
     // comparable to the reference, searched down to leapfrog's limit (below it there is no
@@ -235,12 +245,12 @@ void crossover(std::ostream& out, bool quick) {
     for (double h = 1.0 / 30; h >= limit && !found; h /= 2) {
       const Run r = run_flag(k, "implicit_euler", h);
       if (r.stable && comparable(r.q, ref.q)) {
-        row("implicit_euler", h, r);
+        row("implicit_euler", h, &r);
         found = true;
       }
     }
     if (!found) {
-      out << k << ",implicit_euler,,," << limit << ",,,,,0\n";
+      row("implicit_euler", 0, nullptr);  // the limit stays in leapfrog_limit_s
       std::printf("  k = %-8g implicit_euler   no step above leapfrog's limit keeps the quality\n",
                   k);
     }
@@ -254,21 +264,31 @@ int study(const StudyOptions& o) {
     std::cerr << "unknown study '" << o.topic << "' (known: integrators)\n";
     return 2;
   }
-  std::filesystem::create_directories(o.out);
-  // Each CSV appears whole or not at all (written under a temporary name, then renamed).
-  auto write = [&](const char* name, auto&& body) {
-    AtomicFile f(o.out / name);
-    f.stream().precision(8);
-    body(f.stream());
-    f.commit();
-  };
-  std::printf("maille study integrators -> %s\n", o.out.string().c_str());
-  write("stability.csv", [](std::ostream& f) { stability(f); });
-  write("accuracy.csv", [](std::ostream& f) { accuracy(f); });
-  write("energy.csv", [](std::ostream& f) { energy(f); });
-  write("cost.csv", [&](std::ostream& f) { cost(f, o.threads); });
-  std::printf("crossover (flag 24 x 16 hanging under gravity, 3 s simulated):\n");
-  write("crossover.csv", [&](std::ostream& f) { crossover(f, o.quick); });
+  // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
+  try {
+    std::filesystem::create_directories(o.out);
+    // Each CSV appears whole or not at all (written under a temporary name, then renamed).
+    auto write = [&](const char* name, auto&& body) {
+      AtomicFile f(o.out / name);
+      f.stream().precision(8);
+      body(f.stream());
+      f.commit();
+    };
+    std::printf("maille study integrators -> %s\n", o.out.string().c_str());
+    write("stability.csv", [](std::ostream& f) { stability(f); });
+    write("accuracy.csv", [](std::ostream& f) { accuracy(f); });
+    write("energy.csv", [](std::ostream& f) { energy(f); });
+    write("cost.csv", [&](std::ostream& f) { cost(f, o.threads); });
+    std::printf("crossover (flag 24 x 16 hanging under gravity, 3 s simulated):\n");
+    write("crossover.csv", [&](std::ostream& f) { crossover(f, o.quick); });
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "error: cannot write the study to " << o.out.string() << ": " << e.code().message()
+              << '\n';
+    return 4;
+  } catch (const std::runtime_error& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return 4;
+  }
   return 0;
 }
 

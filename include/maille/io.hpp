@@ -18,7 +18,8 @@
 namespace maille {
 
 // A file that appears under its name only after commit(). Destroyed uncommitted, it leaves
-// nothing behind. Throws std::runtime_error (naming the path) when it cannot write.
+// nothing behind. Throws std::runtime_error (naming the path and the cause: "No space left on
+// device", "Permission denied") when it cannot open, write, flush, close or rename.
 class AtomicFile {
  public:
   explicit AtomicFile(std::filesystem::path path);
@@ -59,7 +60,8 @@ class FrameWriter {
 };
 
 // stats.csv: one row per energy sample: time, step, energies, ns per stage during that step,
-// counters. The header is written with the first row (stages plugged in before then appear).
+// counters. The header is written with the first row (stages plugged in before then appear),
+// or by close() when no row was (a blow-up at step 1): the file always has its header.
 // Rows are complete lines; the file is renamed into place by close() (or the destructor).
 class StatsWriter {
  public:
@@ -71,11 +73,14 @@ class StatsWriter {
   StatsWriter(const StatsWriter&) = delete;
   StatsWriter& operator=(const StatsWriter&) = delete;
 
+  // Throws std::runtime_error with the cause as soon as the stream reports a failed write.
   void write(const EnergySample& sample, const Profile& profile);
-  void close();
+  void close();                        // with no row written, the header lists the energies
+  void close(const Profile& profile);  // ... and the profile's columns
   std::uint64_t rows() const { return rows_; }
 
  private:
+  void header(const Profile* profile);
   AtomicFile file_;
   std::uint64_t rows_ = 0;
   bool header_written_ = false;

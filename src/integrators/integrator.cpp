@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -48,16 +49,31 @@ Amplification kick_drift_increment(double h, double w2, double c) {
 // from far below 1/omega until one is unstable, then bisect. Undamped symplectic schemes sit
 // exactly on the unit circle (stable up to rounding); explicit Euler without damping grows by
 // |mu|^2 per step, which is unstable at any step.
+//
+// Every loop is bounded. omega^2 or a damping rate that overflowed to infinity (a 1e-320 kg
+// mass, a 1e308 N/m spring) is taken as 1e300, so the answer stays that of a very stiff link
+// (about 1e-150 s for explicit schemes, +inf for implicit Euler); NaN gives 0. A step whose
+// increment is not finite counts as unstable; the scan gives up (+inf) at 1e9 times the
+// natural time scale.
 Real Integrator::stable_step(Real w2, Real c) const {
-  auto stable = [&](double h) { return is_stable(increment(h, w2, c)); };
-  const double scale = 1 / (std::sqrt(double(w2)) + double(c) + 1e-300);
+  if (!(w2 >= 0) || !(c >= 0)) return 0;  // NaN or negative: nothing is known to be stable
+  const double w2d = std::min(double(w2), 1e300), cd = std::min(double(c), 1e300);
+  auto stable = [&](double h) {
+    const Amplification n = increment(h, w2d, cd);
+    for (const auto& row : n)
+      for (const auto& e : row)
+        if (!std::isfinite(e)) return false;
+    return is_stable(n);
+  };
+  const double scale = 1 / (std::sqrt(w2d) + cd + 1e-300);
   double lo = 1e-6 * scale;
-  if (!stable(lo)) return 0;
+  if (!(lo > 0) || !std::isfinite(lo) || !stable(lo)) return 0;
   double hi = lo;
-  while (stable(hi)) {
+  for (int doublings = 0; stable(hi); ++doublings) {
     lo = hi;
     hi *= 2;
-    if (hi > 1e9 * scale) return std::numeric_limits<Real>::infinity();
+    if (hi > 1e9 * scale || doublings > 64 || !std::isfinite(hi))
+      return std::numeric_limits<Real>::infinity();
   }
   for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
     const double mid = 0.5 * (lo + hi);

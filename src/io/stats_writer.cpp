@@ -1,3 +1,7 @@
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+
 #include "maille/io.hpp"
 
 namespace maille {
@@ -20,14 +24,7 @@ StatsWriter::~StatsWriter() {
 
 void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
   auto& o = file_.stream();
-  if (!header_written_) {
-    header_written_ = true;
-    o << "time,step,kinetic,elastic,gravity,total";
-    for (const auto& s : profile.stages()) o << ",ns_" << s.name;
-    for (const auto& c : profile.counters()) o << ',' << c.name;
-    for (const auto& g : profile.gauges()) o << ',' << g.name;
-    o << '\n';
-  }
+  if (!header_written_) header(&profile);
   const Energies& e = sample.energies;
   o << sample.time << ',' << sample.step << ',' << e.kinetic << ',' << e.elastic << ',' << e.gravity
     << ',' << e.total();
@@ -35,13 +32,34 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
   for (const auto& c : profile.counters()) o << ',' << c.last;
   for (const auto& g : profile.gauges()) o << ',' << g.last;
   o << '\n';
+  if (!o.good())  // a full disk shows here when a buffer is flushed
+    throw std::runtime_error("cannot write " + file_.path().string() + ": " +
+                             (errno ? std::strerror(errno) : "write error"));
   ++rows_;
+}
+
+void StatsWriter::header(const Profile* profile) {
+  auto& o = file_.stream();
+  o << "time,step,kinetic,elastic,gravity,total";
+  if (profile) {
+    for (const auto& s : profile->stages()) o << ",ns_" << s.name;
+    for (const auto& c : profile->counters()) o << ',' << c.name;
+    for (const auto& g : profile->gauges()) o << ',' << g.name;
+  }
+  o << '\n';
+  header_written_ = true;
 }
 
 void StatsWriter::close() {
   if (closed_) return;
   closed_ = true;
+  if (!header_written_) header(nullptr);
   file_.commit();
+}
+
+void StatsWriter::close(const Profile& profile) {
+  if (!closed_ && !header_written_) header(&profile);
+  close();
 }
 
 }  // namespace maille

@@ -83,7 +83,15 @@ class FfmpegVideo final : public FrameSink {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_adddup2(&actions, fds[0], STDIN_FILENO);
-    const int rc = posix_spawnp(&pid_, "ffmpeg", &actions, nullptr, argv.data(), environ);
+    // ffmpeg gets its own process group: Ctrl-C on the terminal (SIGINT to the foreground
+    // group) reaches maille only, which stops rendering and then closes the pipe, so ffmpeg
+    // finishes the video with the frames made so far.
+    posix_spawnattr_t attributes;
+    posix_spawnattr_init(&attributes);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
+    const int rc = posix_spawnp(&pid_, "ffmpeg", &actions, &attributes, argv.data(), environ);
+    posix_spawnattr_destroy(&attributes);
     posix_spawn_file_actions_destroy(&actions);
     close(fds[0]);
     if (rc != 0) {
@@ -112,7 +120,9 @@ class FfmpegVideo final : public FrameSink {
     while (left > 0) {
       const ssize_t n = ::write(pipe_, p, left);
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) throw std::runtime_error("ffmpeg stopped reading frames for " + file_.string());
+      if (n <= 0)
+        throw std::runtime_error("ffmpeg stopped reading frames for " + file_.string() + " (" +
+                                 std::strerror(n < 0 ? errno : EPIPE) + ")");
       p += n;
       left -= static_cast<std::size_t>(n);
     }
@@ -125,7 +135,10 @@ class FfmpegVideo final : public FrameSink {
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
       std::error_code ignored;
       std::filesystem::remove(tmp_, ignored);
-      throw std::runtime_error("ffmpeg failed to encode " + file_.string());
+      throw std::runtime_error(
+          "ffmpeg failed to encode " + file_.string() +
+          (WIFEXITED(status) ? " (exit status " + std::to_string(WEXITSTATUS(status)) + ")"
+                             : " (killed by signal " + std::to_string(WTERMSIG(status)) + ")"));
     }
     std::error_code ec;
     std::filesystem::rename(tmp_, file_, ec);

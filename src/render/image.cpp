@@ -2,8 +2,12 @@
 
 #include <stb_image_write.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 namespace maille::render {
 
@@ -11,18 +15,41 @@ void write_png(const Image& image, const std::filesystem::path& path) {
   if (image.width <= 0 || image.height <= 0 ||
       image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
     throw std::invalid_argument("write_png: image size does not match its pixels");
-  // The temporary keeps the .png extension out of the final name only: viewers and ffmpeg that
-  // glob for *.png never see a half-written file.
+  // Encoded in memory first (stb's file writer ignores fwrite and fclose errors), then written
+  // under a temporary name with every write, the flush and the close checked, and renamed into
+  // place only when whole. The temporary keeps the .png extension out of the final name only:
+  // viewers and ffmpeg that glob for *.png never see a half-written file.
+  std::vector<unsigned char> png;
+  const auto append = [](void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<unsigned char>*>(context);
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    out->insert(out->end(), bytes, bytes + size);
+  };
+  if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, image.rgb.data(),
+                              image.width * 3))
+    throw std::runtime_error("cannot encode " + path.string() + " as PNG");
   const std::filesystem::path tmp = path.string() + ".tmp";
-  if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, image.rgb.data(),
-                      image.width * 3)) {
+  auto fail = [&](int err) {
     std::error_code ignored;
     std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("cannot write " + path.string());
-  }
+    throw std::runtime_error("cannot write " + path.string() + ": " +
+                             (err ? std::strerror(err) : "write error"));
+  };
+  errno = 0;
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) fail(errno);
+  const std::size_t written = std::fwrite(png.data(), 1, png.size(), f);
+  int err = written == png.size() ? 0 : (errno ? errno : EIO);
+  if (std::fflush(f) != 0 && !err) err = errno ? errno : EIO;
+  if (std::fclose(f) != 0 && !err) err = errno ? errno : EIO;
+  if (err) fail(err);
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
+  }
 }
 
 }  // namespace maille::render

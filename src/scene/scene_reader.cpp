@@ -4,6 +4,10 @@
 // then each builder keyword in the order of builder_tables() (flag, rope, net, membrane,
 // lattice, floor), each in file order; then [[link]] and [[contact]]. Points are best referred
 // to by name ("bob") or by group and index ("flag:17"); a bare integer is a global index.
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -12,6 +16,7 @@
 
 #include "builder_tables.hpp"
 #include "maille/builders.hpp"
+#include "maille/limits.hpp"
 #include "maille/scene.hpp"
 #include "toml_cursor.hpp"
 
@@ -26,6 +31,15 @@ const StageRegistry& builtin_stages() {
   return builtins;
 }
 
+// A scene name becomes a directory under out/: no separators, no "..", nothing hidden.
+bool safe_name(const std::string& name) {
+  if (name.empty() || name.size() > 200 || name[0] == '.') return false;
+  for (const char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
+      return false;
+  return true;
+}
+
 class SceneReader {
  public:
   SceneReader(const LinkKindRegistry& kinds, const StageRegistry& stages, std::string file)
@@ -36,6 +50,10 @@ class SceneReader {
     Scene scene;
     if (auto t = top.table("scene")) {
       scene.name = t->text("name", "");
+      if (!scene.name.empty() && !safe_name(scene.name))
+        t->fail("name", "'" + scene.name +
+                            "' names the output directory: use letters, digits, '_', '-' and "
+                            "'.' only, not starting with '.'");
       scene.description = t->text("description", "");
       t->finish();
     }
@@ -79,7 +97,15 @@ class SceneReader {
       t.fail("integrator", "unknown integrator '" + s.integrator +
                                "' (known: " + IntegratorRegistry::builtin().names() + ")");
     s.step = t.real("step", static_cast<Real>(s.step), Bound::positive);
+    t.check_range("step", s.step, limits::min_step, limits::max_duration, "s");
     s.duration = t.real("duration", static_cast<Real>(s.duration), Bound::positive);
+    t.check_range("duration", s.duration, 0, limits::max_duration, "s");
+    if (s.duration / s.step > Real(limits::max_steps)) {
+      std::ostringstream why;
+      why << "duration / step = " << s.duration / s.step << " steps, more than the limit of "
+          << double(limits::max_steps);
+      t.fail(t.has("duration") ? "duration" : "step", why.str());
+    }
     s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, 1 << 30));
     s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, 1 << 30));
     s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
@@ -102,6 +128,7 @@ class SceneReader {
     Fields f;
     f.gravity = t.vec3("gravity", f.gravity);
     f.air_drag = t.real("air_drag", f.air_drag, Bound::non_negative);
+    t.check_range("air_drag", f.air_drag, 0, limits::max_stiffness, "1/s");
     if (auto w = t.table("wind")) {
       f.wind.velocity = w->vec3("velocity", f.wind.velocity);
       f.wind.density = w->real("density", f.wind.density, Bound::positive);
@@ -110,6 +137,12 @@ class SceneReader {
       f.wind.turbulence = w->real("turbulence", f.wind.turbulence, Bound::non_negative);
       f.wind.gust_frequency = w->real("gust_frequency", f.wind.gust_frequency, Bound::positive);
       f.wind.gust_wavelength = w->real("gust_wavelength", f.wind.gust_wavelength, Bound::positive);
+      // Beyond these the wind's force or phase overflows (see limits.hpp).
+      w->check_range("density", f.wind.density, 0, 1e6, "kg/m^3");
+      w->check_range("drag_coefficient", f.wind.drag_coefficient, 0, 1e6, "");
+      w->check_range("turbulence", f.wind.turbulence, 0, 1e6, "");
+      w->check_range("gust_frequency", f.wind.gust_frequency, 0, 1e6, "Hz");
+      w->check_range("gust_wavelength", f.wind.gust_wavelength, 0, 2 * limits::max_coordinate, "m");
       w->finish();
     }
     t.finish();
@@ -126,6 +159,7 @@ class SceneReader {
     const std::string name = t.text("name", "");
     const Vec3 x = t.vec3("position");
     const Real mass = t.real("mass", 1, Bound::positive);
+    t.check_range("mass", mass, limits::min_mass, std::numeric_limits<Real>::max(), "kg");
     const Vec3 v = kind == PointKind::free ? t.vec3("velocity", Vec3{}) : Vec3{};
     std::optional<DrivePath> path;
     if (kind == PointKind::fixed)
@@ -149,12 +183,15 @@ class SceneReader {
       p.kind = DrivePath::Kind::sine;
       p.amplitude = t.vec3("amplitude");
       p.frequency = t.real("frequency", Bound::positive);
+      t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
     } else if (kind == "circle") {
       p.kind = DrivePath::Kind::circle;
       p.radius = t.real("radius", Bound::positive);
+      t.check_range("radius", p.radius, 0, limits::max_coordinate, "m");
       p.axis = t.vec3("axis", p.axis);
       if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
       p.frequency = t.real("frequency", Bound::positive);
+      t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
     } else {
       p.kind = DrivePath::Kind::keyframes;
       keyframes(t, p);
@@ -176,6 +213,8 @@ class SceneReader {
       for (std::size_t i = 0; i < 4; ++i) {
         const auto d = (*k)[i].value<double>();
         if (!d || !std::isfinite(*d)) t.fail_at((*k)[i].source(), "keys", "must be numbers");
+        if (std::abs(*d) > limits::max_coordinate)
+          t.fail_at((*k)[i].source(), "keys", "must be within +-1e6 (s, m)");
         v[i] = *d;
       }
       if (!p.keys.empty() && !(v[0] > p.keys.back().first))
@@ -245,9 +284,13 @@ class SceneReader {
     std::vector<Real> values(entry->fields.size());
     for (std::size_t k = 0; k < values.size(); ++k) {
       const ParamInfo& f = entry->fields[k];
-      if (auto v = t.maybe_real(f.name, f.bound))
+      if (auto v = t.maybe_real(f.name, f.bound)) {
         values[k] = *v;
-      else if (f.default_value)
+        // A length stays within the scene's box; anything else (stiffness, damping) within
+        // 1e12: beyond, omega^2 = k / m overflows.
+        const Real most = f.unit == "m" ? 2 * limits::max_coordinate : limits::max_stiffness;
+        t.check_range(f.name, *v, -most, most, f.unit);
+      } else if (f.default_value)
         values[k] = *f.default_value;
       else if (f.default_is_distance)
         values[k] = norm(m.points.initial_position[b] - m.points.initial_position[a]);
@@ -278,13 +321,22 @@ class SceneReader {
     if (g[0] == g[1]) t.fail("between", "the two groups must differ (self-collision is a stage)");
     ContactParams p;
     p.stiffness = t.real("stiffness", Bound::positive);
+    t.check_range("stiffness", p.stiffness, 0, limits::max_stiffness, "N/m");
     p.damping = t.real("damping", 0, Bound::non_negative);
+    t.check_range("damping", p.damping, 0, limits::max_stiffness, "N.s/m");
     p.threshold = t.real("threshold", Bound::positive);
+    t.check_range("threshold", p.threshold, 0, 2 * limits::max_coordinate, "m");
     p.rest_length = t.real("rest_length", p.threshold, Bound::non_negative);
-    if (std::size_t(g[0]->count) * g[1]->count > kMaxContactLinks)
-      t.fail("between", "too many pairs (" +
-                            std::to_string(std::size_t(g[0]->count) * g[1]->count) + " > " +
-                            std::to_string(kMaxContactLinks) + ")");
+    t.check_range("rest_length", p.rest_length, 0, 2 * limits::max_coordinate, "m");
+    const std::uint64_t pairs = std::uint64_t(g[0]->count) * g[1]->count;
+    const limits::SizeEstimate total{m.points.size(), m.links.total() + pairs,
+                                     m.surface.triangles.size()};
+    const std::string too_big = limits::check_size(total);
+    if (pairs > kMaxContactLinks || !too_big.empty())
+      t.fail("between", "too many pairs: " + std::to_string(g[0]->count) + " x " +
+                            std::to_string(g[1]->count) + " = " + std::to_string(pairs) +
+                            " conditional links (limit " + std::to_string(kMaxContactLinks) + ")" +
+                            (too_big.empty() ? "" : "; " + too_big));
     build_contacts(m, *g[0], *g[1], p);
     t.finish();
   }
@@ -323,8 +375,27 @@ Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegist
 
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
                          const StageRegistry& stages) {
+  // Only a regular file of sane size is read: a directory, /dev/zero or a FIFO would otherwise
+  // be read into memory without end or parsed as nothing.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status))
+    return InputError{path.string(), 0, 0, "",
+                      "cannot open the scene file: " +
+                          (ec ? ec.message() : std::string("no such file or directory"))};
+  if (std::filesystem::is_directory(status))
+    return InputError{path.string(), 0, 0, "", "is a directory, not a scene file"};
+  if (!std::filesystem::is_regular_file(status))
+    return InputError{path.string(), 0, 0, "", "is not a regular file (a device or a pipe?)"};
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > limits::max_scene_file_bytes)
+    return InputError{path.string(), 0, 0, "",
+                      "is " + std::to_string(bytes) + " bytes; scene files are limited to " +
+                          std::to_string(limits::max_scene_file_bytes) + " bytes (64 MiB)"};
   std::ifstream in(path, std::ios::binary);
-  if (!in) return InputError{path.string(), 0, 0, "", "cannot open the scene file"};
+  if (!in)
+    return InputError{path.string(), 0, 0, "",
+                      std::string("cannot open the scene file: ") + std::strerror(errno)};
   std::stringstream text;
   text << in.rdbuf();
   Result<Scene> r = parse_scene(text.str(), path.string(), kinds, stages);

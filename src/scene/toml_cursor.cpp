@@ -1,6 +1,8 @@
 #define TOML_IMPLEMENTATION
 #include "toml_cursor.hpp"
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace maille {
@@ -121,6 +123,11 @@ Vec3 TomlCursor::vec3(std::string_view key) {
     const auto v = (*a)[i].value<double>();
     if (!(*a)[i].is_number() || !v || !std::isfinite(*v))
       fail_at((*a)[i].source(), key, "must be an array of 3 finite numbers [x, y, z]");
+    if (std::abs(*v) > limits::max_coordinate) {  // positions, velocities, directions alike
+      std::ostringstream s;
+      s << "each component must be within +-" << limits::max_coordinate << " (got " << *v << ")";
+      fail_at((*a)[i].source(), key, s.str());
+    }
     out[i] = static_cast<Real>(*v);
   }
   return {out[0], out[1], out[2]};
@@ -131,20 +138,36 @@ Vec3 TomlCursor::vec3(std::string_view key, Vec3 fallback) {
 }
 
 std::vector<std::int64_t> TomlCursor::integers(std::string_view key,
-                                               std::vector<std::int64_t> fallback,
-                                               std::int64_t min) {
+                                               std::vector<std::int64_t> fallback, std::int64_t min,
+                                               std::int64_t max) {
   const toml::node* n = node(key);
   if (!n) return fallback;
   const toml::array* a = n->as_array();
   std::ostringstream want;
-  want << "must be an array of " << fallback.size() << " integers >= " << min;
+  want << "must be an array of " << fallback.size() << " integers in [" << min << ", " << max
+       << "]";
   if (!a || a->size() != fallback.size()) fail(key, want.str());
   std::vector<std::int64_t> out;
   for (const auto& e : *a) {
-    if (!e.is_integer() || *e.value<std::int64_t>() < min) fail_at(e.source(), key, want.str());
-    out.push_back(*e.value<std::int64_t>());
+    if (!e.is_integer()) fail_at(e.source(), key, want.str());
+    const std::int64_t v = *e.value<std::int64_t>();
+    if (v < min || v > max)
+      fail_at(e.source(), key, want.str() + " (got " + std::to_string(v) + ")");
+    out.push_back(v);
   }
   return out;
+}
+
+void TomlCursor::check_range(std::string_view key, Real value, Real lo, Real hi,
+                             std::string_view unit) const {
+  if (value >= lo && value <= hi) return;
+  std::ostringstream s;
+  if (hi == std::numeric_limits<Real>::max())
+    s << "must be >= " << lo;
+  else
+    s << "must be in [" << lo << ", " << hi << "]";
+  s << (unit.empty() ? "" : " ") << unit << " (got " << value << ")";
+  fail(key, s.str());
 }
 
 std::optional<TomlCursor> TomlCursor::table(std::string_view key) {

@@ -13,6 +13,7 @@
 #define TOML_HEADER_ONLY 0
 #include <toml++/toml.h>
 
+#include "maille/limits.hpp"
 #include "maille/link_kind.hpp"
 #include "maille/result.hpp"
 #include "maille/scene_table.hpp"
@@ -50,9 +51,11 @@ class TomlCursor final : public SceneTable {
   Vec3 vec3(std::string_view key, Vec3 fallback) override;
   std::vector<std::string> texts(std::string_view key,
                                  std::vector<std::string> fallback) override;
-  // An array of `n` integers >= min (resolutions).
+  // An array of `n` integers in [min, max] (resolutions).
   std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback,
-                                     std::int64_t min);
+                                     std::int64_t min, std::int64_t max);
+  // Fails at `key` unless lo <= value <= hi: "must be in [lo, hi] UNIT (got value)".
+  void check_range(std::string_view key, Real value, Real lo, Real hi, std::string_view unit) const;
   // The raw node (marked as read); null when absent.
   const toml::node* node(std::string_view key);
   std::optional<TomlCursor> table(std::string_view key);

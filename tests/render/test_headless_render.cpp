@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "maille/links/conditional.hpp"
 #include "maille/links/damper.hpp"
 #include "maille/links/spring_damper.hpp"
 #include "maille/render/headless.hpp"
+#include "maille/render/image.hpp"
 #include "maille/render/renderer.hpp"
 #include "maille/render/snapshot_exchange.hpp"
 #include "maille/scene.hpp"
@@ -219,6 +222,34 @@ TEST(RenderTopology, RestLengthsContactsAndPointStyles) {
   std::vector<std::uint32_t> active;
   active_contacts(t, m.points.initial_position, active);  // |ac| = sqrt(5) < 3
   EXPECT_EQ(active, (std::vector<std::uint32_t>{a, c}));
+}
+
+// A full disk (/dev/full behind the temporary's name): an error naming the cause, no
+// temporary left, and the PNG already there kept (stb's own writer ignored fwrite errors).
+TEST(WritePng, FullDiskIsAnErrorAndKeepsThePreviousFile) {
+  const auto dir = std::filesystem::temp_directory_path() / "maille_test_png_full";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "still.png";
+  { std::ofstream(file) << "previous"; }
+  std::filesystem::create_symlink("/dev/full", dir / "still.png.tmp");
+  Image image;
+  image.width = 64;
+  image.height = 48;
+  image.rgb.assign(64 * 48 * 3, 200);
+  try {
+    write_png(image, file);
+    FAIL() << "write_png succeeded on a full disk";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+  std::ifstream in(file);
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "previous");
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::symlink_status(dir / "still.png.tmp")));
+  write_png(image, dir / "ok.png");  // and a good write still works
+  EXPECT_GT(std::filesystem::file_size(dir / "ok.png"), 8u);
 }
 
 TEST(RenderCamera, ProjectAndRayAgree) {
