@@ -100,11 +100,6 @@ class SelfCollision {
   std::size_t particles() const { return set_.size(); }
   std::size_t exclusion_bytes() const { return exclusion_ ? exclusion_->bytes() : 0; }
   const std::vector<SelfCollisionEngine::TuneRecord>& tuning() const { return tuning_; }
-  double tuned_cell() const { return tuned_cell_; }
-  void restore_tuning(double cell, double diag, double density) {
-    tuned_cell_ = cell, tuned_diag_ = diag, tuned_density_ = density;
-  }
-  std::array<double, 3> tuning_memory() const { return {tuned_cell_, tuned_diag_, tuned_density_}; }
 
   void set_broad_phase(BroadPhase b) { s_.broad_phase = b; }
   void set_cell_size(Real c) {
@@ -314,8 +309,10 @@ void SelfCollisionEngine::set_cell_size(Real c) { impl_->set_cell_size(c); }
 
 namespace {
 
-// The stage: counters into the profile; the tuner's choice kept in the State's stage memory, so
-// a checkpoint resumes with it.
+// The stage: counters into the profile. The tuner's choice stays in the stage, not in the
+// State: it is a performance cache that changes no result (every cell size yields the same
+// pairs, summed in the same order), so a copied or resumed State re-tunes and still continues
+// bit-identically.
 class SelfCollisionStage final : public Stage {
  public:
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s) : settings_(s), engine_(m, s) {}
@@ -324,12 +321,8 @@ class SelfCollisionStage final : public Stage {
   void model_changed(const Model& m) override { engine_ = SelfCollision(m, settings_); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
-    auto& memory = s.memory("self_collision");
-    if (memory.size() == 3 && engine_.tuned_cell() == 0)
-      engine_.restore_tuning(memory[0], memory[1], memory[2]);
-    const SelfCollisionStats st = engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
-    const auto t = engine_.tuning_memory();
-    memory.assign(t.begin(), t.end());
+    const SelfCollisionStats st =
+        engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0) {
