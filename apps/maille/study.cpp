@@ -260,8 +260,8 @@ void crossover(std::ostream& out, bool quick) {
 }  // namespace
 
 int study(const StudyOptions& o) {
-  if (o.topic != "integrators") {
-    std::cerr << "unknown study '" << o.topic << "' (known: integrators)\n";
+  if (o.topic != "integrators" && o.topic != "self-collision") {
+    std::cerr << "unknown study '" << o.topic << "' (known: integrators, self-collision)\n";
     return 2;
   }
   // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
@@ -274,6 +274,12 @@ int study(const StudyOptions& o) {
       body(f.stream());
       f.commit();
     };
+    if (o.topic == "self-collision") {
+      study_self_collision(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
+        write(name, body);
+      });
+      return 0;
+    }
     std::printf("maille study integrators -> %s\n", o.out.string().c_str());
     write("stability.csv", [](std::ostream& f) { stability(f); });
     write("accuracy.csv", [](std::ostream& f) { accuracy(f); });

@@ -1,7 +1,10 @@
-// `maille study integrators`: see study.cpp for the files it writes.
+// `maille study integrators | self-collision`: see study.cpp and study_self_collision.cpp for
+// the files they write.
 #pragma once
 
 #include <filesystem>
+#include <functional>
+#include <ostream>
 #include <string>
 
 namespace maille::app {
@@ -13,5 +16,9 @@ struct StudyOptions {
   bool quick = false;  // two stiffnesses instead of five in the crossover sweep
 };
 int study(const StudyOptions& o);
+
+// Writes one CSV file of the study (whole or not at all).
+using StudyWriter = std::function<void(const char*, const std::function<void(std::ostream&)>&)>;
+void study_self_collision(const StudyOptions& o, const StudyWriter& write);
 
 }  // namespace maille::app

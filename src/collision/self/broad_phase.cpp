@@ -66,7 +66,7 @@ Real UniformGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thr
   const std::uint32_t n = q.n;
   const Box box = bounds(q.x, n);
   const Vec3 ext = box.hi - box.lo;
-  const double budget = std::max(8.0 * n, double(1 << 20));
+  const double budget = std::max(8.0 * n, 4096.0);
   auto count = [&](Real cs) {
     return (std::floor(double(ext.x / cs)) + 1) * (std::floor(double(ext.y / cs)) + 1) *
            (std::floor(double(ext.z / cs)) + 1);

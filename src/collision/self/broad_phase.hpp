@@ -58,7 +58,7 @@ Box bounds(const Vec3* x, std::uint32_t n);
 class UniformGrid {
  public:
   // Returns the cell size used: c, or larger when the box would need more than the cell budget
-  // (max(8 n, 2^20) cells), so memory stays O(n).
+  // (max(8 n, 4096) cells), so memory stays O(n).
   Real find(const Query& q, Real c, std::vector<Sink>& sinks, int threads);
   std::uint64_t occupied() const { return occupied_.size(); }
 

@@ -1,0 +1,219 @@
+// `maille study self-collision`: the broad phases against brute force, the cell size against
+// the tuner, and the two topological exclusions, on the crumpled cloth of builders.hpp; and the
+// cost of self-collision in a whole scene (a 128^2 flag in gusty wind). CSV files:
+//
+//   scaling.csv    ns per particle per pass against particle count, per broad phase and
+//                  thread count (brute force up to 64k particles)
+//   cell_size.csv  fixed cell sizes (multiples of the radius): measured time beside the P n^2
+//                  model; the tuner's choice marked
+//   exclusion.csv  none / matrix / signature: pairs tested, excluded, cells skipped, memory, time
+//   memory.csv     exclusion memory at 64k and 1M particles against a dense bit matrix
+//   flag_wind.csv  a 128^2 flag in gusty wind, ns per particle-step without and with
+//                  self-collision
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ostream>
+#include <vector>
+
+#include "maille/builders.hpp"
+#include "maille/self_collision.hpp"
+#include "maille/simulator.hpp"
+#include "study.hpp"
+
+namespace maille::app {
+
+namespace {
+
+struct Cloth {
+  Model model;
+  std::vector<Vec3> x, v, f;
+  Real spacing = 0;
+};
+
+Cloth crumpled(std::uint32_t n) {
+  Cloth c;
+  CrumpledClothParams p;
+  p.n = n;
+  build_crumpled_cloth(c.model, p, "cloth");
+  c.model.prepare();
+  c.x.assign(c.model.points.initial_position.begin(), c.model.points.initial_position.end());
+  c.v.assign(c.x.size(), Vec3{});
+  c.f.assign(c.x.size(), Vec3{});
+  c.spacing = p.size / Real(n - 1);
+  return c;
+}
+
+// Median wall time of `repeat` passes, after one warm-up pass (buffers sized, cell tuned).
+double median_ns(SelfCollisionEngine& e, Cloth& c, int threads, int repeat,
+                 SelfCollisionStats* last = nullptr) {
+  SelfCollisionStats st = e.apply(c.x.data(), c.v.data(), c.f.data(), threads);
+  std::vector<double> t;
+  for (int r = 0; r < repeat; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    st = e.apply(c.x.data(), c.v.data(), c.f.data(), threads);
+    t.push_back(double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count()));
+  }
+  std::sort(t.begin(), t.end());
+  if (last) *last = st;
+  return t[t.size() / 2];
+}
+
+void scaling(std::ostream& out, bool quick, int threads) {
+  out << "side,particles,broad_phase,threads,ns_per_particle_pass,candidate_pairs,contacts,"
+         "occupied_cells,cell_size_m\n";
+  const std::vector<std::uint32_t> sides =
+      quick ? std::vector<std::uint32_t>{32, 64, 128} : std::vector<std::uint32_t>{64, 128, 256, 512};
+  for (std::uint32_t n : sides) {
+    Cloth c = crumpled(n);
+    for (BroadPhase b : {BroadPhase::brute, BroadPhase::uniform, BroadPhase::hashed,
+                         BroadPhase::hierarchical}) {
+      if (b == BroadPhase::brute && n > (quick ? 64u : 256u)) continue;
+      for (int t : {1, threads}) {
+        if (t == threads && threads == 1 && t != 1) continue;
+        SelfCollisionSettings s;
+        s.radius = c.spacing;
+        s.broad_phase = b;
+        SelfCollisionEngine e(c.model, s);
+        SelfCollisionStats st;
+        const int repeat = b == BroadPhase::brute ? 1 : 5;
+        const double ns = median_ns(e, c, t, repeat, &st);
+        std::fprintf(stderr, "  %-12s %4u^2 %d thread(s): %.0f ns per particle\n",
+                     std::string(to_string(b)).c_str(), n, t, ns / double(n * n));
+        out << n << ',' << n * n << ',' << to_string(b) << ',' << t << ','
+            << ns / double(n * n) << ',' << st.candidate_pairs << ',' << st.contacts << ','
+            << st.occupied_cells << ',' << st.cell_size << '\n';
+        if (threads == 1) break;
+      }
+    }
+  }
+}
+
+void cell_size(std::ostream& out, bool quick) {
+  out << "broad_phase,side,cell_factor,cell_size_m,occupied_cells,particles_per_cell,"
+         "model_P_n2,measured_ns,tuner_choice\n";
+  const std::uint32_t n = quick ? 96 : 256;
+  Cloth c = crumpled(n);
+  for (BroadPhase b : {BroadPhase::uniform, BroadPhase::hashed}) {
+    SelfCollisionSettings s;
+    s.radius = c.spacing;
+    s.broad_phase = b;
+    SelfCollisionEngine tuned(c.model, s);
+    const double auto_ns = median_ns(tuned, c, 1, 7);
+    SelfCollisionStats st;
+    median_ns(tuned, c, 1, 1, &st);
+    double best = 1e300, best_factor = 0;
+    for (double factor : {1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0}) {
+      s.cell_size = Real(factor) * c.spacing;
+      SelfCollisionEngine e(c.model, s);
+      SelfCollisionStats fixed;
+      const double ns = median_ns(e, c, 1, 7, &fixed);
+      const double per_cell = double(n * n) / std::max<double>(double(fixed.occupied_cells), 1);
+      out << to_string(b) << ',' << n << ',' << factor << ',' << fixed.cell_size << ','
+          << fixed.occupied_cells << ',' << per_cell << ','
+          << double(fixed.occupied_cells) * per_cell * per_cell << ',' << ns << ",0\n";
+      if (ns < best) best = ns, best_factor = factor;
+    }
+    const double per_cell = double(n * n) / std::max<double>(double(st.occupied_cells), 1);
+    out << to_string(b) << ',' << n << ',' << st.cell_size / c.spacing << ',' << st.cell_size
+        << ',' << st.occupied_cells << ',' << per_cell << ','
+        << double(st.occupied_cells) * per_cell * per_cell << ',' << auto_ns << ",1\n";
+    std::fprintf(stderr, "  %-8s auto %.3g m: %.3g ms; best fixed (%.2g r): %.3g ms (auto/best %.2f)\n",
+                 std::string(to_string(b)).c_str(), st.cell_size, auto_ns * 1e-6, best_factor,
+                 best * 1e-6, auto_ns / best);
+  }
+}
+
+void exclusion(std::ostream& out, bool quick) {
+  out << "exclusion,side,particles,candidate_pairs,excluded_pairs,skipped_cells,contacts,"
+         "exclusion_bytes,ns_per_particle_pass\n";
+  const std::uint32_t n = quick ? 96 : 256;
+  Cloth c = crumpled(n);
+  for (Exclusion x : {Exclusion::none, Exclusion::matrix, Exclusion::signature}) {
+    SelfCollisionSettings s;
+    s.radius = c.spacing;
+    s.exclusion = x;
+    SelfCollisionEngine e(c.model, s);
+    SelfCollisionStats st;
+    const double ns = median_ns(e, c, 1, 7, &st);
+    out << to_string(x) << ',' << n << ',' << n * n << ',' << st.candidate_pairs << ','
+        << st.excluded << ',' << st.skipped_cells << ',' << st.contacts << ','
+        << e.exclusion_bytes() << ',' << ns / double(n * n) << '\n';
+  }
+}
+
+void memory(std::ostream& out, bool quick) {
+  out << "particles,exclusion,bytes,bytes_per_particle,dense_bit_matrix_bytes\n";
+  for (std::uint32_t n : quick ? std::vector<std::uint32_t>{64, 128}
+                               : std::vector<std::uint32_t>{256, 1024}) {
+    Model m;
+    CrumpledClothParams p;
+    p.n = n;
+    build_crumpled_cloth(m, p, "cloth");
+    m.prepare();
+    for (Exclusion x : {Exclusion::matrix, Exclusion::signature}) {
+      SelfCollisionSettings s;
+      s.radius = p.size / Real(n - 1);
+      s.exclusion = x;
+      SelfCollisionEngine e(m, s);
+      const double count = double(n) * n;
+      out << n * n << ',' << to_string(x) << ',' << e.exclusion_bytes() << ','
+          << double(e.exclusion_bytes()) / count << ',' << count * count / 8 << '\n';
+    }
+  }
+}
+
+void flag_wind(std::ostream& out, bool quick) {
+  out << "scene,particles,self_collision,steps,ns_per_particle_step\n";
+  const std::uint32_t n = 128;
+  for (bool on : {false, true}) {
+    Model m;
+    FlagParams p;
+    p.nx = p.ny = n;
+    p.width = 1.5;
+    p.height = 1;
+    p.mass = 0.3;
+    p.material = {300, 0.02};
+    p.shear_stiffness = 100;
+    p.bending_stiffness = 10;
+    build_flag(m, p, "flag");
+    m.fields.wind.velocity = {7, 0, 1.5};
+    m.fields.wind.turbulence = Real(0.35);
+    m.fields.air_drag = Real(0.05);
+    if (on) {
+      SelfCollisionSettings s;
+      s.radius = Real(1.5 / 127);
+      m.stages.push_back({"self_collision", Phase::forces,
+                          [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+    }
+    SimulationSettings st;
+    st.step = 5e-5;
+    st.threads = 1;
+    st.publish_every = 1 << 30;
+    st.sample_every = 1 << 30;
+    Simulator sim(std::move(m), st);
+    const std::uint64_t steps = quick ? 100 : 1000;
+    sim.run_steps(20);  // warm-up
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.run_steps(steps);
+    const double ns = double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count());
+    const double pps = ns / double(steps) / double(n * n);
+    std::fprintf(stderr, "  flag 128^2 in wind, self-collision %s: %.0f ns per particle-step\n",
+                 on ? "on " : "off", pps);
+    out << "flag_128_wind," << n * n << ',' << (on ? "on" : "off") << ',' << steps << ',' << pps
+        << '\n';
+  }
+}
+
+}  // namespace
+
+void study_self_collision(const StudyOptions& o, const StudyWriter& write) {
+  std::printf("maille study self-collision -> %s\n", o.out.string().c_str());
+  write("scaling.csv", [&](std::ostream& f) { scaling(f, o.quick, o.threads); });
+  write("cell_size.csv", [&](std::ostream& f) { cell_size(f, o.quick); });
+  write("exclusion.csv", [&](std::ostream& f) { exclusion(f, o.quick); });
+  write("memory.csv", [&](std::ostream& f) { memory(f, o.quick); });
+  write("flag_wind.csv", [&](std::ostream& f) { flag_wind(f, o.quick); });
+}
+
+}  // namespace maille::app
