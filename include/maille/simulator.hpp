@@ -137,6 +137,7 @@ class Simulator : private ForceEvaluator {
   void install_model_stages();
   void add_installed(std::unique_ptr<Stage> stage, bool from_model);
   void check_stage(const Stage& stage) const;
+  void restimate_stability();
   void model_structure_changed();
   StageContext context(const State& s) const;
   void sample_energies();

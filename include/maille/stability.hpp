@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "maille/integrator.hpp"
@@ -20,6 +21,9 @@ struct StabilityEstimate {
 // For each free point i: omega_i^2 = inv_m_i * sum_links k (x2 when the other end is free),
 // c_i likewise with damping; the step limit is the integrator's stable_step(omega_i^2, c_i),
 // minimised over points. Exact for a single mass on a spring and for two free masses.
-StabilityEstimate estimate_stability(const Model& m, const Integrator& scheme);
+// Stages that act like springs add their terms (Stage::stability_terms) and are named when they
+// set the limit.
+StabilityEstimate estimate_stability(const Model& m, const Integrator& scheme,
+                                     std::span<const Stage* const> stages = {});
 
 }  // namespace maille

@@ -19,8 +19,11 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
+
+#include "maille/vec3.hpp"
 
 namespace maille {
 
@@ -56,6 +59,10 @@ class Stage {
   // Called after the model's structure changed (Simulator::edit_model) or after a reset:
   // drop anything sized or derived from the old model.
   virtual void model_changed(const Model&) {}
+  // Stages that act like springs (contacts) add, per point, the stiffness and damping a point
+  // may see through them at once (N/m, N.s/m), for the stability estimate (stability.hpp).
+  virtual void stability_terms(std::span<const Real> /*inv_mass*/, std::span<Real> /*k_row*/,
+                               std::span<Real> /*c_row*/) const {}
 };
 
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator

@@ -97,7 +97,14 @@ void Simulator::build_integrator(const std::string& name) {
                                 "explicit_euler)");
   integrator_ = std::move(scheme);
   settings_.integrator = name;
-  stability_ = estimate_stability(model_, *integrator_);
+  restimate_stability();
+}
+
+void Simulator::restimate_stability() {
+  std::vector<const Stage*> stages;
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (const auto& st : *list) stages.push_back(st.stage.get());
+  stability_ = estimate_stability(model_, *integrator_, stages);
 }
 
 void Simulator::install_model_stages() {
@@ -149,6 +156,7 @@ void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model) {
                : stage->phase() == Phase::response ? response_stages_
                                                    : after_stages_;
   list.push_back({std::move(stage), id, from_model});
+  restimate_stability();
 }
 
 void Simulator::on_publish(SnapshotListener listener) {
@@ -162,7 +170,7 @@ void Simulator::on_sample(std::function<void(const EnergySample&, const Profile&
 void Simulator::set_step(double h) {
   if (!(h > 0)) throw std::invalid_argument("step must be > 0");
   settings_.step = h;  // leapfrog re-centres by itself: its kick spans (h_old + h_new) / 2
-  stability_ = estimate_stability(model_, *integrator_);
+  restimate_stability();
 }
 
 // The old scheme's velocities are synchronised to the time of x (its forces at x first), and

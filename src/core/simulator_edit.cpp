@@ -33,7 +33,7 @@ void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
     model_structure_changed();
     return;
   }
-  stability_ = estimate_stability(model_, *integrator_);
+  restimate_stability();
 }
 
 // The edit is made on a copy: when the result is a model the scheme or a stage refuses, the

@@ -98,6 +98,7 @@ class SelfCollision {
 
   const SelfCollisionSettings& settings() const { return s_; }
   std::size_t particles() const { return set_.size(); }
+  const std::vector<std::uint32_t>& set() const { return set_; }
   std::size_t exclusion_bytes() const { return exclusion_ ? exclusion_->bytes() : 0; }
   const std::vector<SelfCollisionEngine::TuneRecord>& tuning() const { return tuning_; }
 
@@ -319,6 +320,17 @@ class SelfCollisionStage final : public Stage {
   std::string name() const override { return "self_collision"; }
   Phase phase() const override { return Phase::forces; }
   void model_changed(const Model& m) override { engine_ = SelfCollision(m, settings_); }
+
+  // Like conditional links: at most 4 contacts at once per particle (a particle in the hollow
+  // of a layer below), each against another free particle (counted twice: Gershgorin).
+  void stability_terms(std::span<const Real>, std::span<Real> k_row,
+                       std::span<Real> c_row) const override {
+    const auto& s = engine_.settings();
+    for (std::uint32_t p : engine_.set()) {
+      k_row[p] += 4 * 2 * s.stiffness;
+      c_row[p] += 4 * 2 * s.damping;
+    }
+  }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
     const SelfCollisionStats st =
