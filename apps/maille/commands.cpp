@@ -398,6 +398,15 @@ int render(const RenderCommandOptions& o) {
   if (!scene) return bad_input;
   if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
   render::MovieSettings m;
+  for (const auto& text : o.stage_options) {
+    const auto dot = text.find('.'), eq = text.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
+      std::cerr << "--stage-option: expected STAGE.OPTION=VALUE, got '" << text << "'\n";
+      return usage;
+    }
+    m.stage_options.push_back(
+        {text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), text.substr(eq + 1)});
+  }
   m.width = o.width;
   m.height = o.height;
   m.fps = o.fps;

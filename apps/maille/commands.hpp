@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace maille::app {
 
@@ -56,6 +57,7 @@ struct RenderCommandOptions {
   bool mesh = false;               // draw the links inside cloth surfaces too
   std::optional<int> threads;
   bool no_self_collision = false;
+  std::vector<std::string> stage_options;  // "STAGE.OPTION=VALUE", e.g. self_collision.draw_cells=on
 };
 int render(const RenderCommandOptions& o);
 

@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--mesh", rn.mesh, "Also draw the links inside cloth surfaces");
   render_cmd->add_flag("--no-self-collision", rn.no_self_collision,
                        "Ignore the scene's [self_collision] table");
+  render_cmd->add_option("--stage-option", rn.stage_options,
+                         "STAGE.OPTION=VALUE, repeatable: a stage's live setting, e.g. "
+                         "self_collision.draw_cells=on, self_collision.draw_contacts=on");
   render_cmd->add_option("--threads", rn.threads, "Simulation threads (default: the scene's)")
       ->check(kThreads);
 #endif

@@ -103,6 +103,23 @@ void link_controls(const Scene& scene, PhysicsThread& physics, Tuning& t) {
   }
 }
 
+// Every plugged-in stage's live settings, as combo boxes (self-collision: on/off, broad phase,
+// exclusion, contacts and cells drawn): no stage-specific code here.
+void stage_controls(PhysicsThread& physics, const PhysicsStatus& st) {
+  for (const auto& stage : st.stage_options) {
+    ImGui::TextUnformatted(stage.stage.c_str());
+    for (const auto& o : stage.options) {
+      const std::string id = o.name + "##" + stage.stage;
+      if (ImGui::BeginCombo(id.c_str(), o.value.c_str())) {
+        for (const auto& c : o.choices)
+          if (ImGui::Selectable(c.c_str(), c == o.value) && c != o.value)
+            physics.set_stage_option(stage.stage, o.name, c);
+        ImGui::EndCombo();
+      }
+    }
+  }
+}
+
 void drawing_controls(render::RenderOptions& o, Tuning& t, PanelRequests& r) {
   ImGui::Checkbox("surfaces", &o.surface);
   ImGui::SameLine();
@@ -218,6 +235,9 @@ PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tu
     field_controls(physics, tuning);
   if (ImGui::CollapsingHeader("Links", ImGuiTreeNodeFlags_DefaultOpen))
     link_controls(scene, physics, tuning);
+  if (!st.stage_options.empty() &&
+      ImGui::CollapsingHeader("Stages", ImGuiTreeNodeFlags_DefaultOpen))
+    stage_controls(physics, st);
   if (ImGui::CollapsingHeader("Drawing")) drawing_controls(options, tuning, r);
   ImGui::TextDisabled("left drag: orbit or grab a point; right drag: pan; wheel: zoom");
   ImGui::End();

@@ -47,6 +47,7 @@ std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, Simulation
       std::max(1, static_cast<int>(std::lround(1 / (kSamplesPerSecond * settings.step))));
   auto sim = std::make_unique<Simulator>(std::move(model), std::move(settings));
   sim->add_stage(std::make_unique<DragSpring>(drag_));
+  sim->set_overlays(true);  // stages' contacts and cells reach the window with the snapshots
   // Runs on the physics thread, inside Simulator::publish_now.
   sim->on_publish([this](const Snapshot& s) { out_.publish(s); });
   sim->on_sample([this](const EnergySample& e, const Profile& p) {
@@ -137,6 +138,22 @@ void PhysicsThread::set_fields(const Fields& fields) {
   send([fields](Simulator& sim) { sim.edit_parameters([&](Model& m) { m.fields = fields; }); });
 }
 
+void PhysicsThread::set_stage_option(const std::string& stage, const std::string& option,
+                                     const std::string& value) {
+  send([this, stage, option, value](Simulator& sim) {
+    try {
+      sim.set_stage_option(stage, option, value);
+      sim.publish_now();  // show the change (drawing options) even while paused
+      std::lock_guard lock(mutex_);
+      status_.stage_options = sim.stage_options();
+      status_.notice.clear();
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      status_.notice = e.what();
+    }
+  });
+}
+
 PhysicsStatus PhysicsThread::status() const {
   std::lock_guard lock(mutex_);
   return status_;
@@ -169,7 +186,9 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
   std::vector<CounterValue> counters;
   for (const auto& c : sim.profile().counters()) counters.push_back({c.name, c.last});
 
+  auto stage_options = sim.stage_options();
   std::lock_guard lock(mutex_);
+  status_.stage_options = std::move(stage_options);
   status_.running = running_;
   status_.step = sim.state().step;
   status_.time = sim.state().time;

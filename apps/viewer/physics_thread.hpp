@@ -46,6 +46,7 @@ struct PhysicsStatus {
   std::string notice;  // the last command that could not be applied, and why
   std::vector<StageTime> stages;
   std::vector<CounterValue> counters;
+  std::vector<Simulator::StageOptions> stage_options;  // plugged-in stages' live settings
 };
 
 // One sample of the plots: energies and counters at a simulated time.
@@ -76,6 +77,9 @@ class PhysicsThread {
   // Multiplies parameter `field` of every link of pool `pool` by `factor` (> 0).
   void scale_link_param(std::size_t pool, std::size_t field, Real factor);
   void set_fields(const Fields& fields);
+  // A plugged-in stage's live setting (self-collision on/off, broad phase, drawing...).
+  void set_stage_option(const std::string& stage, const std::string& option,
+                        const std::string& value);
 
   DragState& drag() { return *drag_; }
   PhysicsStatus status() const;

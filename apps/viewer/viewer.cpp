@@ -94,8 +94,10 @@ class Viewer {
 
     bool fresh = false;
     if (const Snapshot* s = exchange_->take(&fresh);
-        s && fresh && s->positions.size() == renderer_.positions().size())
+        s && fresh && s->positions.size() == renderer_.positions().size()) {
       renderer_.set_snapshot(*s);
+      stage_overlay_ = s->overlay;  // contacts, cells: drawn with the drag spring on top
+    }
 
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
@@ -115,7 +117,9 @@ class Viewer {
     if (r.open) open(*r.open);
 
     const auto t0 = Clock::now();
-    renderer_.set_overlay(drag_overlay());
+    std::vector<render::OverlaySegment> overlay = stage_overlay_;
+    for (const auto& seg : drag_overlay()) overlay.push_back(seg);
+    renderer_.set_overlay(overlay);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     renderer_.draw(camera_, width, height, options_render_);
     ImGui::Render();
@@ -246,6 +250,7 @@ class Viewer {
   }
 
   GLFWwindow* window_;
+  std::vector<render::OverlaySegment> stage_overlay_;  // from the last snapshot
   ViewerOptions options_;
   std::vector<std::filesystem::path> examples_;  // the scene picker's list
   render::Renderer renderer_;

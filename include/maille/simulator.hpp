@@ -124,6 +124,17 @@ class Simulator : private ForceEvaluator {
   bool check_energy();
   void publish_now();  // a snapshot of the current state, outside the cadence
 
+  // Stages' live settings, by stage name (the viewer's panel), and their overlays in snapshots.
+  struct StageOptions {
+    std::string stage;
+    std::vector<StageOption> options;
+  };
+  std::vector<StageOptions> stage_options() const;
+  // Throws std::invalid_argument for an unknown stage, option or choice.
+  void set_stage_option(const std::string& stage, const std::string& option,
+                        const std::string& value);
+  void set_overlays(bool on) { overlays_ = on; }
+
  private:
   struct Installed {
     std::unique_ptr<Stage> stage;
@@ -164,6 +175,7 @@ class Simulator : private ForceEvaluator {
   std::vector<Vec3> scratch_velocity_;
   double energy_scale_ = 0;
   int threads_ = 1;
+  bool overlays_ = false;
   struct StageIds;
   std::unique_ptr<StageIds> ids_;
 };

@@ -20,9 +20,12 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "maille/snapshot.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -50,6 +53,14 @@ struct StageContext {
   Profile* profile = nullptr;  // counters and gauges (stage time is measured by the simulator)
 };
 
+// A setting of a stage that tools can switch live (the viewer lists them): a name, its choices
+// ("off"/"on" for switches) and the current one.
+struct StageOption {
+  std::string name;
+  std::vector<std::string> choices;
+  std::string value;
+};
+
 class Stage {
  public:
   virtual ~Stage() = default;
@@ -63,6 +74,14 @@ class Stage {
   // may see through them at once (N/m, N.s/m), for the stability estimate (stability.hpp).
   virtual void stability_terms(std::span<const Real> /*inv_mass*/, std::span<Real> /*k_row*/,
                                std::span<Real> /*c_row*/) const {}
+  // Live settings (between steps). set_option throws std::invalid_argument for an unknown name
+  // or choice.
+  virtual std::vector<StageOption> options() const { return {}; }
+  virtual void set_option(const std::string& name, const std::string& /*value*/) {
+    throw std::invalid_argument("stage '" + this->name() + "' has no option '" + name + "'");
+  }
+  // Segments to draw over the scene at the state of the last step (contacts, cells...).
+  virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
 };
 
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator

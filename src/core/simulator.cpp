@@ -348,12 +348,35 @@ void Simulator::publish() {
   snapshot_.step = state_.step;
   snapshot_.time = state_.time;
   snapshot_.positions.assign(x.begin(), x.end());
+  snapshot_.overlay.clear();
+  if (overlays_)
+    for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+      for (const auto& st : *list) st.stage->overlay(model_, state_, snapshot_.overlay);
   for (const auto& l : publish_listeners_) l(snapshot_);
   ++snapshot_.frame;
 }
 
 void Simulator::publish_now() {
   publish();
+}
+
+std::vector<Simulator::StageOptions> Simulator::stage_options() const {
+  std::vector<StageOptions> out;
+  for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (const auto& st : *list)
+      if (auto o = st.stage->options(); !o.empty()) out.push_back({st.stage->name(), std::move(o)});
+  return out;
+}
+
+void Simulator::set_stage_option(const std::string& stage, const std::string& option,
+                                 const std::string& value) {
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (auto& st : *list)
+      if (st.stage->name() == stage) {
+        st.stage->set_option(option, value);
+        return;
+      }
+  throw std::invalid_argument("no stage named '" + stage + "'");
 }
 
 }  // namespace maille

@@ -35,8 +35,14 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
   renderer.set_model(scene.model);
 
   Simulator sim(scene.model, settings);
+  for (const auto& [stage, option, value] : s.stage_options)
+    sim.set_stage_option(stage, option, value);  // std::invalid_argument names what is unknown
+  sim.set_overlays(!s.stage_options.empty());
   // The only path from the physics to the renderer: a published snapshot.
-  sim.on_publish([&](const Snapshot& snapshot) { renderer.set_snapshot(snapshot); });
+  sim.on_publish([&](const Snapshot& snapshot) {
+    renderer.set_snapshot(snapshot);
+    renderer.set_overlay(snapshot.overlay);
+  });
 
   const double aspect = double(s.width) / s.height;
   Camera framed;

@@ -5,10 +5,12 @@
 // surfaceless context, and the pixels go to a FrameSink. The renderer sees only the snapshots.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "maille/render/frame_sink.hpp"
 #include "maille/render/renderer.hpp"
@@ -26,6 +28,9 @@ struct MovieSettings {
   bool last_frame_only = false;    // simulate the whole duration, render its last frame only
   int threads = 0;                 // simulation threads; 0: the scene's setting
   RenderOptions options;
+  // Stages' live settings applied before the first frame (stage, option, value), e.g.
+  // {"self_collision", "draw_cells", "on"}; stages' overlays are then drawn.
+  std::vector<std::array<std::string, 3>> stage_options;
 };
 
 struct MovieReport {

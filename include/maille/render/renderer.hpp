@@ -40,11 +40,8 @@ struct RenderOptions {
   float point_scale = 1.0f;       // times the topology's point radius, > 0
 };
 
-// A segment drawn on top of everything (overlays): ends in metres, colour as RGB in [0, 1].
-struct OverlaySegment {
-  Vec3 a, b;
-  std::array<float, 3> colour{1, 1, 0};
-};
+// A segment drawn on top of everything (overlays): see snapshot.hpp.
+using OverlaySegment = maille::OverlaySegment;
 
 class Renderer {
  public:

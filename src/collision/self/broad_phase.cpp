@@ -368,6 +368,13 @@ std::uint32_t Octree::build(std::uint32_t idx, std::uint32_t begin, std::uint32_
   return idx;
 }
 
+std::vector<Box> Octree::leaf_boxes() const {
+  std::vector<Box> out;
+  for (const Node& n : nodes_)
+    if (n.children == 0 && n.end > n.begin) out.push_back(n.box);
+  return out;
+}
+
 bool Octree::far(const Node& a, const Node& b, Real r) const {
   const Real dx = std::max<Real>({0, a.box.lo.x - b.box.hi.x, b.box.lo.x - a.box.hi.x});
   const Real dy = std::max<Real>({0, a.box.lo.y - b.box.hi.y, b.box.lo.y - a.box.hi.y});

@@ -84,6 +84,8 @@ class Octree {
  public:
   void find(const Query& q, std::vector<Sink>& sinks, int threads);
   std::uint64_t occupied() const { return leaves_; }
+  // The leaves' boxes after the last find (for drawing).
+  std::vector<Box> leaf_boxes() const;
 
  private:
   struct Node {

@@ -103,6 +103,35 @@ class SelfCollision {
   const std::vector<SelfCollisionEngine::TuneRecord>& tuning() const { return tuning_; }
 
   void set_broad_phase(BroadPhase b) { s_.broad_phase = b; }
+
+  // For drawing: the close pairs of the last pass (global ids, a < b) and the boxes of the
+  // cells in use (grid cells around the particles, or the octree's leaves).
+  template <class F>
+  void for_each_contact(F&& f) const {
+    for (std::uint32_t a = 0; a + 1 < start_.size(); ++a)
+      for (std::uint32_t k = start_[a]; k < start_[a + 1]; ++k)
+        if (partners_[k] > a) f(set_[a], set_[partners_[k]]);
+  }
+  std::vector<collision::Box> cell_boxes(const Vec3* x, double cell) const {
+    if (s_.broad_phase == BroadPhase::hierarchical) return octree_.leaf_boxes();
+    std::vector<collision::Box> out;
+    if (s_.broad_phase == BroadPhase::brute || cell <= 0) return out;
+    std::vector<Vec3> xs(set_.size());
+    for (std::size_t k = 0; k < set_.size(); ++k) xs[k] = x[set_[k]];
+    const collision::Box box = collision::bounds(xs.data(), std::uint32_t(xs.size()));
+    std::vector<std::array<std::int64_t, 3>> cells;
+    for (const Vec3& p : xs) {
+      const Vec3 q = (p - box.lo) / Real(cell);
+      cells.push_back({std::int64_t(q.x), std::int64_t(q.y), std::int64_t(q.z)});
+    }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    for (const auto& c : cells) {
+      const Vec3 lo = box.lo + Vec3{Real(c[0]), Real(c[1]), Real(c[2])} * Real(cell);
+      out.push_back({lo, lo + Vec3{Real(cell), Real(cell), Real(cell)}});
+    }
+    return out;
+  }
   void set_cell_size(Real c) {
     s_.cell_size = c;
     tuned_cell_ = 0;
@@ -319,7 +348,10 @@ class SelfCollisionStage final : public Stage {
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s) : settings_(s), engine_(m, s) {}
   std::string name() const override { return "self_collision"; }
   Phase phase() const override { return Phase::forces; }
-  void model_changed(const Model& m) override { engine_ = SelfCollision(m, settings_); }
+  void model_changed(const Model& m) override {
+    engine_ = SelfCollision(m, settings_);
+    last_cell_ = 0;
+  }
 
   // Like conditional links: at most 4 contacts at once per particle (a particle in the hollow
   // of a layer below), each against another free particle (counted twice: Gershgorin).
@@ -333,8 +365,10 @@ class SelfCollisionStage final : public Stage {
   }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
+    if (!enabled_) return;
     const SelfCollisionStats st =
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
+    last_cell_ = st.cell_size;
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0) {
@@ -350,10 +384,74 @@ class SelfCollisionStage final : public Stage {
     p.set_gauge(ids_[5], st.cell_size);
   }
 
+  std::vector<StageOption> options() const override {
+    const auto& s = engine_.settings();
+    auto on_off = [](bool b) { return std::string(b ? "on" : "off"); };
+    return {{"enabled", {"on", "off"}, on_off(enabled_)},
+            {"broad_phase",
+             {"brute", "uniform", "hashed", "hierarchical"},
+             std::string(to_string(s.broad_phase))},
+            {"exclusion", {"none", "matrix", "signature"}, std::string(to_string(s.exclusion))},
+            {"draw_contacts", {"on", "off"}, on_off(draw_contacts_)},
+            {"draw_cells", {"on", "off"}, on_off(draw_cells_)}};
+  }
+
+  void set_option(const std::string& name, const std::string& value) override {
+    auto choice = [&](std::initializer_list<const char*> choices) {
+      for (const char* c : choices)
+        if (value == c) return;
+      throw std::invalid_argument("self_collision: option " + name + " cannot be '" + value + "'");
+    };
+    if (name == "enabled" || name == "draw_contacts" || name == "draw_cells") {
+      choice({"on", "off"});
+      (name == "enabled" ? enabled_ : name == "draw_contacts" ? draw_contacts_ : draw_cells_) =
+          value == "on";
+    } else if (name == "broad_phase") {
+      choice({"brute", "uniform", "hashed", "hierarchical"});
+      engine_.set_broad_phase(value == "brute"     ? BroadPhase::brute
+                              : value == "uniform" ? BroadPhase::uniform
+                              : value == "hashed"  ? BroadPhase::hashed
+                                                   : BroadPhase::hierarchical);
+      settings_.broad_phase = engine_.settings().broad_phase;
+    } else if (name == "exclusion") {
+      choice({"none", "matrix", "signature"});
+      engine_.set_exclusion(value == "none"     ? Exclusion::none
+                            : value == "matrix" ? Exclusion::matrix
+                                                : Exclusion::signature);
+      settings_.exclusion = engine_.settings().exclusion;
+    } else {
+      Stage::set_option(name, value);
+    }
+  }
+
+  // Contacts in green, cells as grey-blue wire boxes (at most kMaxCells of them).
+  void overlay(const Model&, const State& s, std::vector<OverlaySegment>& out) const override {
+    if (!enabled_) return;
+    const Vec3* x = s.x().data();
+    if (draw_contacts_)
+      engine_.for_each_contact([&](std::uint32_t a, std::uint32_t b) {
+        out.push_back({x[a], x[b], {0.2f, 1.0f, 0.3f}});
+      });
+    if (!draw_cells_) return;
+    constexpr std::size_t kMaxCells = 4000;
+    const auto boxes = engine_.cell_boxes(x, last_cell_);
+    for (std::size_t k = 0; k < boxes.size() && k < kMaxCells; ++k) {
+      const Vec3 lo = boxes[k].lo, hi = boxes[k].hi;
+      auto corner = [&](int i) {
+        return Vec3{i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z};
+      };
+      for (int i = 0; i < 8; ++i)
+        for (int bit : {1, 2, 4})
+          if (!(i & bit)) out.push_back({corner(i), corner(i | bit), {0.45f, 0.6f, 0.85f}});
+    }
+  }
+
  private:
   SelfCollisionSettings settings_;
   SelfCollision engine_;
   std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
+  bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
+  double last_cell_ = 0;
 };
 
 }  // namespace
