@@ -129,3 +129,44 @@ TEST(SelfCollisionPhysics, BitIdenticalAcrossThreadsAndBroadPhases) {
 }
 
 }  // namespace
+
+namespace {
+
+// Live options (the viewer's panel): switching the broad phase mid-run changes nothing in the
+// trajectory; drawing options fill the snapshot's overlay; switching the stage off stops the
+// contacts.
+TEST(SelfCollisionPhysics, LiveOptionsSwitchWithoutChangingTheTrajectory) {
+  const Scene scene = load("cloth_heap");
+  SimulationSettings s = scene.settings;
+  s.threads = 1;
+  Simulator a(scene.model, s), b(scene.model, s);
+  ASSERT_TRUE(a.run_steps(1500));
+  ASSERT_TRUE(b.run_steps(700));
+  b.set_stage_option("self_collision", "broad_phase", "hierarchical");
+  b.set_stage_option("self_collision", "exclusion", "matrix");
+  ASSERT_TRUE(b.run_steps(800));
+  EXPECT_EQ(state_hash(a.state()), state_hash(b.state()));
+  const auto options = b.stage_options();
+  ASSERT_EQ(options.size(), 1u);
+  EXPECT_EQ(options[0].stage, "self_collision");
+  EXPECT_THROW(b.set_stage_option("self_collision", "broad_phase", "quadtree"),
+               std::invalid_argument);
+  EXPECT_THROW(b.set_stage_option("obstacle", "enabled", "on"), std::invalid_argument);
+
+  b.set_overlays(true);
+  b.set_stage_option("self_collision", "draw_contacts", "on");
+  b.set_stage_option("self_collision", "draw_cells", "on");
+  Snapshot last;
+  b.on_publish([&](const Snapshot& snap) { last = snap; });
+  b.publish_now();
+  EXPECT_GT(last.overlay.size(), 12u);  // at least a cell's 12 edges
+
+  b.set_stage_option("self_collision", "enabled", "off");
+  ASSERT_TRUE(b.run_steps(10));
+  for (const auto& c : b.profile().counters())
+    if (c.name == "self_contacts") {
+      EXPECT_EQ(c.last, 0u);
+    }
+}
+
+}  // namespace
