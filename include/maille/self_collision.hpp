@@ -12,6 +12,8 @@
 //                 tests the rest by a stencil of index offsets (grid cloth) or by the matrix
 //   response      per close pair, the conditional spring-damper (rest length s, so the force is
 //                 continuous at s) and optional Coulomb-like friction on the tangential velocity
+//   triangles     optionally, particles also repel from the surface's triangles closer than s
+//                 (not their own neighbourhood): coarse cloth cannot pass between its particles
 //
 // Determinism: each particle sums its contacts in the order of its partners' indices, whatever
 // the broad phase, the cell size or the thread count: trajectories are bit-identical across
@@ -31,6 +33,7 @@ namespace maille {
 
 enum class BroadPhase : std::uint8_t { brute, uniform, hashed, hierarchical };
 enum class Exclusion : std::uint8_t { none, matrix, signature };
+enum class Primitive : std::uint8_t { points, triangles };
 
 struct SelfCollisionSettings {
   std::vector<std::string> groups;  // empty: every group with free points
@@ -42,6 +45,9 @@ struct SelfCollisionSettings {
   Real cell_size = 0;               // m, >= radius; 0: "auto" (measured, see the tuner)
   Exclusion exclusion = Exclusion::signature;
   int topological_radius = 2;       // R, links
+  // points: particle-particle contacts; triangles: also particle-triangle proximity (the
+  // groups' surface faces), so that a coarse cloth cannot pass through itself between particles
+  Primitive primitive = Primitive::points;
 };
 
 std::string_view to_string(BroadPhase b);
@@ -53,6 +59,7 @@ struct SelfCollisionStats {
   std::uint64_t contacts = 0;         // pairs closer than s and not excluded
   std::uint64_t excluded = 0;         // pairs closer than s removed by the exclusion
   std::uint64_t skipped_cells = 0;    // cell pairs skipped whole by signatures
+  std::uint64_t triangle_contacts = 0;  // particle-triangle contacts (primitive = triangles)
   std::uint64_t occupied_cells = 0;
   double cell_size = 0;               // m, the resolution used (0 for brute force)
 };

@@ -38,9 +38,7 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
   s.exclusion = ex == "none" ? Exclusion::none : ex == "matrix" ? Exclusion::matrix : Exclusion::signature;
   s.topological_radius = static_cast<int>(t.integer("topological_radius", 2, 0, 16));
   if (t.text("primitive", "points", {"points", "triangles"}) == "triangles")
-    t.fail("primitive",
-           "primitive = \"triangles\" (point-triangle proximity) is not available yet; use "
-           "\"points\"");
+    s.primitive = Primitive::triangles;
   try {
     SelfCollisionSettings probe = s;  // checks groups, free points and the default radius
     probe.exclusion = Exclusion::none;

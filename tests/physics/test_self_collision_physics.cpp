@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "intersections.hpp"
+#include "maille/builders.hpp"
 #include "maille/scene.hpp"
 #include "maille/self_collision.hpp"
 #include "test_support.hpp"
@@ -167,6 +168,57 @@ TEST(SelfCollisionPhysics, LiveOptionsSwitchWithoutChangingTheTrajectory) {
     if (c.name == "self_contacts") {
       EXPECT_EQ(c.last, 0u);
     }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(SelfCollisionPhysics, FlagInAStormNeverPassesThroughItself) {
+  const Scene scene = load("flag_storm");
+  EXPECT_EQ(worst_intersections(scene, "flag", 15000, true), 0u);
+  EXPECT_GT(worst_intersections(scene, "flag", 15000, false), 0u);  // without it, it does
+}
+
+}  // namespace
+
+namespace {
+
+// A bead dropped on the middle of a coarse cell of a fixed cloth: with particle-particle
+// contacts alone (radius 0.2 of the spacing) it falls through between the particles; with
+// primitive = triangles it rests on the face at the height where the contact spring carries its
+// weight, s - m g / k (damping settles it; leapfrog's static equilibrium is exact).
+TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
+  auto run = [](Primitive primitive, Real bx, Real bz) {
+    Model m;
+    FlagParams p;
+    p.nx = p.ny = 5;
+    p.width = p.height = 0.4;
+    p.up = {0, 0, 1};  // horizontal, in the plane y = 0
+    p.fixed = "none";
+    build_flag(m, p, "cloth");
+    for (std::uint32_t i = 0; i < m.points.size(); ++i) m.points.set_kind(i, PointKind::fixed);
+    const auto bead = m.points.add(PointKind::free, 0.01, {bx, 0.2, bz});
+    m.groups.push_back({"bead", "points", bead, 1});
+    SelfCollisionSettings s;
+    s.groups = {"cloth", "bead"};
+    s.radius = 0.02;
+    s.stiffness = 500;
+    s.damping = 0.5;
+    s.primitive = primitive;
+    m.stages.push_back({"self_collision", Phase::forces,
+                        [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+    Simulator sim(std::move(m), test::settings(1e-4));
+    EXPECT_TRUE(sim.run_steps(30000));
+    return sim.state().x()[bead].y;
+  };
+  EXPECT_LT(run(Primitive::points, 0.15, 0.15), -1.0);  // fell through
+  // On a shared diagonal, inside a face, on a corner shared by six faces: the same height (a
+  // shared edge or corner pushes once).
+  const double rest = 0.02 - 0.01 * 9.81 / 500;
+  EXPECT_NEAR(run(Primitive::triangles, 0.15, 0.15), rest, 1e-6);
+  EXPECT_NEAR(run(Primitive::triangles, 0.17, 0.12), rest, 1e-6);
+  EXPECT_NEAR(run(Primitive::triangles, 0.2, 0.2), rest, 1e-6);
 }
 
 }  // namespace

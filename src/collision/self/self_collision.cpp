@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "broad_phase.hpp"
+#include "triangle_proximity.hpp"
 #include "maille/links/spring_damper.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
@@ -37,8 +38,8 @@ std::string_view to_string(Exclusion e) {
 
 namespace {
 
-// The free points of the named groups (all groups when none is named), sorted.
-std::vector<std::uint32_t> colliding_points(const Model& m, const std::vector<std::string>& groups) {
+// 1 for every point of the named groups (all groups when none is named).
+std::vector<std::uint8_t> group_mask(const Model& m, const std::vector<std::string>& groups) {
   std::vector<std::uint8_t> in(m.points.size(), 0);
   if (groups.empty()) {
     for (const Group& g : m.groups)
@@ -50,6 +51,11 @@ std::vector<std::uint32_t> colliding_points(const Model& m, const std::vector<st
       for (std::uint32_t p = g->first; p < g->first + g->count; ++p) in[p] = 1;
     }
   }
+  return in;
+}
+
+// The free points of the named groups, sorted.
+std::vector<std::uint32_t> colliding_points(const Model& m, const std::vector<std::uint8_t>& in) {
   std::vector<std::uint32_t> set;
   for (std::uint32_t p = 0; p < m.points.size(); ++p)
     if (in[p] && m.points.inv_mass[p] > 0) set.push_back(p);
@@ -86,7 +92,8 @@ constexpr Real kFrictionSpeed = Real(1e-3);  // m/s: below, friction is viscous 
 class SelfCollision {
  public:
   SelfCollision(const Model& m, SelfCollisionSettings s) : s_(std::move(s)) {
-    set_ = colliding_points(m, s_.groups);
+    const std::vector<std::uint8_t> mask = group_mask(m, s_.groups);
+    set_ = colliding_points(m, mask);
     if (set_.empty()) throw std::invalid_argument("self_collision: no free point in the groups");
     if (s_.radius <= 0) s_.radius = default_radius(m, set_);
     if (s_.cell_size != 0 && s_.cell_size < s_.radius)
@@ -94,6 +101,8 @@ class SelfCollision {
     xs_.resize(set_.size());
     model_ = &m;
     rebuild_exclusion();
+    if (s_.primitive == Primitive::triangles)
+      triangles_ = std::make_unique<collision::TriangleProximity>(m, set_, mask);
   }
 
   const SelfCollisionSettings& settings() const { return s_; }
@@ -212,7 +221,12 @@ class SelfCollision {
       }
       f[pa] += sum;
     }
-    return st;
+    if (!triangles_) return st;
+    SelfCollisionStats out = st;
+    out.triangle_contacts = triangles_->apply(
+        x, v, f, {r, k, z, mu}, s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(),
+        threads);
+    return out;
   }
 
  private:
@@ -305,6 +319,7 @@ class SelfCollision {
   collision::UniformGrid uniform_;
   collision::HashedGrid hashed_;
   collision::Octree octree_;
+  std::unique_ptr<collision::TriangleProximity> triangles_;
   std::vector<collision::Sink> sinks_;                 // one per thread
   std::vector<std::uint32_t> start_, cursor_, partners_;  // close partners per particle (CSR)
   std::vector<SelfCollisionEngine::TuneRecord> tuning_;
@@ -374,7 +389,8 @@ class SelfCollisionStage final : public Stage {
     if (ids_[0] < 0) {
       ids_ = {p.counter("self_candidate_pairs"), p.counter("self_contacts"),
               p.counter("self_occupied_cells"), p.counter("self_excluded_pairs"),
-              p.counter("self_skipped_cells"), p.gauge("self_cell_size")};
+              p.counter("self_skipped_cells"), p.gauge("self_cell_size"),
+              p.counter("self_triangle_contacts")};
     }
     p.set_count(ids_[0], st.candidate_pairs);
     p.set_count(ids_[1], st.contacts);
@@ -382,6 +398,7 @@ class SelfCollisionStage final : public Stage {
     p.set_count(ids_[3], st.excluded);
     p.set_count(ids_[4], st.skipped_cells);
     p.set_gauge(ids_[5], st.cell_size);
+    p.set_count(ids_[6], st.triangle_contacts);
   }
 
   std::vector<StageOption> options() const override {
@@ -449,7 +466,7 @@ class SelfCollisionStage final : public Stage {
  private:
   SelfCollisionSettings settings_;
   SelfCollision engine_;
-  std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
+  std::array<int, 7> ids_{-1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
   double last_cell_ = 0;
 };

@@ -1,0 +1,55 @@
+// Point-triangle proximity (primitive = "triangles"): a particle closer than s to a triangle of
+// the colliding surface that is not its own neighbourhood is pushed out along the direction from
+// the closest point of the triangle, and the triangle's corners take the reaction by their
+// barycentric weights. A coarse cloth then cannot pass through itself between its particles:
+// particle-particle contacts alone need a radius of about the cloth's spacing for that.
+//
+// Triangles are binned into a grid of cells (their boxes grown by s); each particle tests the
+// triangles of its cell. Contacts are collected per thread, sorted by (particle, triangle) and
+// applied in that order: deterministic whatever the thread count.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "exclusion.hpp"
+#include "maille/model.hpp"
+
+namespace maille::collision {
+
+struct TriangleResponse {
+  Real radius = 0, stiffness = 0, damping = 0, friction = 0;
+};
+
+class TriangleProximity {
+ public:
+  // `set`: the colliding particles (global ids, sorted); triangles: the model's faces whose
+  // corners all belong to `groups_mask` (1 for points of the colliding groups).
+  TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
+                    const std::vector<std::uint8_t>& groups_mask);
+  // Adds the forces; returns the number of particle-triangle contacts. `exclusion` (may be
+  // null) removes triangles whose free corners are topological neighbours of the particle.
+  std::uint64_t apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
+                      const TopologicalExclusion* exclusion, int threads);
+  std::size_t triangles() const { return tris_.size(); }
+
+ private:
+  struct Contact {
+    std::uint32_t particle, triangle;
+    // The feature touched: a face (kind 2: the triangle), an edge (kind 1: its two corners) or a
+    // corner (kind 0). Triangles sharing the touched edge or corner count it once.
+    std::uint32_t kind, a, b;
+    Vec3 force;                 // on the particle
+    std::array<Real, 3> weight;  // barycentric weights of the closest point
+  };
+  std::vector<std::array<std::uint32_t, 3>> tris_;  // global corner ids
+  std::vector<std::uint32_t> set_;
+  std::vector<std::int32_t> local_;  // global id -> index in set_, -1 when not colliding
+  std::vector<Vec3> xs_;  // the particles' positions, gathered each pass
+  std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
+  std::vector<std::vector<Contact>> per_thread_;
+  std::vector<Contact> all_;
+};
+
+}  // namespace maille::collision
