@@ -33,7 +33,7 @@ struct FlagParams {
   Real shear_stiffness = 100;   // N/m
   Real bending_stiffness = 20;  // N/m (0: no bending links)
   // Which points are fixed: "pole" (the column i = 0), "corners" (the two pole corners),
-  // "top" (the row j = ny-1), "top_corners", "none".
+  // "top" (the row j = ny-1), "top_corners", "ends" (the columns i = 0 and i = nx-1), "none".
   std::string fixed = "pole";
 };
 Group build_flag(Model& m, const FlagParams& p, const std::string& name);

@@ -15,11 +15,16 @@ struct DrivePath {
     circle,     // x(t) = x0 + radius * (cos(2 pi f t + phase) - 1) u + radius * sin(...) w,
                 //   u, w orthonormal and perpendicular to `axis`; starts at x0
     keyframes,  // piecewise linear through (t, x) keys; held at the ends
+    rotate,     // x(t) = c + R(axis, 2 pi f t a) (x0 - c): a rotation about the line through
+                //   `center` along `axis`; a = 1, or, with a `length`, the point's axial
+                //   coordinate over it, clamped to [-1, 1] (a twist: wringing a cloth)
   };
   Kind kind = Kind::sine;
   Vec3 origin{};                              // x0, m (the point's scene position)
   Vec3 amplitude{};                           // m (sine)
-  Vec3 axis{0, 1, 0};                         // rotation axis (circle)
+  Vec3 axis{0, 1, 0};                         // rotation axis (circle, rotate)
+  Vec3 center{};                              // m, a point of the rotation axis (rotate)
+  Real length = 0;                            // m, twist length (rotate); 0: rigid rotation
   Real radius = 0;                            // m (circle)
   Real frequency = 0;                         // Hz
   Real phase = 0;                             // rad

@@ -24,6 +24,17 @@ std::size_t segment(const std::vector<std::pair<double, Vec3>>& keys, double t) 
   const auto i = static_cast<std::size_t>(it - keys.begin());
   return std::clamp<std::size_t>(i, 1, keys.size() - 1) - 1;
 }
+// Rodrigues: v rotated by `angle` about the unit axis k.
+Vec3 rotated(const Vec3& v, const Vec3& k, double angle) {
+  const Real c = Real(std::cos(angle)), s = Real(std::sin(angle));
+  return v * c + cross(k, v) * s + k * (dot(k, v) * (1 - c));
+}
+
+// The rotate path's rate factor a for a point starting at x0 (see drive.hpp).
+Real twist_factor(const DrivePath& p, const Vec3& k) {
+  if (p.length <= 0) return 1;
+  return std::clamp(dot(p.origin - p.center, k) / p.length, Real(-1), Real(1));
+}
 }  // namespace
 
 Vec3 DrivePath::position(double t) const {
@@ -47,6 +58,10 @@ Vec3 DrivePath::position(double t) const {
       const auto& [t1, x1] = keys[i + 1];
       return x0 + (x1 - x0) * Real((t - t0) / (t1 - t0));
     }
+    case Kind::rotate: {
+      const Vec3 k = axis / norm(axis);
+      return center + rotated(origin - center, k, kTau * frequency * t * twist_factor(*this, k));
+    }
   }
   return origin;
 }
@@ -67,6 +82,11 @@ Vec3 DrivePath::velocity(double t) const {
       const std::size_t i = segment(keys, t);
       return (keys[i + 1].second - keys[i].second) / Real(keys[i + 1].first - keys[i].first);
     }
+    case Kind::rotate: {
+      const Vec3 k = axis / norm(axis);
+      const Real w = Real(kTau * frequency) * twist_factor(*this, k);
+      return cross(k * w, position(t) - center);
+    }
   }
   return {};
 }
@@ -77,6 +97,11 @@ Real DrivePath::max_speed() const {
       return Real(kTau * frequency) * norm(amplitude);
     case Kind::circle:
       return Real(kTau * frequency) * radius;
+    case Kind::rotate: {
+      const Vec3 k = axis / norm(axis);
+      const Vec3 r = origin - center;
+      return Real(kTau * frequency) * std::abs(twist_factor(*this, k)) * norm(r - k * dot(k, r));
+    }
     case Kind::keyframes: {
       Real top = 0;
       for (std::size_t i = 0; i + 1 < keys.size(); ++i)

@@ -90,7 +90,7 @@ Group flag(TomlCursor& t, Model& m, const std::string& name) {
   p.material = material(t, p.material);
   p.shear_stiffness = stiffness(t, "shear_stiffness", p.material.stiffness / 2);
   p.bending_stiffness = stiffness(t, "bending_stiffness", p.material.stiffness / 10);
-  p.fixed = t.text("fixed", p.fixed, {"pole", "corners", "top", "top_corners", "none"});
+  p.fixed = t.text("fixed", p.fixed, {"pole", "corners", "top", "top_corners", "ends", "none"});
   return guarded(t, [&] { return build_flag(m, p, name); });
 }
 

@@ -177,7 +177,7 @@ class SceneReader {
   DrivePath drive(TomlCursor& t, const Vec3& origin) {
     DrivePath p;
     p.origin = origin;
-    const std::string kind = t.text("path", "sine", {"sine", "circle", "keyframes"});
+    const std::string kind = t.text("path", "sine", {"sine", "circle", "keyframes", "rotate"});
     p.phase = t.real("phase", 0, Bound::any);
     if (kind == "sine") {
       p.kind = DrivePath::Kind::sine;
@@ -192,6 +192,13 @@ class SceneReader {
       if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
       p.frequency = t.real("frequency", Bound::positive);
       t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
+    } else if (kind == "rotate") {
+      p.kind = DrivePath::Kind::rotate;
+      p.center = t.vec3("center", p.center);
+      p.axis = t.vec3("axis", p.axis);
+      if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
+      p.frequency = t.real("frequency", Bound::positive);
+      p.length = t.real("length", 0, Bound::non_negative);
     } else {
       p.kind = DrivePath::Kind::keyframes;
       keyframes(t, p);

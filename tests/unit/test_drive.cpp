@@ -24,6 +24,35 @@ TEST(Drive, SinePositionAndVelocity) {
   EXPECT_NEAR(p.max_speed(), 0.5 * w, 1e-12);
 }
 
+// Rotation about a line, rigid and twisted: starts at its scene position, keeps its distance to
+// the axis and its axial coordinate, turns at 2 pi f a rad/s, and its velocity is the derivative
+// of its position.
+TEST(Drive, RotateAndTwist) {
+  for (Real length : {Real(0), Real(2)}) {
+    DrivePath p;
+    p.kind = DrivePath::Kind::rotate;
+    p.center = {0, 1, 0};
+    p.axis = {2, 0, 0};  // not unit: normalised
+    p.frequency = 0.5;
+    p.length = length;
+    p.origin = {1, 1.3, 0.4};  // axial coordinate 1, distance 0.5 from the axis
+    EXPECT_LT(norm(p.position(0) - p.origin), 1e-15);
+    const Real a = length > 0 ? Real(0.5) : Real(1);  // 1 / 2 of the twist length
+    for (double t : {0.2, 0.7, 1.9}) {
+      const Vec3 x = p.position(t);
+      EXPECT_NEAR(x.x, 1, 1e-14);
+      EXPECT_NEAR(std::hypot(x.y - 1, x.z), 0.5, 1e-14);
+      const double angle = std::atan2(x.z, x.y - 1) - std::atan2(0.4, 0.3);
+      EXPECT_NEAR(std::remainder(angle - 2 * std::numbers::pi * 0.5 * t * a, 2 * std::numbers::pi),
+                  0, 1e-12);
+      const double h = 1e-6;
+      const Vec3 fd = (p.position(t + h) - p.position(t - h)) / Real(2 * h);
+      EXPECT_LT(norm(fd - p.velocity(t)), 1e-8);
+    }
+    EXPECT_NEAR(p.max_speed(), 2 * std::numbers::pi * 0.5 * a * 0.5, 1e-12);
+  }
+}
+
 TEST(Drive, CircleKeepsItsRadiusAndStartsAtOrigin) {
   DrivePath p;
   p.kind = DrivePath::Kind::circle;
