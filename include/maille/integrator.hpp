@@ -23,6 +23,9 @@ class ForceEvaluator {
  public:
   virtual ~ForceEvaluator() = default;
   virtual void evaluate(State& s) = 0;
+  // Links that exist only for this step (contacts found by stages), valid after evaluate():
+  // implicit schemes add their Jacobian blocks beside the model's pools.
+  virtual std::span<const LinkPoolBase* const> transient_links() const { return {}; }
 };
 
 // Settings of the implicit scheme ([simulation.implicit] in scene files).
@@ -54,6 +57,8 @@ class Integrator {
   // Which velocity s.v() holds between steps (stages are told through StageContext).
   virtual VelocityTime velocity_time(const State&) const { return VelocityTime::synchronous; }
   virtual Amplification increment(double h, double w2, double c) const = 0;
+  // Whether the scheme uses link Jacobians (stages then also provide theirs: implicit_links).
+  virtual bool uses_jacobians() const { return false; }
   // Force evaluations per step (the simulator's own pass included): the cost unit.
   virtual int force_evaluations() const { return 1; }
   // Whether stages that rewrite forces or velocities after the fact (facet responses) can be

@@ -87,6 +87,15 @@ class LinkPool final : public LinkPoolBase {
   bool prepared() const override { return schedule_.ready() || ends_.empty(); }
   bool conditional() const override { return !kAlwaysActive; }
 
+  // Removes every link (a stage's transient contacts are rebuilt each step); keeps capacity.
+  void clear() {
+    ends_.clear();
+    params_.clear();
+    slot_of_id_.clear();
+    id_of_slot_.clear();
+    schedule_.clear();
+  }
+
   // Adds a link; its id is the number of links added before it. The pool must be prepared
   // again before it runs (Simulator::edit_model does it).
   std::uint32_t add(LinkEnds e, const Params& p) {

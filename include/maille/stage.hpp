@@ -33,6 +33,7 @@ namespace maille {
 struct Model;
 struct State;
 class Profile;
+class LinkPoolBase;
 
 enum class Phase : std::uint8_t { forces, response, after_integration };
 std::string_view to_string(Phase p);
@@ -50,6 +51,7 @@ struct StageContext {
   std::uint64_t step = 0;     // steps taken since the start
   int threads = 1;            // threads the simulator runs with
   VelocityTime velocity = VelocityTime::synchronous;
+  bool jacobians = false;      // the scheme is implicit: provide implicit_links()
   Profile* profile = nullptr;  // counters and gauges (stage time is measured by the simulator)
 };
 
@@ -80,6 +82,10 @@ class Stage {
   virtual void set_option(const std::string& name, const std::string& /*value*/) {
     throw std::invalid_argument("stage '" + this->name() + "' has no option '" + name + "'");
   }
+  // The links this stage's forces act through during the current step (contacts as conditional
+  // links), when ctx.jacobians asked for them: implicit schemes add their Jacobian blocks (the
+  // stage still adds the forces). Null: the stage's forces stay explicit.
+  virtual const LinkPoolBase* implicit_links() const { return nullptr; }
   // Segments to draw over the scene at the state of the last step (contacts, cells...).
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
 };

@@ -261,6 +261,7 @@ StageContext Simulator::context(const State& s) const {
   ctx.step = s.step;
   ctx.threads = threads_;
   ctx.velocity = integrator_->velocity_time(s);
+  ctx.jacobians = integrator_->uses_jacobians();
   ctx.profile = const_cast<Profile*>(&profile_);  // counters only; timing stays here
   return ctx;
 }
@@ -284,11 +285,14 @@ void Simulator::evaluate(State& s) {
     Timed t(profile_, ids.fields);
     profile_.set_count(ids.wind_faces, stages::field_forces(model_, s, threads_));
   }
+  transient_.clear();
   if (force_stages_.empty()) return;
   const StageContext ctx = context(s);
   for (auto& st : force_stages_) {
     Timed t(profile_, st.profile_id);
     st.stage->apply(model_, s, ctx);
+    if (ctx.jacobians)
+      if (const LinkPoolBase* links = st.stage->implicit_links()) transient_.push_back(links);
   }
 }
 

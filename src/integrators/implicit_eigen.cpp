@@ -30,7 +30,10 @@ class EigenSystem final : public ImplicitSystem {
     for (const auto& pool : m.links.pools()) blocks_.emplace_back(pool->size());
   }
 
-  void linearise(const Model& m, const State& s, Real h, Vec3* rhs) override {
+  // Transient links (stages' contacts) change the sparsity pattern every step: this solver
+  // leaves them explicit (the matrix-free solver takes them).
+  void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
+                 std::span<const LinkPoolBase* const>) override {
     const auto pools = m.links.pools();
     for (std::size_t p = 0; p < pools.size(); ++p)
       pools[p]->implicit_blocks(s.x().data(), s.v().data(), h, blocks_[p].data(), rhs);

@@ -75,7 +75,7 @@ class ImplicitEuler final : public Integrator {
         s.time -= h;
       }
       build_rhs(m, s, h, k == 0);
-      system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr);
+      system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.transient_links());
       const auto r = system_->solve(rhs_, dv_, settings_.tolerance, settings_.max_iterations);
       iterations += static_cast<std::uint64_t>(r.iterations);
       residual = r.relative_residual;
@@ -96,6 +96,7 @@ class ImplicitEuler final : public Integrator {
     return {{{-h * h * w2 / det, h / det}, {-h * w2 / det, (-h * h * w2 - h * c) / det}}};
   }
   int force_evaluations() const override { return settings_.newton_iterations; }
+  bool uses_jacobians() const override { return true; }
   // A response stage zeroes a velocity into a facet, then the solve adds a dv that couples it to
   // every neighbour and undoes the rewrite: refused rather than run wrong.
   bool accepts_state_rewrites() const override { return false; }

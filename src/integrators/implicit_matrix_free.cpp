@@ -48,13 +48,24 @@ class MatrixFreeSystem final : public ImplicitSystem {
     partial_.assign(static_cast<std::size_t>(std::max(threads, 1)) * 8, 0);
   }
 
-  void linearise(const Model& m, const State& s, Real h, Vec3* rhs) override {
+  void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
+                 std::span<const LinkPoolBase* const> transient) override {
     const auto pools = m.links.pools();
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
+    // Transient links (stages' contacts of this step): blocks grow with them, never shrink.
+    transient_.assign(transient.begin(), transient.end());
+    if (transient_blocks_.size() < transient_.size()) transient_blocks_.resize(transient_.size());
+    for (std::size_t p = 0; p < transient_.size(); ++p)
+      if (transient_blocks_[p].size() < transient_[p]->size())
+        transient_blocks_[p].resize(transient_[p]->size());
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
-    for (std::size_t p = 0; p < pools.size(); ++p)
-      pools[p]->implicit_blocks(x, v, h, blocks_[p].data(), rhs);
+    {
+      for (std::size_t p = 0; p < pools.size(); ++p)
+        pools[p]->implicit_blocks(x, v, h, blocks_[p].data(), rhs);
+      for (std::size_t p = 0; p < transient_.size(); ++p)
+        transient_[p]->implicit_blocks(x, v, h, transient_blocks_[p].data(), rhs);
+    }
     // Diagonal: M (1 + h gamma) (air drag: df/dv = -gamma m) plus every block touching i.
     const Real drag = h * m.fields.air_drag;
     for (std::size_t i = 0; i < mass_.size(); ++i) {
@@ -63,6 +74,8 @@ class MatrixFreeSystem final : public ImplicitSystem {
     }
     for (std::size_t p = 0; p < pools.size(); ++p)
       pools[p]->add_block_diagonal(blocks_[p].data(), diagonal_.data());
+    for (std::size_t p = 0; p < transient_.size(); ++p)
+      transient_[p]->add_block_diagonal(transient_blocks_[p].data(), diagonal_.data());
     for (std::size_t i = 0; i < diagonal_.size(); ++i)
       diagonal_[i] = free_[i] ? inverse_spd(diagonal_[i]) : Mat3::identity();
   }
@@ -125,6 +138,8 @@ class MatrixFreeSystem final : public ImplicitSystem {
     const auto pools = model_.links.pools();
     for (std::size_t p = 0; p < pools.size(); ++p)
       pools[p]->apply_blocks(blocks_[p].data(), u.data(), out.data());
+    for (std::size_t p = 0; p < transient_.size(); ++p)
+      transient_[p]->apply_blocks(transient_blocks_[p].data(), u.data(), out.data());
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i)
       if (!free_[i]) out[i] = Vec3{};
@@ -149,6 +164,8 @@ class MatrixFreeSystem final : public ImplicitSystem {
   const Model& model_;
   int threads_;
   std::vector<std::vector<Mat3>> blocks_;  // per pool, per link: C = h dv + h^2 dx
+  std::vector<const LinkPoolBase*> transient_;          // this step's stage links
+  std::vector<std::vector<Mat3>> transient_blocks_;     // their blocks (grow-only)
   std::vector<std::uint8_t> free_;
   std::vector<Real> mass_;
   std::vector<Mat3> diagonal_;  // inverse diagonal blocks (preconditioner)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ struct SolveResult {
 class ImplicitSystem {
  public:
   virtual ~ImplicitSystem() = default;
-  // Takes the link Jacobians at the state; adds h^2 df/dx v into rhs when rhs is not null.
-  virtual void linearise(const Model& m, const State& s, Real h, Vec3* rhs) = 0;
+  // Takes the link Jacobians at the state (the model's pools, and `transient` links found by
+  // stages for this step); adds h^2 df/dx v into rhs when rhs is not null.
+  virtual void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
+                         std::span<const LinkPoolBase* const> transient) = 0;
   // Solves A dv = rhs (rhs is filtered in place; dv is overwritten, starting from zero).
   virtual SolveResult solve(std::vector<Vec3>& rhs, std::vector<Vec3>& dv, Real tolerance,
                             int max_iterations) = 0;

@@ -222,3 +222,50 @@ TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
 }
 
 }  // namespace
+
+namespace {
+
+// Implicit Euler takes the contacts' Jacobians (the conditional law's), so a step four times
+// the contact's explicit limit still stops the particles and gives back no energy (backward Euler
+// only dissipates); the penetration is then set by detection, not by stiffness: the particles
+// close in by at most one step's approach h u before the contact sees them, plus the spring's
+// own compression u sqrt(m_r / k). The Eigen solver leaves stage contacts explicit: at the same
+// step the bounce gains energy (the comparison that shows the Jacobians at work).
+TEST(SelfCollisionPhysics, ImplicitEulerKeepsLargeStepsWithContacts) {
+  const Real m = 0.01, k = 400, u = 0.5, r = 0.05;
+  const double omega = std::sqrt(2 * k / m);  // relative motion: k over the reduced mass m/2
+  const double h = 4 * (2 / omega);           // four times the leapfrog limit of the contact
+  auto run = [&](const char* solver, double& closest) {
+    Model model;
+    model.fields.gravity = {0, 0, 0};
+    model.points.add(PointKind::free, m, {-0.1, 0, 0}, {u / 2, 0, 0});
+    model.points.add(PointKind::free, m, {0.1, 0, 0}, {-u / 2, 0, 0});
+    model.groups.push_back({"pair", "points", 0, 2});
+    SelfCollisionSettings s;
+    s.radius = r;
+    s.stiffness = k;
+    s.damping = 0;
+    s.exclusion = Exclusion::none;
+    model.stages.push_back({"self_collision", Phase::forces,
+                            [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+    SimulationSettings settings = test::settings(h, "implicit_euler");
+    settings.implicit.solver = solver;
+    Simulator sim(std::move(model), settings);
+    closest = 1;
+    for (int i = 0; i < 400 && sim.step(); ++i)
+      closest = std::min<double>(closest, sim.state().x()[1].x - sim.state().x()[0].x);
+    EXPECT_NEAR(sim.state().v()[0].x + sim.state().v()[1].x, 0, 1e-9);  // momentum
+    return sim.blow_up() ? 1e9 : double(sim.state().v()[1].x - sim.state().v()[0].x);
+  };
+  double closest = 0;
+  const double after = run("matrix_free", closest);
+  const double delta = u * std::sqrt(m / 2 / k);
+  EXPECT_GT(closest, r - (h * u + delta));  // stopped within the contact, not through it
+  EXPECT_LT(closest, r);                    // and it did touch
+  EXPECT_GT(after, 0);                      // separating
+  EXPECT_LE(after, u);                      // no energy gained
+  double explicit_closest = 0;
+  EXPECT_GT(run("eigen", explicit_closest), u);  // explicit contacts at this step: energy gained
+}
+
+}  // namespace

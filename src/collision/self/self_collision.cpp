@@ -11,6 +11,7 @@
 
 #include "broad_phase.hpp"
 #include "triangle_proximity.hpp"
+#include "maille/links/conditional.hpp"
 #include "maille/links/spring_damper.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
@@ -384,6 +385,7 @@ class SelfCollisionStage final : public Stage {
     const SelfCollisionStats st =
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
+    if (ctx.jacobians) contacts_as_links(s.size());
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0) {
@@ -441,6 +443,8 @@ class SelfCollisionStage final : public Stage {
     }
   }
 
+  const LinkPoolBase* implicit_links() const override { return &contacts_; }
+
   // Contacts in green, cells as grey-blue wire boxes (at most kMaxCells of them).
   void overlay(const Model&, const State& s, std::vector<OverlaySegment>& out) const override {
     if (!enabled_) return;
@@ -468,6 +472,18 @@ class SelfCollisionStage final : public Stage {
   SelfCollision engine_;
   std::array<int, 7> ids_{-1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
+  // This step's contacts as conditional links (same law), for implicit schemes' Jacobians.
+  LinkPool<ConditionalSpringDamper> contacts_;
+
+  void contacts_as_links(std::size_t points) {
+    contacts_.clear();
+    if (!enabled_) return;
+    const auto& s = engine_.settings();
+    engine_.for_each_contact([&](std::uint32_t a, std::uint32_t b) {
+      contacts_.add({a, b}, {s.stiffness, s.damping, s.radius, s.radius});
+    });
+    contacts_.prepare(std::uint32_t(points));
+  }
   double last_cell_ = 0;
 };
 
