@@ -82,8 +82,10 @@ std::uint64_t wind(const Model& m, State& s) {
       for (std::int64_t j = 0; j < count; ++j) {
         const Vec3 area2{ax[j], ay[j], az[j]};
         const Real l = norm(area2);
-        // A degenerate face (l = 0) gets n = 0 and no force: no division by zero, no branch.
-        const Vec3 n = area2 / (l > 0 ? l : Real(1));
+        // A degenerate face (l = 0) gets n = 0 and no force: no division by zero. Written
+        // l + (l == 0), not l > 0 ? l : 1: without AVX-512 masks GCC 12 will not if-convert a
+        // select feeding a division, and the loop stayed scalar (x86-64-v3, portable).
+        const Vec3 n = area2 / (l + Real(l == 0));
         const Vec3 centre = Vec3{px[j], py[j], pz[j]} / Real(3);
         const Vec3 w = Gusty ? gust::at(basis, centre) : Vec3{mean_x, mean_y, mean_z};
         const Vec3 rel = w - Vec3{vx[j], vy[j], vz[j]} / Real(3);
