@@ -14,6 +14,7 @@
 #include "maille/builders.hpp"
 #include "maille/scene.hpp"
 #include "toml_cursor.hpp"
+#include "toml_guard.hpp"
 
 namespace maille {
 
@@ -275,6 +276,8 @@ class SceneReader {
 
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
                           const LinkKindRegistry& kinds) {
+  if (const auto hazard = find_toml_hazard(text))  // a toml++ 3.3 bug (toml_guard.hpp)
+    return InputError{source_name, hazard->line, hazard->column, "", hazard->message};
   try {
     const toml::table root = toml::parse(text, source_name);
     Scene scene = SceneReader(kinds, source_name).read(root);
