@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Compile-only check, warnings as errors, for the x86-64 micro-architecture levels v2, v3 and v4
 # (SSE4.2; AVX2; AVX-512): a CPU the developers do not have must not break the build. Only the
-# engine libraries and apps are compiled (no tests, no benchmarks); nothing is run.
+# engine libraries and the command line are compiled (no renderer, tests or benchmarks: the
+# arch-sensitive code is the engine's); nothing is run.
 # Usage: scripts/check_arch.sh [v2 v3 v4]
 set -euo pipefail
 cd "$(dirname "$0")/.."

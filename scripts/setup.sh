@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Maille needs to build and test.
 # Idempotent and quiet: does nothing when every package is already present.
-# Usage: scripts/setup.sh
+# Usage: scripts/setup.sh [EXTRA_PACKAGE...]   (other scripts add theirs, e.g. fuzz.sh: clang)
 set -euo pipefail
 
 packages=(
@@ -13,6 +13,7 @@ packages=(
   # stb_image_write for PNG, ffmpeg for MP4, Xvfb for the viewer test with no display.
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   libstb-dev ffmpeg xvfb xauth
+  "$@"
 )
 
 missing=()

@@ -1,6 +1,8 @@
 // Small model factories shared by the tests.
 #pragma once
 
+#include <fenv.h>
+
 #include <cmath>
 #include <numbers>
 
@@ -10,6 +12,24 @@
 #include "maille/simulator.hpp"
 
 namespace maille::test {
+
+// Turns floating-point traps off in this scope (the physics tests run with FE_INVALID,
+// FE_DIVBYZERO and FE_OVERFLOW trapped, tests/physics/fp_traps.cpp), for runs that blow up on
+// purpose; restores the traps that were on, with the flags raised meanwhile cleared. Applies to
+// the calling thread: run such tests on one thread.
+class FpTrapsOff {
+ public:
+  FpTrapsOff() : enabled_(fedisableexcept(FE_ALL_EXCEPT)) {}
+  ~FpTrapsOff() {
+    feclearexcept(FE_ALL_EXCEPT);
+    if (enabled_ > 0) feenableexcept(enabled_);
+  }
+  FpTrapsOff(const FpTrapsOff&) = delete;
+  FpTrapsOff& operator=(const FpTrapsOff&) = delete;
+
+ private:
+  int enabled_;
+};
 
 // A mass m on a spring-damper (k, z, rest L) to a fixed point at the origin, displaced by A
 // along x; no gravity. u = x - L obeys u'' = -(k/m) u - (z/m) u'.

@@ -11,7 +11,8 @@
 namespace maille {
 
 Group build_lattice(Model& m, const LatticeParams& p, const std::string& name) {
-  const auto [nx, ny, nz] = p.resolution;
+  // Plain variables, not a structured binding: lambdas below capture them (clang < 16 refuses).
+  const std::uint32_t nx = p.resolution[0], ny = p.resolution[1], nz = p.resolution[2];
   if (nx < 2 || ny < 2 || nz < 2) throw std::invalid_argument("lattice resolution must be >= 2");
   if (p.shape != "box" && p.shape != "ball")
     throw std::invalid_argument("lattice: unknown shape '" + p.shape + "'");

@@ -19,6 +19,7 @@
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
 #include "toml_cursor.hpp"
+#include "toml_guard.hpp"
 
 namespace maille {
 
@@ -363,6 +364,8 @@ Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
 
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
                           const LinkKindRegistry& kinds, const StageRegistry& stages) {
+  if (const auto hazard = find_toml_hazard(text))  // a toml++ 3.3 bug (toml_guard.hpp)
+    return InputError{source_name, hazard->line, hazard->column, "", hazard->message};
   try {
     const toml::table root = toml::parse(text, source_name);
     Scene scene = SceneReader(kinds, stages, source_name).read(root);

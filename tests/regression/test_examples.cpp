@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "maille/scene.hpp"
 
@@ -17,10 +18,12 @@ std::vector<std::filesystem::path> examples() {
   return out;
 }
 
-Simulator load(const std::string& name) {
+// Loads an example into `sim`. A scene that fails to load fails the calling test (wrap the call
+// in ASSERT_NO_FATAL_FAILURE) instead of being dereferenced.
+void load(const std::string& name, std::optional<Simulator>& sim) {
   auto scene = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
-  EXPECT_TRUE(scene.ok()) << scene.error().to_string();
-  return Simulator(std::move(scene->model), scene->settings);
+  ASSERT_TRUE(scene.ok()) << scene.error().to_string();
+  sim.emplace(std::move(scene->model), scene->settings);
 }
 
 double mean_y(const Simulator& sim, const std::string& group) {
@@ -54,7 +57,9 @@ TEST(Examples, AtLeastSevenScenes) {
 // The jelly cube falls, is stopped by the floor of conditional links (never sinks through:
 // its lowest point stays above the floor minus the threshold) and comes to rest on it.
 TEST(Examples, JellyCubeBouncesAndRestsOnTheFloor) {
-  Simulator sim = load("jelly_cube_bounce");
+  std::optional<Simulator> loaded;
+  ASSERT_NO_FATAL_FAILURE(load("jelly_cube_bounce", loaded));
+  Simulator& sim = *loaded;
   const Group* cube = sim.model().group("cube");
   double lowest = 1e9;
   for (int i = 0; i < 30; ++i) {
@@ -70,7 +75,9 @@ TEST(Examples, JellyCubeBouncesAndRestsOnTheFloor) {
 // Two balls collide through conditional links: momentum is conserved (internal forces only),
 // and they exchange it: each ends up moving away from the other.
 TEST(Examples, LatticeBallsExchangeMomentum) {
-  Simulator sim = load("lattice_balls_collide");
+  std::optional<Simulator> loaded;
+  ASSERT_NO_FATAL_FAILURE(load("lattice_balls_collide", loaded));
+  Simulator& sim = *loaded;
   const Vec3 p0 = total_momentum(sim.model(), sim.state().v());
   ASSERT_TRUE(sim.run_steps(15000));
   const Vec3 p1 = total_momentum(sim.model(), sim.state().v());
@@ -87,7 +94,9 @@ TEST(Examples, LatticeBallsExchangeMomentum) {
 
 // The load dropped on the rope bridge is caught: it ends above the banks' level minus the sag.
 TEST(Examples, RopeBridgeCatchesTheLoad) {
-  Simulator sim = load("rope_bridge");
+  std::optional<Simulator> loaded;
+  ASSERT_NO_FATAL_FAILURE(load("rope_bridge", loaded));
+  Simulator& sim = *loaded;
   ASSERT_TRUE(sim.run_steps(30000));
   EXPECT_GT(mean_y(sim, "load"), -1.0);
   EXPECT_LT(sim.energies().kinetic, 5.0);

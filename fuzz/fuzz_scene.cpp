@@ -1,0 +1,24 @@
+// libFuzzer target: scene text -> parse_scene -> Simulator, exactly what `maille validate` does.
+// A bad scene must come back as an InputError, or as std::invalid_argument from the Simulator
+// (a model it refuses); anything else (a crash, a sanitizer report, another exception) is a bug.
+// Build: cmake --preset fuzz && cmake --build --preset fuzz; run: scripts/fuzz.sh [--quick].
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "maille/scene.hpp"
+#include "maille/simulator.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const maille::LinkKindRegistry kinds = maille::LinkKindRegistry::with_builtins();
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  auto scene = maille::parse_scene(text, "fuzz.toml", kinds);
+  if (!scene) return 0;
+  try {
+    maille::Simulator sim(std::move(scene->model), scene->settings);
+  } catch (const std::invalid_argument&) {
+  }
+  return 0;
+}
