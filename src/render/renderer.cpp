@@ -1,6 +1,7 @@
 #include "maille/render/renderer.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -46,13 +47,16 @@ template <class T>
 GLuint make_buffer(const std::vector<T>& data, GLbitfield flags = 0) {
   GLuint b = 0;
   glCreateBuffers(1, &b);
-  // Zero-sized storage is an error; an empty array still gets a valid (unused) buffer.
-  const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
-  std::vector<unsigned char> zero;
+  // Zero-sized storage is an error: buffers get 16 bytes at least. An array smaller than that
+  // (empty, or one link's 8 bytes) is copied into zero padding, never read past its end.
+  const std::size_t size = data.size() * sizeof(T);
+  const std::size_t bytes = std::max<std::size_t>(size, 16);
+  std::vector<unsigned char> padded;
   const void* src = data.data();
-  if (data.empty()) {
-    zero.assign(bytes, 0);
-    src = zero.data();
+  if (size < bytes) {
+    padded.assign(bytes, 0);
+    if (size > 0) std::memcpy(padded.data(), data.data(), size);
+    src = padded.data();
   }
   glNamedBufferStorage(b, static_cast<GLsizeiptr>(bytes), src, flags);
   return b;
