@@ -250,10 +250,11 @@ std::uint64_t spread(std::uint64_t v) {  // 20 bits -> every third bit
 
 // LSD radix sort of (key, index) by key, 16 bits per pass.
 void radix_sort(std::vector<std::uint64_t>& key, std::vector<std::uint32_t>& idx,
-                std::vector<std::uint64_t>& key_tmp, std::vector<std::uint32_t>& idx_tmp) {
+                std::vector<std::uint64_t>& key_tmp, std::vector<std::uint32_t>& idx_tmp,
+                std::vector<std::uint32_t>& count) {
   const std::size_t n = key.size();
   key_tmp.resize(n), idx_tmp.resize(n);
-  std::vector<std::uint32_t> count(1 << 16);
+  count.resize(1 << 16);
   for (int shift = 0; shift < 64; shift += 16) {
     std::fill(count.begin(), count.end(), 0);
     for (std::size_t i = 0; i < n; ++i) ++count[(key[i] >> shift) & 0xFFFF];
@@ -297,7 +298,7 @@ void Octree::find(const Query& q, std::vector<Sink>& sinks, int threads) {
                spread(std::uint64_t(p.z)) << 2;
     order_[a] = a;
   }
-  radix_sort(code_, order_, key_scratch_, order_scratch_);
+  radix_sort(code_, order_, key_scratch_, order_scratch_, count_);
   nodes_.push_back({});
   build(0, 0, n, 0, q);
   // Parallel work: node pairs small enough to be one task each.

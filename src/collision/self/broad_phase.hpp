@@ -102,7 +102,7 @@ class Octree {
   bool far(const Node& a, const Node& b, Real r) const;
 
   std::vector<std::uint64_t> code_, key_scratch_;
-  std::vector<std::uint32_t> order_, order_scratch_;
+  std::vector<std::uint32_t> order_, order_scratch_, count_;
   std::vector<Node> nodes_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> tasks_;  // (a, a): self; (a, b): pair
   std::uint64_t leaves_ = 0;
