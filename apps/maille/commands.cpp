@@ -41,9 +41,10 @@ void install_interrupt_handler() {
   std::signal(SIGTERM, on_signal);
 }
 
-std::optional<Scene> load_or_report(const std::string& path) {
+std::optional<Scene> load_or_report(const std::string& path,
+                                   const std::vector<std::string>& sets = {}) {
   try {
-    Result<Scene> r = load_scene(path);
+    Result<Scene> r = load_scene(path, sets);
     if (!r) {
       std::cerr << r.error().to_string() << '\n';
       return std::nullopt;
@@ -114,8 +115,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-int validate(const std::string& path) {
-  auto scene = load_or_report(path);
+int validate(const std::string& path, const std::vector<std::string>& sets) {
+  auto scene = load_or_report(path, sets);
   if (!scene) return bad_input;
   try {
     Simulator sim(std::move(scene->model), scene->settings);
@@ -129,8 +130,8 @@ int validate(const std::string& path) {
   return ok;
 }
 
-int info(const std::string& path) {
-  auto scene = load_or_report(path);
+int info(const std::string& path, const std::vector<std::string>& sets) {
+  auto scene = load_or_report(path, sets);
   if (!scene) return bad_input;
   std::optional<Simulator> built;
   try {
@@ -183,7 +184,7 @@ int info(const std::string& path) {
 
 int run(const RunOptions& o) {
   install_interrupt_handler();
-  auto scene = load_or_report(o.scene);
+  auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
   SimulationSettings settings = scene->settings;
   if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
@@ -281,7 +282,7 @@ int run(const RunOptions& o) {
 }
 
 int bench(const BenchOptions& o) {
-  auto scene = load_or_report(o.scene);
+  auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
   SimulationSettings settings = scene->settings;
   if (o.threads) settings.threads = *o.threads;
@@ -394,7 +395,7 @@ bool parse_camera(const std::string& text, render::MovieSettings& m) {
 
 int render(const RenderCommandOptions& o) {
   install_interrupt_handler();
-  auto scene = load_or_report(o.scene);
+  auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
   if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
   render::MovieSettings m;

@@ -30,10 +30,12 @@ struct RunOptions {
   std::optional<std::uint64_t> checkpoint_every;  // steps between checkpoints (DIR/checkpoint.bin)
   std::string resume;                             // DIR of a checkpoint to continue from
   bool no_self_collision = false;                 // skip the scene's [self_collision] stage
+  std::vector<std::string> sets;                  // --set KEY=VALUE overrides
 };
 int run(const RunOptions& o);
-int validate(const std::string& scene);
-int info(const std::string& scene);
+// `sets`: scene overrides KEY=VALUE (`--set`, see src/scene/overrides.hpp), in order.
+int validate(const std::string& scene, const std::vector<std::string>& sets = {});
+int info(const std::string& scene, const std::vector<std::string>& sets = {});
 
 struct BenchOptions {
   std::string scene;
@@ -42,6 +44,7 @@ struct BenchOptions {
   int repeat = 3;
   bool header = true;
   bool no_self_collision = false;
+  std::vector<std::string> sets;  // --set KEY=VALUE overrides
 };
 int bench(const BenchOptions& o);
 
@@ -58,6 +61,7 @@ struct RenderCommandOptions {
   std::optional<int> threads;
   bool no_self_collision = false;
   std::vector<std::string> stage_options;  // "STAGE.OPTION=VALUE", e.g. self_collision.draw_cells=on
+  std::vector<std::string> sets;           // --set KEY=VALUE overrides
 };
 int render(const RenderCommandOptions& o);
 

@@ -72,10 +72,17 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingDirectory);
 
   std::string scene;
+  std::vector<std::string> sets;
+  const char* set_help =
+      "KEY=VALUE, repeatable: override a scene key by its path (simulation.step=2e-4, "
+      "flag[0].stiffness=800, self_collision.broad_phase=brute), validated as in the file";
+  run_cmd->add_option("--set", ro.sets, set_help);
   auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");
   validate_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
+  validate_cmd->add_option("--set", sets, set_help);
   auto* info_cmd = app.add_subcommand("info", "Counts by brick kind and the stability estimate");
   info_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
+  info_cmd->add_option("--set", sets, set_help);
 
   BenchOptions bo;
   auto* bench_cmd =
@@ -91,6 +98,7 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
   bench_cmd->add_flag("--no-self-collision", bo.no_self_collision,
                       "Ignore the scene's [self_collision] table");
+  bench_cmd->add_option("--set", bo.sets, set_help);
 
   StudyOptions so;
   auto* study_cmd = app.add_subcommand(
@@ -130,6 +138,7 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--mesh", rn.mesh, "Also draw the links inside cloth surfaces");
   render_cmd->add_flag("--no-self-collision", rn.no_self_collision,
                        "Ignore the scene's [self_collision] table");
+  render_cmd->add_option("--set", rn.sets, set_help);
   render_cmd->add_option("--stage-option", rn.stage_options,
                          "STAGE.OPTION=VALUE, repeatable: a stage's live setting, e.g. "
                          "self_collision.draw_cells=on, self_collision.draw_contacts=on");
@@ -144,8 +153,8 @@ int main(int argc, char** argv) {
     return code == 0 ? ok : usage;
   }
   if (*run_cmd) return run(ro);
-  if (*validate_cmd) return validate(scene);
-  if (*info_cmd) return info(scene);
+  if (*validate_cmd) return validate(scene, sets);
+  if (*info_cmd) return info(scene, sets);
   if (*bench_cmd) return bench(bo);
   if (*study_cmd) return study(so);
 #ifdef MAILLE_WITH_RENDER

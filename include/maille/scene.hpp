@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -28,10 +29,16 @@ Result<Scene> load_scene(const std::filesystem::path& path);
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds);
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
                          const StageRegistry& stages);
+// With command-line overrides applied first (`--set KEY=VALUE`, see src/scene/overrides.hpp):
+// the same validation, and errors in an override name it.
+Result<Scene> load_scene(const std::filesystem::path& path, std::span<const std::string> overrides);
+Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
+                         const StageRegistry& stages, std::span<const std::string> overrides);
 // Same, from text; `source_name` is used in error messages.
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
                           const LinkKindRegistry& kinds);
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
-                          const LinkKindRegistry& kinds, const StageRegistry& stages);
+                          const LinkKindRegistry& kinds, const StageRegistry& stages,
+                          std::span<const std::string> overrides = {});
 
 }  // namespace maille

@@ -18,6 +18,7 @@
 #include "maille/builders.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
+#include "overrides.hpp"
 #include "toml_cursor.hpp"
 #include "toml_guard.hpp"
 
@@ -363,11 +364,13 @@ Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
 }
 
 Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
-                          const LinkKindRegistry& kinds, const StageRegistry& stages) {
+                          const LinkKindRegistry& kinds, const StageRegistry& stages,
+                          std::span<const std::string> overrides) {
   if (const auto hazard = find_toml_hazard(text))  // a toml++ 3.3 bug (toml_guard.hpp)
     return InputError{source_name, hazard->line, hazard->column, "", hazard->message};
   try {
-    const toml::table root = toml::parse(text, source_name);
+    toml::table root = toml::parse(text, source_name);
+    if (auto bad = apply_overrides(root, overrides)) return *bad;
     Scene scene = SceneReader(kinds, stages, source_name).read(root);
     return scene;
   } catch (const toml::parse_error& e) {
@@ -385,6 +388,16 @@ Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegist
 
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
                          const StageRegistry& stages) {
+  return load_scene(path, kinds, stages, {});
+}
+
+Result<Scene> load_scene(const std::filesystem::path& path, std::span<const std::string> overrides) {
+  static const LinkKindRegistry builtins = LinkKindRegistry::with_builtins();
+  return load_scene(path, builtins, builtin_stages(), overrides);
+}
+
+Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
+                              const StageRegistry& stages, std::span<const std::string> overrides) {
   // Only a regular file of sane size is read: a directory, /dev/zero or a FIFO would otherwise
   // be read into memory without end or parsed as nothing.
   std::error_code ec;
@@ -408,7 +421,7 @@ Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegist
                       std::string("cannot open the scene file: ") + std::strerror(errno)};
   std::stringstream text;
   text << in.rdbuf();
-  Result<Scene> r = parse_scene(text.str(), path.string(), kinds, stages);
+  Result<Scene> r = parse_scene(text.str(), path.string(), kinds, stages, overrides);
   if (r) {
     r->source = path;
     if (r->name.empty()) r->name = path.stem().string();

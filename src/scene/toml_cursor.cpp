@@ -36,8 +36,13 @@ std::string TomlCursor::key_path(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 
+// A value given on the command line (`--set`, src/scene/overrides.cpp) has no place in the file:
+// its source is "--set", or none at all; the error says so.
 void TomlCursor::fail_at(const toml::source_region& where, std::string_view key,
                          const std::string& message) const {
+  const bool from_set = (where.path && *where.path == "--set") || where.begin.line == 0;
+  if (from_set && table_.get(key))
+    throw SceneFailure{{file_ + " (--set)", 0, 0, key_path(key), message}};
   throw SceneFailure{{file_, static_cast<int>(where.begin.line),
                       static_cast<int>(where.begin.column), key_path(key), message}};
 }
