@@ -109,7 +109,8 @@ TopologicalExclusion::TopologicalExclusion(const Model& m, const std::vector<std
       Stencil st;
       const std::uint32_t centre = g.first + std::uint32_t((ny / 2) * nx + nx / 2);
       std::vector<std::pair<std::int32_t, std::int32_t>> offs;
-      const auto [ci, cj] = ij(centre);
+      // Plain variables, not structured bindings: clang 14 (the fuzz build) cannot capture those.
+      const std::int32_t ci = ij(centre).first, cj = ij(centre).second;
       bfs.run(centre, radius_, [&](std::uint32_t q) {
         if (!inside(q)) return;
         const auto [qi, qj] = ij(q);
@@ -126,9 +127,10 @@ TopologicalExclusion::TopologicalExclusion(const Model& m, const std::vector<std
       // The grid must be translation-invariant: the stencil, clipped to the grid, must give
       // what a search finds at the corners and the edges' middles. Otherwise: matrix rows.
       bool regular = true;
-      for (auto [pi, pj] : std::vector<std::pair<std::int32_t, std::int32_t>>{
+      for (const auto& probe_ij : std::vector<std::pair<std::int32_t, std::int32_t>>{
                {0, 0}, {nx - 1, 0}, {0, ny - 1}, {nx - 1, ny - 1}, {nx / 2, 0}, {0, ny / 2},
                {nx - 1, ny / 2}, {nx / 2, ny - 1}, {1, 1}}) {
+        const std::int32_t pi = probe_ij.first, pj = probe_ij.second;
         const std::uint32_t probe = g.first + std::uint32_t(pj * nx + pi);
         std::size_t found = 0;
         bfs.run(probe, radius_, [&](std::uint32_t q) {
