@@ -57,8 +57,8 @@ void BM_SelfCollision(benchmark::State& st) {
   SelfCollisionStats last = engine.apply(c.x.data(), c.v.data(), c.f.data(), threads);
   for (auto _ : st) last = engine.apply(c.x.data(), c.v.data(), c.f.data(), threads);
   const double pp = double(st.iterations()) * n * n;
-  st.counters["ns_pp"] = benchmark::Counter(pp * 1e-9, benchmark::Counter::kIsRate |
-                                                           benchmark::Counter::kInvert);
+  st.counters["ns_pp"] =
+      benchmark::Counter(pp * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   st.counters["contacts"] = double(last.contacts);
   st.counters["tested"] = double(last.candidate_pairs);
   st.counters["cell"] = last.cell_size;

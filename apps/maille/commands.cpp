@@ -42,7 +42,7 @@ void install_interrupt_handler() {
 }
 
 std::optional<Scene> load_or_report(const std::string& path,
-                                   const std::vector<std::string>& sets = {}) {
+                                    const std::vector<std::string>& sets = {}) {
   try {
     Result<Scene> r = load_scene(path, sets);
     if (!r) {
@@ -105,8 +105,8 @@ std::vector<std::string> kept_stats(const std::filesystem::path& path, std::uint
 }
 
 Checkpoint checkpoint_of(const Simulator& sim, std::uint64_t stats_rows) {
-  return {sim.state(), sim.settings().integrator, sim.settings().step, sim.frames_published(),
-          stats_rows, model_fingerprint(sim.model())};
+  return {sim.state(), sim.settings().integrator,     sim.settings().step, sim.frames_published(),
+          stats_rows,  model_fingerprint(sim.model())};
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -200,10 +200,10 @@ int run(const RunOptions& o) {
               : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
                           o.duration ? "--duration" : "the scene's duration");
   if (!steps) return usage;
-  const std::filesystem::path out =
-      !o.out.empty()      ? std::filesystem::path(o.out)
-      : !o.resume.empty() ? std::filesystem::path(o.resume)
-                          : std::filesystem::path("out") / scene->name;
+  const std::filesystem::path out = !o.out.empty() ? std::filesystem::path(o.out)
+                                    : !o.resume.empty()
+                                        ? std::filesystem::path(o.resume)
+                                        : std::filesystem::path("out") / scene->name;
 
   if (!make_output_directory(out)) return output_error;
   try {
@@ -220,10 +220,10 @@ int run(const RunOptions& o) {
         return bad_input;
       }
       if (c->integrator != settings.integrator || c->step != settings.step)
-        throw std::invalid_argument("the checkpoint was taken with " + c->integrator + " at h = " +
-                                    std::to_string(c->step) + " s; the scene now says " +
-                                    settings.integrator + " at h = " +
-                                    std::to_string(settings.step) + " s");
+        throw std::invalid_argument("the checkpoint was taken with " + c->integrator +
+                                    " at h = " + std::to_string(c->step) +
+                                    " s; the scene now says " + settings.integrator +
+                                    " at h = " + std::to_string(settings.step) + " s");
       kept = kept_stats(std::filesystem::path(o.resume) / "stats.csv", c->stats_rows);
       sim.restore(std::move(c->state), c->frames_published);
     }
@@ -245,7 +245,7 @@ int run(const RunOptions& o) {
     if (!sim.blow_up()) sim.check_energy();  // a runaway since the last check
     const double wall = seconds_since(t0);
     if (o.checkpoint_every && !sim.blow_up() && sim.state().step % *o.checkpoint_every != 0)
-      checkpoint();  // where this run stopped (the end, or an interrupt)
+      checkpoint();              // where this run stopped (the end, or an interrupt)
     stats.close(sim.profile());  // the header is there even when no row is
 
     const double particle_steps = double(done) * sim.model().points.size();

@@ -60,8 +60,9 @@ struct RenderCommandOptions {
   bool mesh = false;               // draw the links inside cloth surfaces too
   std::optional<int> threads;
   bool no_self_collision = false;
-  std::vector<std::string> stage_options;  // "STAGE.OPTION=VALUE", e.g. self_collision.draw_cells=on
-  std::vector<std::string> sets;           // --set KEY=VALUE overrides
+  std::vector<std::string>
+      stage_options;              // "STAGE.OPTION=VALUE", e.g. self_collision.draw_cells=on
+  std::vector<std::string> sets;  // --set KEY=VALUE overrides
 };
 int render(const RenderCommandOptions& o);
 

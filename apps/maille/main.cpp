@@ -66,9 +66,10 @@ int main(int argc, char** argv) {
       ->add_option("--checkpoint-every", ro.checkpoint_every,
                    "Write the whole state to OUT/checkpoint.bin every N steps (and at the end)")
       ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--resume", ro.resume,
-                      "Continue from DIR/checkpoint.bin (frames and stats.csv continue in DIR "
-                      "unless --out); --steps/--duration count from the start")
+  run_cmd
+      ->add_option("--resume", ro.resume,
+                   "Continue from DIR/checkpoint.bin (frames and stats.csv continue in DIR "
+                   "unless --out); --steps/--duration count from the start")
       ->check(CLI::ExistingDirectory);
 
   std::string scene;

@@ -275,9 +275,10 @@ int study(const StudyOptions& o) {
       f.commit();
     };
     if (o.topic == "self-collision") {
-      study_self_collision(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
-        write(name, body);
-      });
+      study_self_collision(o,
+                           [&](const char* name, const std::function<void(std::ostream&)>& body) {
+                             write(name, body);
+                           });
       return 0;
     }
     std::printf("maille study integrators -> %s\n", o.out.string().c_str());

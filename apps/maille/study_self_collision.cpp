@@ -62,12 +62,12 @@ double median_ns(SelfCollisionEngine& e, Cloth& c, int threads, int repeat,
 void scaling(std::ostream& out, bool quick, int threads) {
   out << "side,particles,broad_phase,threads,ns_per_particle_pass,candidate_pairs,contacts,"
          "occupied_cells,cell_size_m\n";
-  const std::vector<std::uint32_t> sides =
-      quick ? std::vector<std::uint32_t>{32, 64, 128} : std::vector<std::uint32_t>{64, 128, 256, 512};
+  const std::vector<std::uint32_t> sides = quick ? std::vector<std::uint32_t>{32, 64, 128}
+                                                 : std::vector<std::uint32_t>{64, 128, 256, 512};
   for (std::uint32_t n : sides) {
     Cloth c = crumpled(n);
-    for (BroadPhase b : {BroadPhase::brute, BroadPhase::uniform, BroadPhase::hashed,
-                         BroadPhase::hierarchical}) {
+    for (BroadPhase b :
+         {BroadPhase::brute, BroadPhase::uniform, BroadPhase::hashed, BroadPhase::hierarchical}) {
       if (b == BroadPhase::brute && n > (quick ? 64u : 256u)) continue;
       for (int t : {1, threads}) {
         if (t == threads && threads == 1 && t != 1) continue;
@@ -80,9 +80,9 @@ void scaling(std::ostream& out, bool quick, int threads) {
         const double ns = median_ns(e, c, t, repeat, &st);
         std::fprintf(stderr, "  %-12s %4u^2 %d thread(s): %.0f ns per particle\n",
                      std::string(to_string(b)).c_str(), n, t, ns / double(n * n));
-        out << n << ',' << n * n << ',' << to_string(b) << ',' << t << ','
-            << ns / double(n * n) << ',' << st.candidate_pairs << ',' << st.contacts << ','
-            << st.occupied_cells << ',' << st.cell_size << '\n';
+        out << n << ',' << n * n << ',' << to_string(b) << ',' << t << ',' << ns / double(n * n)
+            << ',' << st.candidate_pairs << ',' << st.contacts << ',' << st.occupied_cells << ','
+            << st.cell_size << '\n';
         if (threads == 1) break;
       }
     }
@@ -115,10 +115,11 @@ void cell_size(std::ostream& out, bool quick) {
       if (ns < best) best = ns, best_factor = factor;
     }
     const double per_cell = double(n * n) / std::max<double>(double(st.occupied_cells), 1);
-    out << to_string(b) << ',' << n << ',' << st.cell_size / c.spacing << ',' << st.cell_size
-        << ',' << st.occupied_cells << ',' << per_cell << ','
+    out << to_string(b) << ',' << n << ',' << st.cell_size / c.spacing << ',' << st.cell_size << ','
+        << st.occupied_cells << ',' << per_cell << ','
         << double(st.occupied_cells) * per_cell * per_cell << ',' << auto_ns << ",1\n";
-    std::fprintf(stderr, "  %-8s auto %.3g m: %.3g ms; best fixed (%.2g r): %.3g ms (auto/best %.2f)\n",
+    std::fprintf(stderr,
+                 "  %-8s auto %.3g m: %.3g ms; best fixed (%.2g r): %.3g ms (auto/best %.2f)\n",
                  std::string(to_string(b)).c_str(), st.cell_size, auto_ns * 1e-6, best_factor,
                  best * 1e-6, auto_ns / best);
   }
@@ -144,8 +145,8 @@ void exclusion(std::ostream& out, bool quick) {
 
 void memory(std::ostream& out, bool quick) {
   out << "particles,exclusion,bytes,bytes_per_particle,dense_bit_matrix_bytes\n";
-  for (std::uint32_t n : quick ? std::vector<std::uint32_t>{64, 128}
-                               : std::vector<std::uint32_t>{256, 1024}) {
+  for (std::uint32_t n :
+       quick ? std::vector<std::uint32_t>{64, 128} : std::vector<std::uint32_t>{256, 1024}) {
     Model m;
     CrumpledClothParams p;
     p.n = n;
@@ -196,7 +197,8 @@ void flag_wind(std::ostream& out, bool quick) {
     sim.run_steps(20);  // warm-up
     const auto t0 = std::chrono::steady_clock::now();
     sim.run_steps(steps);
-    const double ns = double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count());
+    const double ns =
+        double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count());
     const double pps = ns / double(steps) / double(n * n);
     std::fprintf(stderr, "  flag 128^2 in wind, self-collision %s: %.0f ns per particle-step\n",
                  on ? "on " : "off", pps);

@@ -119,11 +119,11 @@ namespace maille {
 // spacing of each other far from their topological neighbours: the crumpled cloth of the
 // self-collision tests, benchmarks and study (one scenario, many uses).
 struct CrumpledClothParams {
-  std::uint32_t n = 64;   // points per side, >= 2
-  Real size = 1;          // m, side of the flat cloth
-  std::uint32_t fold = 4; // columns per layer, >= 1
-  Real gap = Real(0.6);   // distance between layers, in spacings
-  Real wave = Real(0.3);  // amplitude of the wave across, in spacings
+  std::uint32_t n = 64;    // points per side, >= 2
+  Real size = 1;           // m, side of the flat cloth
+  std::uint32_t fold = 4;  // columns per layer, >= 1
+  Real gap = Real(0.6);    // distance between layers, in spacings
+  Real wave = Real(0.3);   // amplitude of the wave across, in spacings
 };
 Group build_crumpled_cloth(Model& m, const CrumpledClothParams& p, const std::string& name);
 

@@ -20,10 +20,10 @@ namespace maille {
 
 struct Checkpoint {
   State state;
-  std::string integrator;            // the scheme that wrote it
-  double step = 0;                   // h, s
+  std::string integrator;  // the scheme that wrote it
+  double step = 0;         // h, s
   std::uint64_t frames_published = 0;
-  std::uint64_t stats_rows = 0;      // rows of stats.csv written when it was taken
+  std::uint64_t stats_rows = 0;  // rows of stats.csv written when it was taken
   std::uint64_t model_fingerprint = 0;
 };
 

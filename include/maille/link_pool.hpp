@@ -61,8 +61,9 @@ class LinkPoolBase {
   virtual bool has_jacobian() const = 0;
   virtual LinkJacobian jacobian(std::size_t id, const Vec3* x, const Vec3* v,
                                 JacobianMode mode) const = 0;
-  // For every link l (storage order): C_l = h dv + h^2 dx (definite mode) into blocks[l], and, when rhs is not
-  // null, the right-hand side term h^2 (df/dx v): rhs_a += h^2 dx (v_b - v_a), rhs_b -= it.
+  // For every link l (storage order): C_l = h dv + h^2 dx (definite mode) into blocks[l], and, when
+  // rhs is not null, the right-hand side term h^2 (df/dx v): rhs_a += h^2 dx (v_b - v_a), rhs_b -=
+  // it.
   virtual void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
                                Vec3* rhs) const = 0;
   // out -= (h df/dv + h^2 df/dx) u, link by link: w = C_l (u_b - u_a); out_a -= w; out_b += w.
@@ -354,10 +355,10 @@ class LinkPool final : public LinkPoolBase {
     }
   }
 
-  std::vector<LinkEnds> ends_;              // [links] storage order
-  std::vector<Params> params_;              // [links] storage order
-  std::vector<std::uint32_t> slot_of_id_;   // [links] id -> storage slot
-  std::vector<std::uint32_t> id_of_slot_;   // [links] storage slot -> id
+  std::vector<LinkEnds> ends_;             // [links] storage order
+  std::vector<Params> params_;             // [links] storage order
+  std::vector<std::uint32_t> slot_of_id_;  // [links] id -> storage slot
+  std::vector<std::uint32_t> id_of_slot_;  // [links] storage slot -> id
   detail::CpuSchedule schedule_;
 };
 

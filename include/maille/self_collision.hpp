@@ -37,14 +37,14 @@ enum class Primitive : std::uint8_t { points, triangles };
 
 struct SelfCollisionSettings {
   std::vector<std::string> groups;  // empty: every group with free points
-  Real radius = 0;                  // s, m; 0: half the smallest rest length among the groups' links
-  Real stiffness = 500;             // N/m
-  Real damping = Real(0.5);         // N.s/m
-  Real friction = 0;                // tangential coefficient (Coulomb-like), >= 0
+  Real radius = 0;           // s, m; 0: half the smallest rest length among the groups' links
+  Real stiffness = 500;      // N/m
+  Real damping = Real(0.5);  // N.s/m
+  Real friction = 0;         // tangential coefficient (Coulomb-like), >= 0
   BroadPhase broad_phase = BroadPhase::uniform;
-  Real cell_size = 0;               // m, >= radius; 0: "auto" (measured, see the tuner)
+  Real cell_size = 0;  // m, >= radius; 0: "auto" (measured, see the tuner)
   Exclusion exclusion = Exclusion::signature;
-  int topological_radius = 2;       // R, links
+  int topological_radius = 2;  // R, links
   // points: particle-particle contacts; triangles: also particle-triangle proximity (the
   // groups' surface faces), so that a coarse cloth cannot pass through itself between particles
   Primitive primitive = Primitive::points;
@@ -55,13 +55,13 @@ std::string_view to_string(Exclusion e);
 
 // What one pass found (for tests, studies and the profile).
 struct SelfCollisionStats {
-  std::uint64_t candidate_pairs = 0;  // pairs whose distance was tested
-  std::uint64_t contacts = 0;         // pairs closer than s and not excluded
-  std::uint64_t excluded = 0;         // pairs closer than s removed by the exclusion
-  std::uint64_t skipped_cells = 0;    // cell pairs skipped whole by signatures
+  std::uint64_t candidate_pairs = 0;    // pairs whose distance was tested
+  std::uint64_t contacts = 0;           // pairs closer than s and not excluded
+  std::uint64_t excluded = 0;           // pairs closer than s removed by the exclusion
+  std::uint64_t skipped_cells = 0;      // cell pairs skipped whole by signatures
   std::uint64_t triangle_contacts = 0;  // particle-triangle contacts (primitive = triangles)
   std::uint64_t occupied_cells = 0;
-  double cell_size = 0;               // m, the resolution used (0 for brute force)
+  double cell_size = 0;  // m, the resolution used (0 for brute force)
 };
 
 class SelfCollision;

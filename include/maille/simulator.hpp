@@ -32,14 +32,14 @@
 namespace maille {
 
 struct SimulationSettings {
-  std::string integrator = "leapfrog";  // a name from IntegratorRegistry
-  double step = 1e-3;                   // h, s, > 0
-  double duration = 5;                  // s, > 0 (used by apps; step() ignores it)
-  int publish_every = 10;               // steps between snapshots, >= 1
-  int sample_every = 0;                 // steps between energy samples; 0: publish_every
-  int threads = 0;                      // 0: all cores when the scene is large, else 1
-  double runaway_factor = 1e3;          // blow-up when energy exceeds this times its scale
-  ImplicitSettings implicit;            // used by implicit_euler only
+  std::string integrator = "leapfrog";       // a name from IntegratorRegistry
+  double step = 1e-3;                        // h, s, > 0
+  double duration = 5;                       // s, > 0 (used by apps; step() ignores it)
+  int publish_every = 10;                    // steps between snapshots, >= 1
+  int sample_every = 0;                      // steps between energy samples; 0: publish_every
+  int threads = 0;                           // 0: all cores when the scene is large, else 1
+  double runaway_factor = 1e3;               // blow-up when energy exceeds this times its scale
+  ImplicitSettings implicit;                 // used by implicit_euler only
   std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
 };
 
@@ -144,7 +144,7 @@ class Simulator : private ForceEvaluator {
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
   std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
-  void respond();                     // response stages, once per step
+  void respond();  // response stages, once per step
   void build_integrator(const std::string& name);
   void install_model_stages();
   void add_installed(std::unique_ptr<Stage> stage, bool from_model);

@@ -46,10 +46,10 @@ enum class VelocityTime : std::uint8_t {
 
 // What a stage knows about the step it runs in.
 struct StageContext {
-  double h = 0;               // step, s
-  double t = 0;               // time of the state being evaluated, s
-  std::uint64_t step = 0;     // steps taken since the start
-  int threads = 1;            // threads the simulator runs with
+  double h = 0;            // step, s
+  double t = 0;            // time of the state being evaluated, s
+  std::uint64_t step = 0;  // steps taken since the start
+  int threads = 1;         // threads the simulator runs with
   VelocityTime velocity = VelocityTime::synchronous;
   bool jacobians = false;      // the scheme is implicit: provide implicit_links()
   Profile* profile = nullptr;  // counters and gauges (stage time is measured by the simulator)

@@ -58,7 +58,8 @@ void CpuSchedule::cut_chunks(std::span<const LinkEnds> ends) {
   std::vector<std::uint32_t> run(n + 1, 0);
   for (std::size_t l = n; l-- > 0;) {
     const bool next = l + 1 < n && ends[l + 1].a == ends[l].a + 1 &&
-                      ends[l + 1].b == ends[l].b + 1 && band_of(ends[l + 1].a) == band_of(ends[l].a);
+                      ends[l + 1].b == ends[l].b + 1 &&
+                      band_of(ends[l + 1].a) == band_of(ends[l].a);
     run[l] = next ? run[l + 1] + 1 : 1;
   }
   chunk_begin_.assign(1, 0);

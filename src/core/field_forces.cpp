@@ -31,7 +31,8 @@ void point_fields(const Model& m, State& s) {
 // Each block runs in three passes over small struct-of-arrays buffers on the stack:
 //   1. gather (scalar): per face, the doubled area vector and the sums of corner positions and
 //      velocities (indexed loads of 24-byte Vec3s do not vectorise well);
-//   2. pressure (vectorised by GCC, contiguous loads only): unit normal, the gust field at the centre
+//   2. pressure (vectorised by GCC, contiguous loads only): unit normal, the gust field at the
+//   centre
 //      (gust.hpp, inlined and branch-free), the normal relative velocity, the force magnitude;
 //   3. scatter (scalar): the force to the three corners (a vectorised loop cannot know that
 //      faces of one colour share no corner).

@@ -41,13 +41,13 @@ inline double sin(double x) {
 
 // The point-independent part of the field at time t.
 struct Basis {
-  bool steady = true;         // no gusts (no wind or no turbulence): w = mean everywhere
-  Vec3 mean{};                // U, m/s
-  Vec3 u{}, e1{}, e2{};       // unit vectors: along U, across it (horizontal), and the third
-  Real turbulence = 0;        // relative gust amplitude
-  Real cross_amplitude = 0;   // turbulence |U|, m/s
-  Real wavelength = 1;        // m
-  double ft[4] = {};          // f t times each sine's frequency factor (1, 1.73, 1.37, 0.61)
+  bool steady = true;        // no gusts (no wind or no turbulence): w = mean everywhere
+  Vec3 mean{};               // U, m/s
+  Vec3 u{}, e1{}, e2{};      // unit vectors: along U, across it (horizontal), and the third
+  Real turbulence = 0;       // relative gust amplitude
+  Real cross_amplitude = 0;  // turbulence |U|, m/s
+  Real wavelength = 1;       // m
+  double ft[4] = {};         // f t times each sine's frequency factor (1, 1.73, 1.37, 0.61)
 };
 
 inline Basis basis(const WindField& w, double t) {
@@ -83,7 +83,8 @@ inline Vec3 at(const Basis& b, const Vec3& p) {
                    0.4 * gust::sin(tau * (b.ft[1] - 1.31 * s + 0.5 * q) + 1.1);
   const double c1 = 0.5 * gust::sin(tau * (b.ft[2] - 0.8 * s + 0.3 * q) + 0.7);
   const double c2 = 0.3 * gust::sin(tau * (b.ft[3] - 1.2 * s) + 2.1);
-  return b.mean * Real(1 + b.turbulence * g) + (b.e1 * Real(c1) + b.e2 * Real(c2)) * b.cross_amplitude;
+  return b.mean * Real(1 + b.turbulence * g) +
+         (b.e1 * Real(c1) + b.e2 * Real(c2)) * b.cross_amplitude;
 }
 
 }  // namespace maille::gust

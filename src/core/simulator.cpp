@@ -88,8 +88,7 @@ void Simulator::build_integrator(const std::string& name) {
                                 "' (known: " + IntegratorRegistry::builtin().names() + ")");
   std::unique_ptr<Integrator> scheme = entry->make(settings_.implicit);
   scheme->set_threads(threads_);
-  if (const std::string why = scheme->check(model_); !why.empty())
-    throw std::invalid_argument(why);
+  if (const std::string why = scheme->check(model_); !why.empty()) throw std::invalid_argument(why);
   if (!scheme->accepts_state_rewrites() && !response_stages_.empty())
     throw std::invalid_argument("stage '" + response_stages_.front().stage->name() +
                                 "' rewrites forces and velocities after the fact; " + name +
@@ -187,8 +186,7 @@ void Simulator::set_integrator(const std::string& name) {
     throw;
   }
   evaluate(state_);
-  old->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step),
-                             scratch_velocity_);
+  old->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step), scratch_velocity_);
   std::copy(scratch_velocity_.begin(), scratch_velocity_.end(), state_.v().begin());
   state_.history = SchemeHistory{};
 }
@@ -307,8 +305,8 @@ void Simulator::respond() {
       st.stage->apply(model_, state_, ctx);
     }
     if (!all_finite(state_.f()) || !all_finite(state_.v())) {
-      fail(st.stage->name(), "non-finite force or velocity written by stage '" +
-                                 st.stage->name() + "'");
+      fail(st.stage->name(),
+           "non-finite force or velocity written by stage '" + st.stage->name() + "'");
       return;
     }
   }

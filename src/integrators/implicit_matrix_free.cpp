@@ -163,9 +163,9 @@ class MatrixFreeSystem final : public ImplicitSystem {
 
   const Model& model_;
   int threads_;
-  std::vector<std::vector<Mat3>> blocks_;  // per pool, per link: C = h dv + h^2 dx
-  std::vector<const LinkPoolBase*> transient_;          // this step's stage links
-  std::vector<std::vector<Mat3>> transient_blocks_;     // their blocks (grow-only)
+  std::vector<std::vector<Mat3>> blocks_;            // per pool, per link: C = h dv + h^2 dx
+  std::vector<const LinkPoolBase*> transient_;       // this step's stage links
+  std::vector<std::vector<Mat3>> transient_blocks_;  // their blocks (grow-only)
   std::vector<std::uint8_t> free_;
   std::vector<Real> mass_;
   std::vector<Mat3> diagonal_;  // inverse diagonal blocks (preconditioner)

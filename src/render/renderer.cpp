@@ -1,8 +1,8 @@
 #include "maille/render/renderer.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 

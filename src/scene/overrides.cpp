@@ -76,12 +76,14 @@ std::optional<InputError> apply_overrides(toml::table& root, std::span<const std
       toml::node* node = table->get(s.key);
       if (s.index) {
         toml::array* array = node ? node->as_array() : nullptr;
-        if (!array)
-          return error(set, walked, "the scene has no [[" + s.key + "]] table to index");
+        if (!array) return error(set, walked, "the scene has no [[" + s.key + "]] table to index");
         walked.append("[").append(std::to_string(*s.index)).append("]");
         if (*s.index >= array->size()) {
           std::string why = "index out of range: the scene has ";
-          why.append(std::to_string(array->size())).append(" [[").append(s.key).append("]] table(s)");
+          why.append(std::to_string(array->size()))
+              .append(" [[")
+              .append(s.key)
+              .append("]] table(s)");
           return error(set, walked, why);
         }
         table = array->get(*s.index)->as_table();

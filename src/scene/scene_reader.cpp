@@ -391,13 +391,14 @@ Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegist
   return load_scene(path, kinds, stages, {});
 }
 
-Result<Scene> load_scene(const std::filesystem::path& path, std::span<const std::string> overrides) {
+Result<Scene> load_scene(const std::filesystem::path& path,
+                         std::span<const std::string> overrides) {
   static const LinkKindRegistry builtins = LinkKindRegistry::with_builtins();
   return load_scene(path, builtins, builtin_stages(), overrides);
 }
 
 Result<Scene> load_scene(const std::filesystem::path& path, const LinkKindRegistry& kinds,
-                              const StageRegistry& stages, std::span<const std::string> overrides) {
+                         const StageRegistry& stages, std::span<const std::string> overrides) {
   // Only a regular file of sane size is read: a directory, /dev/zero or a FIFO would otherwise
   // be read into memory without end or parsed as nothing.
   std::error_code ec;

@@ -35,7 +35,9 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
   else
     s.cell_size = t.real("cell_size", 0, Bound::positive);
   const std::string ex = t.text("exclusion", "signature", {"none", "matrix", "signature"});
-  s.exclusion = ex == "none" ? Exclusion::none : ex == "matrix" ? Exclusion::matrix : Exclusion::signature;
+  s.exclusion = ex == "none"     ? Exclusion::none
+                : ex == "matrix" ? Exclusion::matrix
+                                 : Exclusion::signature;
   s.topological_radius = static_cast<int>(t.integer("topological_radius", 2, 0, 16));
   if (t.text("primitive", "points", {"points", "triangles"}) == "triangles")
     s.primitive = Primitive::triangles;

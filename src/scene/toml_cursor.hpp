@@ -49,8 +49,7 @@ class TomlCursor final : public SceneTable {
                    std::initializer_list<std::string_view> choices = {}) override;
   Vec3 vec3(std::string_view key);  // required
   Vec3 vec3(std::string_view key, Vec3 fallback) override;
-  std::vector<std::string> texts(std::string_view key,
-                                 std::vector<std::string> fallback) override;
+  std::vector<std::string> texts(std::string_view key, std::vector<std::string> fallback) override;
   // An array of `n` integers in [min, max] (resolutions).
   std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback,
                                      std::int64_t min, std::int64_t max);

@@ -83,8 +83,9 @@ std::optional<TomlHazard> find_toml_hazard(std::string_view text) {
           while (j < n && (text[j] == ' ' || text[j] == '\t' || text[j] == '\n' || text[j] == '\r'))
             ++j;
           if (j < n && non_ascii(text[j]))
-            return at(text, j, "non-ASCII character after a backslash in a multi-line string "
-                               "(not supported by the TOML library)");
+            return at(text, j,
+                      "non-ASCII character after a backslash in a multi-line string "
+                      "(not supported by the TOML library)");
           i = j > i + 1 ? j : i + 2;
           continue;
         }

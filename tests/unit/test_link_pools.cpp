@@ -130,7 +130,8 @@ void check_kind(Graph g, std::mt19937_64& rng) {
     }
     for (std::uint32_t p = 0; p < g.points; ++p) {
       const Real tol = Real(1e-12) * scale[p] + Real(1e-300);
-      ASSERT_NEAR(f[p].x, naive[p].x, tol) << K::keyword << ", point " << p << ", " << threads << " threads";
+      ASSERT_NEAR(f[p].x, naive[p].x, tol)
+          << K::keyword << ", point " << p << ", " << threads << " threads";
       ASSERT_NEAR(f[p].y, naive[p].y, tol) << K::keyword << ", point " << p;
       ASSERT_NEAR(f[p].z, naive[p].z, tol) << K::keyword << ", point " << p;
     }
@@ -160,9 +161,15 @@ void check_kind_on_both_graphs() {
   check_kind<K>(gr, rng);
 }
 
-TEST(LinkPools, SpringMatchesThePlainLoop) { check_kind_on_both_graphs<Spring>(); }
-TEST(LinkPools, DamperMatchesThePlainLoop) { check_kind_on_both_graphs<Damper>(); }
-TEST(LinkPools, SpringDamperMatchesThePlainLoop) { check_kind_on_both_graphs<SpringDamper>(); }
+TEST(LinkPools, SpringMatchesThePlainLoop) {
+  check_kind_on_both_graphs<Spring>();
+}
+TEST(LinkPools, DamperMatchesThePlainLoop) {
+  check_kind_on_both_graphs<Damper>();
+}
+TEST(LinkPools, SpringDamperMatchesThePlainLoop) {
+  check_kind_on_both_graphs<SpringDamper>();
+}
 TEST(LinkPools, ConditionalMatchesThePlainLoop) {
   check_kind_on_both_graphs<ConditionalSpringDamper>();
 }
@@ -207,9 +214,12 @@ TEST(LinkPools, ColouringsNeverShareAPointWithinAColour) {
     offsets.push_back(static_cast<std::uint32_t>(idx.size()));
   }
   const Colouring sets = colour_sets(offsets, idx, g.points);
-  expect_valid(sets, offsets.size() - 1, [&](std::uint32_t s) {
-    return std::vector<std::uint32_t>(idx.begin() + offsets[s], idx.begin() + offsets[s + 1]);
-  }, g.points);
+  expect_valid(
+      sets, offsets.size() - 1,
+      [&](std::uint32_t s) {
+        return std::vector<std::uint32_t>(idx.begin() + offsets[s], idx.begin() + offsets[s + 1]);
+      },
+      g.points);
 
   // Triangles of a 40 x 30 grid (arity 3), as the wind stage colours its faces.
   std::vector<std::uint32_t> tris;
@@ -219,9 +229,12 @@ TEST(LinkPools, ColouringsNeverShareAPointWithinAColour) {
       tris.insert(tris.end(), {p, p + 1, p + 41, p, p + 41, p + 40});
     }
   const Colouring faces = colour_elements(tris, 3, 40 * 30);
-  expect_valid(faces, tris.size() / 3, [&](std::uint32_t t) {
-    return std::vector<std::uint32_t>{tris[3 * t], tris[3 * t + 1], tris[3 * t + 2]};
-  }, 40 * 30);
+  expect_valid(
+      faces, tris.size() / 3,
+      [&](std::uint32_t t) {
+        return std::vector<std::uint32_t>{tris[3 * t], tris[3 * t + 1], tris[3 * t + 2]};
+      },
+      40 * 30);
   EXPECT_LE(faces.offsets.size() - 1, 12u);  // greedy on a grid: a handful of colours
 }
 

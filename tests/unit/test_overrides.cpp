@@ -12,11 +12,14 @@ namespace {
 
 const std::string kFlag = std::string(MAILLE_SOURCE_DIR) + "/examples/flag_in_wind.toml";
 
-Result<Scene> with(std::vector<std::string> sets) { return load_scene(kFlag, sets); }
+Result<Scene> with(std::vector<std::string> sets) {
+  return load_scene(kFlag, sets);
+}
 
 TEST(Overrides, GoodKeysChangeTheScene) {
-  auto s = with({"simulation.step=1e-4", "simulation.integrator=rk4", "fields.gravity=[0, -1.62, 0]",
-                 "flag[0].stiffness=800", "flag[0].resolution=[10, 8]"});
+  auto s =
+      with({"simulation.step=1e-4", "simulation.integrator=rk4", "fields.gravity=[0, -1.62, 0]",
+            "flag[0].stiffness=800", "flag[0].resolution=[10, 8]"});
   ASSERT_TRUE(s) << s.error().to_string();
   EXPECT_DOUBLE_EQ(s->settings.step, 1e-4);
   EXPECT_EQ(s->settings.integrator, "rk4");
@@ -38,10 +41,12 @@ TEST(Overrides, ATableCanBeAddedFromTheCommandLine) {
 TEST(Overrides, ErrorsNameTheKey) {
   auto unknown = with({"simulation.stepp=1e-4"});
   ASSERT_FALSE(unknown);
-  EXPECT_NE(unknown.error().to_string().find("stepp"), std::string::npos) << unknown.error().to_string();
+  EXPECT_NE(unknown.error().to_string().find("stepp"), std::string::npos)
+      << unknown.error().to_string();
   auto type = with({"simulation.step=fast"});
   ASSERT_FALSE(type);
-  EXPECT_NE(type.error().key.find("simulation.step"), std::string::npos) << type.error().to_string();
+  EXPECT_NE(type.error().key.find("simulation.step"), std::string::npos)
+      << type.error().to_string();
   auto range = with({"flag[0].mass=-1"});
   ASSERT_FALSE(range);
   EXPECT_NE(range.error().key.find("mass"), std::string::npos);

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <cstring>
+#include <random>
 #include <set>
 
 #include "maille/builders.hpp"
@@ -98,9 +98,9 @@ Model crumpled_flag(std::uint32_t n = 24) {
   const Real spacing = p.width / Real(n - 1);
   for (std::uint32_t k = 0; k < m.points.size(); ++k) {
     Vec3& x = m.points.initial_position[k];
-    const Real u = x.x / spacing;                // column index
-    const Real fold = std::floor(u / 4);         // 4 columns per layer
-    const Real t = u - 4 * fold;                 // position inside the layer
+    const Real u = x.x / spacing;         // column index
+    const Real fold = std::floor(u / 4);  // 4 columns per layer
+    const Real t = u - 4 * fold;          // position inside the layer
     const Real dir = std::fmod(fold, 2) == 0 ? 1 : -1;
     x = {(dir > 0 ? t : 4 - t) * spacing, x.y, fold * Real(0.4) * spacing};
   }

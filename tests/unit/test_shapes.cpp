@@ -60,7 +60,7 @@ TEST(Shapes, CylinderConeCapsuleTorusHalfSpace) {
   // The distance from (2, 0) to the side line through (1, -1) and (0.5, 1).
   EXPECT_NEAR(side.signed_distance, ((2 - 1) * 2 + (0 + 1) * 0.5) / len, 1e-12);
   EXPECT_LT(cone({0.7, 0.1, 0}, top).signed_distance, 0);
-  EXPECT_GT(cone({0.76, 0.1, 0}, top).signed_distance, 0);  // radius at y = 0.1 is 0.725
+  EXPECT_GT(cone({0.76, 0.1, 0}, top).signed_distance, 0);    // radius at y = 0.1 is 0.725
   EXPECT_NEAR(cone({0, 1, 0}, 0).signed_distance, 0, 1e-15);  // the apex of a pointed cone
   // Capsule: side and end.
   EXPECT_NEAR(capsule({0.5, 0.3, 0}).signed_distance, -0.5, 1e-15);
@@ -98,8 +98,9 @@ TEST(Shapes, NormalIsTheGradient) {
       for (int k = 0; k < 3; ++k) {
         Vec3 e{};
         (k == 0 ? e.x : k == 1 ? e.y : e.z) = Real(h);
-        (k == 0 ? g.x : k == 1 ? g.y : g.z) =
-            (f(p + e).signed_distance - f(p - e).signed_distance) / Real(2 * h);
+        (k == 0   ? g.x
+         : k == 1 ? g.y
+                  : g.z) = (f(p + e).signed_distance - f(p - e).signed_distance) / Real(2 * h);
       }
       if (std::abs(norm(g) - 1) > 1e-3) continue;  // a tie (a ridge of the distance): skip
       ++checked;

@@ -66,8 +66,7 @@ StageRegistry test_registry(int* after_calls) {
          }});
   r.add({"test_after", true, "counts after-integration calls (test only)",
          [after_calls](SceneTable&, const Model&) {
-           return StageSpec{"test_after", Phase::after_integration,
-                            [after_calls](const Model&) {
+           return StageSpec{"test_after", Phase::after_integration, [after_calls](const Model&) {
                               return std::make_unique<AfterStage>(after_calls);
                             }};
          }});
@@ -100,7 +99,8 @@ TEST(StageRegistry, SceneTableInstallsAStageThatRunsWithThePhysicsItDescribes) {
   // omega = sqrt(k / m) = 10 rad/s: a period of 2 pi / 10 s.
   const auto t = test::upward_crossings(sim, 0, 0, 5000);
   ASSERT_GE(t.size(), 3u);
-  EXPECT_NEAR(test::mean_period(t), 2 * std::numbers::pi / 10, 1e-4);  // leapfrog: O(h^2) = 1e-6 rel
+  EXPECT_NEAR(test::mean_period(t), 2 * std::numbers::pi / 10,
+              1e-4);                 // leapfrog: O(h^2) = 1e-6 rel
   EXPECT_EQ(after_calls, 2 * 5000);  // two [[test_after]] tables, every step
   bool timed = false;
   for (const auto& s : sim.profile().stages()) timed |= s.name == "test_anchor" && s.total_ns > 0;

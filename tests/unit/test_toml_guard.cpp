@@ -9,7 +9,8 @@ namespace {
 
 TEST(TomlGuard, NonAsciiInStringsAndCommentsLoads) {
   const char* text =
-      "\xEF\xBB\xBF# a flag at 20 \xC2\xB0" "C, 1.5 m \xC3\x97 1 m, \xD1\xA2\n"
+      "\xEF\xBB\xBF# a flag at 20 \xC2\xB0"
+      "C, 1.5 m \xC3\x97 1 m, \xD1\xA2\n"
       "[scene]\n"
       "name = \"drapeau\"\n"  // names a directory (ASCII only): the accents go below
       "description = '''drapeau \xC3\xA9t\xC3\xA9 Ѣ \xC2\xA7 multi\nline'''\n"
@@ -23,8 +24,8 @@ TEST(TomlGuard, NonAsciiInStringsAndCommentsLoads) {
 }
 
 TEST(TomlGuard, NonAsciiOutsideStringsIsAnInputError) {
-  const auto r = parse_scene("[[mass]]\nmass = \xC2\xB5\n", "bad.toml",
-                             LinkKindRegistry::with_builtins());
+  const auto r =
+      parse_scene("[[mass]]\nmass = \xC2\xB5\n", "bad.toml", LinkKindRegistry::with_builtins());
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().line, 2);
   EXPECT_EQ(r.error().column, 8);

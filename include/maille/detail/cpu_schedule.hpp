@@ -58,7 +58,9 @@ class CpuSchedule {
  private:
   static constexpr std::uint32_t kBands = 16;
   static constexpr std::uint32_t kMinBandPoints = 256;
-  std::uint32_t band_of(std::uint32_t a) const { return (a - band_origin_) / band_points_; }
+  std::uint32_t band_of(std::uint32_t a) const {
+    return (a - band_origin_) / band_points_;
+  }
   void cut_chunks(std::span<const LinkEnds> ends);
 
   bool ready_ = false;

@@ -99,7 +99,8 @@ Real UniformGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thr
     sig_.resize(cells);
     for (std::uint32_t k : occupied_) {
       sig_[k] = {};
-      for (std::uint32_t s = start_[k]; s < start_[k + 1]; ++s) q.exclusion->sign(sig_[k], order_[s]);
+      for (std::uint32_t s = start_[k]; s < start_[k + 1]; ++s)
+        q.exclusion->sign(sig_[k], order_[s]);
     }
   }
 
@@ -144,8 +145,8 @@ Real UniformGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thr
 
 namespace {
 std::uint32_t hash_cell(std::int32_t x, std::int32_t y, std::int32_t z, std::uint32_t mask) {
-  const auto h = std::uint32_t(x) * 73856093u ^ std::uint32_t(y) * 19349663u ^
-                 std::uint32_t(z) * 83492791u;
+  const auto h =
+      std::uint32_t(x) * 73856093u ^ std::uint32_t(y) * 19349663u ^ std::uint32_t(z) * 83492791u;
   return (h ^ (h >> 16)) & mask;
 }
 }  // namespace
@@ -168,7 +169,8 @@ Real HashedGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thre
   for (std::int64_t a = 0; a < std::int64_t(n); ++a) {
     const Vec3 p = (q.x[a] - box.lo) * inv;
     const auto k = std::size_t(a) * 3;
-    coords[k] = std::int32_t(p.x), coords[k + 1] = std::int32_t(p.y), coords[k + 2] = std::int32_t(p.z);
+    coords[k] = std::int32_t(p.x), coords[k + 1] = std::int32_t(p.y),
+    coords[k + 2] = std::int32_t(p.z);
     bucket_of_[std::size_t(a)] = hash_cell(coords[k], coords[k + 1], coords[k + 2], mask);
   }
   start_.assign(std::size_t(buckets) + 1, 0);

@@ -31,7 +31,7 @@ struct Sink {
 struct Query {
   const Vec3* x = nullptr;  // [n] positions of the colliding particles
   std::uint32_t n = 0;
-  Real r = 0;  // contact distance
+  Real r = 0;                                       // contact distance
   const TopologicalExclusion* exclusion = nullptr;  // null: nothing excluded
   bool signatures = false;                          // skip cell pairs by signatures
 };
@@ -89,7 +89,7 @@ class Octree {
 
  private:
   struct Node {
-    std::uint32_t begin = 0, end = 0;  // range in order_
+    std::uint32_t begin = 0, end = 0;       // range in order_
     std::uint32_t child = 0, children = 0;  // first child index, count (0: leaf)
     Box box;
     CellSignature sig;

@@ -27,7 +27,8 @@ void CellSignature::merge(const CellSignature& o) {
     group = -1;
     return;
   }
-  i0 = std::min(i0, o.i0), i1 = std::max(i1, o.i1), j0 = std::min(j0, o.j0), j1 = std::max(j1, o.j1);
+  i0 = std::min(i0, o.i0), i1 = std::max(i1, o.i1), j0 = std::min(j0, o.j0),
+  j1 = std::max(j1, o.j1);
 }
 
 namespace {
@@ -127,9 +128,16 @@ TopologicalExclusion::TopologicalExclusion(const Model& m, const std::vector<std
       // The grid must be translation-invariant: the stencil, clipped to the grid, must give
       // what a search finds at the corners and the edges' middles. Otherwise: matrix rows.
       bool regular = true;
-      for (const auto& probe_ij : std::vector<std::pair<std::int32_t, std::int32_t>>{
-               {0, 0}, {nx - 1, 0}, {0, ny - 1}, {nx - 1, ny - 1}, {nx / 2, 0}, {0, ny / 2},
-               {nx - 1, ny / 2}, {nx / 2, ny - 1}, {1, 1}}) {
+      for (const auto& probe_ij :
+           std::vector<std::pair<std::int32_t, std::int32_t>>{{0, 0},
+                                                              {nx - 1, 0},
+                                                              {0, ny - 1},
+                                                              {nx - 1, ny - 1},
+                                                              {nx / 2, 0},
+                                                              {0, ny / 2},
+                                                              {nx - 1, ny / 2},
+                                                              {nx / 2, ny - 1},
+                                                              {1, 1}}) {
         const std::int32_t pi = probe_ij.first, pj = probe_ij.second;
         const std::uint32_t probe = g.first + std::uint32_t(pj * nx + pi);
         std::size_t found = 0;

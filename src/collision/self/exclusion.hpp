@@ -63,7 +63,7 @@ class TopologicalExclusion {
     std::int32_t i = 0, j = 0;
   };
   struct Stencil {
-    std::int32_t reach = 0;         // |di|, |dj| <= reach
+    std::int32_t reach = 0;          // |di|, |dj| <= reach
     std::vector<std::uint8_t> bits;  // (2 reach + 1)^2, 1: within R
   };
   bool in_stencil(const Grid& a, const Grid& b) const {
@@ -76,11 +76,11 @@ class TopologicalExclusion {
 
   int radius_ = 0;
   bool signature_ = false;
-  std::vector<Grid> grid_of_;                // [set]
-  std::vector<Stencil> stencils_;            // per grid group
-  std::vector<std::int32_t> full_span_;      // per grid group
-  std::vector<std::uint32_t> offsets_;       // [set + 1] matrix rows (CSR)
-  std::vector<std::uint32_t> neighbours_;    // local indices, sorted per row
+  std::vector<Grid> grid_of_;              // [set]
+  std::vector<Stencil> stencils_;          // per grid group
+  std::vector<std::int32_t> full_span_;    // per grid group
+  std::vector<std::uint32_t> offsets_;     // [set + 1] matrix rows (CSR)
+  std::vector<std::uint32_t> neighbours_;  // local indices, sorted per row
 };
 
 }  // namespace maille::collision

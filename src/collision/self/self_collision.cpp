@@ -10,29 +10,36 @@
 #include <stdexcept>
 
 #include "broad_phase.hpp"
-#include "triangle_proximity.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/spring_damper.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
+#include "triangle_proximity.hpp"
 
 namespace maille {
 
 std::string_view to_string(BroadPhase b) {
   switch (b) {
-    case BroadPhase::brute: return "brute";
-    case BroadPhase::uniform: return "uniform";
-    case BroadPhase::hashed: return "hashed";
-    case BroadPhase::hierarchical: return "hierarchical";
+    case BroadPhase::brute:
+      return "brute";
+    case BroadPhase::uniform:
+      return "uniform";
+    case BroadPhase::hashed:
+      return "hashed";
+    case BroadPhase::hierarchical:
+      return "hierarchical";
   }
   return "?";
 }
 
 std::string_view to_string(Exclusion e) {
   switch (e) {
-    case Exclusion::none: return "none";
-    case Exclusion::matrix: return "matrix";
-    case Exclusion::signature: return "signature";
+    case Exclusion::none:
+      return "none";
+    case Exclusion::matrix:
+      return "matrix";
+    case Exclusion::signature:
+      return "signature";
   }
   return "?";
 }
@@ -73,8 +80,8 @@ Real default_radius(const Model& m, const std::vector<std::uint32_t>& set) {
     if (pool->conditional()) continue;
     for (const LinkEnds& e : pool->slot_ends())
       if (in[e.a] || in[e.b])
-        shortest = std::min(shortest, norm(m.points.initial_position[e.b] -
-                                           m.points.initial_position[e.a]));
+        shortest = std::min(shortest,
+                            norm(m.points.initial_position[e.b] - m.points.initial_position[e.a]));
   }
   if (shortest == std::numeric_limits<Real>::max() || shortest <= 0)
     throw std::invalid_argument(
@@ -84,8 +91,8 @@ Real default_radius(const Model& m, const std::vector<std::uint32_t>& set) {
 }
 
 constexpr double kCellFactors[] = {1.0, 1.25, 1.5, 2.0, 3.0, 4.0};
-constexpr double kRetuneBox = 1.5;      // re-tune when the box diagonal changes by this factor
-constexpr double kRetuneDensity = 2.0;  // ... or the particles per occupied cell
+constexpr double kRetuneBox = 1.5;           // re-tune when the box diagonal changes by this factor
+constexpr double kRetuneDensity = 2.0;       // ... or the particles per occupied cell
 constexpr Real kFrictionSpeed = Real(1e-3);  // m/s: below, friction is viscous (no chatter)
 
 }  // namespace
@@ -174,8 +181,8 @@ class SelfCollision {
       case BroadPhase::uniform:
       case BroadPhase::hashed:
         st.cell_size = grid_pass(q, threads);
-        st.occupied_cells = s_.broad_phase == BroadPhase::uniform ? uniform_.occupied()
-                                                                   : hashed_.occupied();
+        st.occupied_cells =
+            s_.broad_phase == BroadPhase::uniform ? uniform_.occupied() : hashed_.occupied();
         break;
     }
     for (const auto& sink : sinks_) {
@@ -224,9 +231,9 @@ class SelfCollision {
     }
     if (!triangles_) return st;
     SelfCollisionStats out = st;
-    out.triangle_contacts = triangles_->apply(
-        x, v, f, {r, k, z, mu}, s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(),
-        threads);
+    out.triangle_contacts =
+        triangles_->apply(x, v, f, {r, k, z, mu},
+                          s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
     return out;
   }
 
@@ -251,7 +258,7 @@ class SelfCollision {
     };
     auto occupied = [&] {
       return double(s_.broad_phase == BroadPhase::uniform ? uniform_.occupied()
-                                                           : hashed_.occupied());
+                                                          : hashed_.occupied());
     };
     double used = 0;
     if (s_.cell_size > 0) {
@@ -260,8 +267,8 @@ class SelfCollision {
     }
     const collision::Box box = collision::bounds(q.x, q.n);
     const double diag = double(norm(box.hi - box.lo)) + 1e-12;
-    const bool drifted = tuned_cell_ > 0 && (diag > tuned_diag_ * kRetuneBox ||
-                                             diag < tuned_diag_ / kRetuneBox);
+    const bool drifted =
+        tuned_cell_ > 0 && (diag > tuned_diag_ * kRetuneBox || diag < tuned_diag_ / kRetuneBox);
     if (tuned_cell_ > 0 && !drifted) {
       pass(Real(tuned_cell_), used);
       const double density = double(q.n) / std::max(occupied(), 1.0);
@@ -301,7 +308,8 @@ class SelfCollision {
     partners_.resize(total);
     cursor_.assign(start_.begin(), start_.end() - 1);
     for (const auto& s : sinks_)
-      for (std::size_t k = 0; k < s.pairs.size(); k += 2) partners_[cursor_[s.pairs[k]]++] = s.pairs[k + 1];
+      for (std::size_t k = 0; k < s.pairs.size(); k += 2)
+        partners_[cursor_[s.pairs[k]]++] = s.pairs[k + 1];
     for (std::size_t a = 0; a < n; ++a)
       std::sort(partners_.begin() + start_[a], partners_.begin() + start_[a + 1]);
   }
@@ -321,7 +329,7 @@ class SelfCollision {
   collision::HashedGrid hashed_;
   collision::Octree octree_;
   std::unique_ptr<collision::TriangleProximity> triangles_;
-  std::vector<collision::Sink> sinks_;                 // one per thread
+  std::vector<collision::Sink> sinks_;                    // one per thread
   std::vector<std::uint32_t> start_, cursor_, partners_;  // close partners per particle (CSR)
   std::vector<SelfCollisionEngine::TuneRecord> tuning_;
   double tuned_cell_ = 0, tuned_diag_ = 0, tuned_density_ = 0;
@@ -334,22 +342,34 @@ SelfCollisionEngine::SelfCollisionEngine(const Model& m, SelfCollisionSettings s
 SelfCollisionEngine::~SelfCollisionEngine() = default;
 SelfCollisionEngine::SelfCollisionEngine(SelfCollisionEngine&&) noexcept = default;
 
-std::vector<std::pair<std::uint32_t, std::uint32_t>> SelfCollisionEngine::close_pairs(
-    const Vec3* x, int threads) {
+std::vector<std::pair<std::uint32_t, std::uint32_t>> SelfCollisionEngine::close_pairs(const Vec3* x,
+                                                                                      int threads) {
   return impl_->close_pairs(x, threads);
 }
 SelfCollisionStats SelfCollisionEngine::apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
   return impl_->apply(x, v, f, threads);
 }
-const SelfCollisionSettings& SelfCollisionEngine::settings() const { return impl_->settings(); }
-std::size_t SelfCollisionEngine::particles() const { return impl_->particles(); }
-std::size_t SelfCollisionEngine::exclusion_bytes() const { return impl_->exclusion_bytes(); }
+const SelfCollisionSettings& SelfCollisionEngine::settings() const {
+  return impl_->settings();
+}
+std::size_t SelfCollisionEngine::particles() const {
+  return impl_->particles();
+}
+std::size_t SelfCollisionEngine::exclusion_bytes() const {
+  return impl_->exclusion_bytes();
+}
 const std::vector<SelfCollisionEngine::TuneRecord>& SelfCollisionEngine::last_tuning() const {
   return impl_->tuning();
 }
-void SelfCollisionEngine::set_broad_phase(BroadPhase b) { impl_->set_broad_phase(b); }
-void SelfCollisionEngine::set_exclusion(Exclusion e) { impl_->set_exclusion(e); }
-void SelfCollisionEngine::set_cell_size(Real c) { impl_->set_cell_size(c); }
+void SelfCollisionEngine::set_broad_phase(BroadPhase b) {
+  impl_->set_broad_phase(b);
+}
+void SelfCollisionEngine::set_exclusion(Exclusion e) {
+  impl_->set_exclusion(e);
+}
+void SelfCollisionEngine::set_cell_size(Real c) {
+  impl_->set_cell_size(c);
+}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -361,7 +381,8 @@ namespace {
 // bit-identically.
 class SelfCollisionStage final : public Stage {
  public:
-  SelfCollisionStage(const Model& m, const SelfCollisionSettings& s) : settings_(s), engine_(m, s) {}
+  SelfCollisionStage(const Model& m, const SelfCollisionSettings& s)
+      : settings_(s), engine_(m, s) {}
   std::string name() const override { return "self_collision"; }
   Phase phase() const override { return Phase::forces; }
   void model_changed(const Model& m) override {
@@ -389,9 +410,9 @@ class SelfCollisionStage final : public Stage {
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0) {
-      ids_ = {p.counter("self_candidate_pairs"), p.counter("self_contacts"),
-              p.counter("self_occupied_cells"), p.counter("self_excluded_pairs"),
-              p.counter("self_skipped_cells"), p.gauge("self_cell_size"),
+      ids_ = {p.counter("self_candidate_pairs"),   p.counter("self_contacts"),
+              p.counter("self_occupied_cells"),    p.counter("self_excluded_pairs"),
+              p.counter("self_skipped_cells"),     p.gauge("self_cell_size"),
               p.counter("self_triangle_contacts"), p.gauge("self_model_Pn2")};
     }
     p.set_count(ids_[0], st.candidate_pairs);
@@ -403,7 +424,8 @@ class SelfCollisionStage final : public Stage {
     p.set_count(ids_[6], st.triangle_contacts);
     // The brief's cost model at the resolution used, beside the stage's measured time
     // (ns_self_collision) in every stats.csv row: P n^2 with P occupied cells, n per cell.
-    const double per_cell = double(engine_.particles()) / std::max<double>(double(st.occupied_cells), 1);
+    const double per_cell =
+        double(engine_.particles()) / std::max<double>(double(st.occupied_cells), 1);
     p.set_gauge(ids_[7], double(st.occupied_cells) * per_cell * per_cell);
   }
 
@@ -427,8 +449,9 @@ class SelfCollisionStage final : public Stage {
     };
     if (name == "enabled" || name == "draw_contacts" || name == "draw_cells") {
       choice({"on", "off"});
-      (name == "enabled" ? enabled_ : name == "draw_contacts" ? draw_contacts_ : draw_cells_) =
-          value == "on";
+      (name == "enabled"         ? enabled_
+       : name == "draw_contacts" ? draw_contacts_
+                                 : draw_cells_) = value == "on";
     } else if (name == "broad_phase") {
       choice({"brute", "uniform", "hashed", "hierarchical"});
       engine_.set_broad_phase(value == "brute"     ? BroadPhase::brute

@@ -74,13 +74,17 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   const Box box = bounds(xs_.data(), std::uint32_t(xs_.size()));
   Real cell = r.radius;
   for (const auto& t : tris_)
-    for (int e = 0; e < 3; ++e) cell = std::max(cell, norm(x[t[std::size_t((e + 1) % 3)]] - x[t[std::size_t(e)]]));
+    for (int e = 0; e < 3; ++e)
+      cell = std::max(cell, norm(x[t[std::size_t((e + 1) % 3)]] - x[t[std::size_t(e)]]));
   const Vec3 ext = box.hi - box.lo;
-  while ((ext.x / cell + 1) * (ext.y / cell + 1) * (ext.z / cell + 1) > Real(8 * set_.size() + 4096))
+  while ((ext.x / cell + 1) * (ext.y / cell + 1) * (ext.z / cell + 1) >
+         Real(8 * set_.size() + 4096))
     cell *= Real(1.25);
   const auto nx = std::int64_t(ext.x / cell) + 1, ny = std::int64_t(ext.y / cell) + 1,
              nz = std::int64_t(ext.z / cell) + 1;
-  auto clampi = [](std::int64_t i, std::int64_t n) { return std::clamp<std::int64_t>(i, 0, n - 1); };
+  auto clampi = [](std::int64_t i, std::int64_t n) {
+    return std::clamp<std::int64_t>(i, 0, n - 1);
+  };
   auto cell_range = [&](const Vec3& lo, const Vec3& hi, std::array<std::int64_t, 6>& c) {
     c = {clampi(std::int64_t(std::floor((lo.x - box.lo.x) / cell)), nx),
          clampi(std::int64_t(std::floor((hi.x - box.lo.x) / cell)), nx),
@@ -107,7 +111,8 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
       for (std::int64_t j = c[2]; j <= c[3]; ++j)
         for (std::int64_t i = c[0]; i <= c[1]; ++i) fn(std::size_t((k * ny + j) * nx + i));
   };
-  for (std::size_t t = 0; t < tris_.size(); ++t) each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; });
   for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_tris_.resize(cell_start_[cells]);
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
@@ -124,8 +129,9 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
     auto& out = per_thread_[std::size_t(thread_id())];
     const std::uint32_t p = set_[std::size_t(k)];
     const Vec3 q = (x[p] - box.lo) / cell;
-    const auto c = std::size_t((clampi(std::int64_t(q.z), nz) * ny + clampi(std::int64_t(q.y), ny)) * nx +
-                               clampi(std::int64_t(q.x), nx));
+    const auto c =
+        std::size_t((clampi(std::int64_t(q.z), nz) * ny + clampi(std::int64_t(q.y), ny)) * nx +
+                    clampi(std::int64_t(q.x), nx));
     for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
       const std::uint32_t t = cell_tris_[s];
       const auto& tri = tris_[t];
@@ -174,7 +180,8 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   all_.clear();
   for (const auto& list : per_thread_) all_.insert(all_.end(), list.begin(), list.end());
   auto key = [](const Contact& c) { return std::tuple{c.particle, c.kind, c.a, c.b, c.triangle}; };
-  std::sort(all_.begin(), all_.end(), [&](const Contact& a, const Contact& b) { return key(a) < key(b); });
+  std::sort(all_.begin(), all_.end(),
+            [&](const Contact& a, const Contact& b) { return key(a) < key(b); });
   all_.erase(std::unique(all_.begin(), all_.end(),
                          [](const Contact& a, const Contact& b) {
                            return a.particle == b.particle && a.kind == b.kind && a.a == b.a &&

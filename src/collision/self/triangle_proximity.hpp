@@ -40,13 +40,13 @@ class TriangleProximity {
     // The feature touched: a face (kind 2: the triangle), an edge (kind 1: its two corners) or a
     // corner (kind 0). Triangles sharing the touched edge or corner count it once.
     std::uint32_t kind, a, b;
-    Vec3 force;                 // on the particle
+    Vec3 force;                  // on the particle
     std::array<Real, 3> weight;  // barycentric weights of the closest point
   };
   std::vector<std::array<std::uint32_t, 3>> tris_;  // global corner ids
   std::vector<std::uint32_t> set_;
   std::vector<std::int32_t> local_;  // global id -> index in set_, -1 when not colliding
-  std::vector<Vec3> xs_;  // the particles' positions, gathered each pass
+  std::vector<Vec3> xs_;             // the particles' positions, gathered each pass
   std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
   std::vector<std::vector<Contact>> per_thread_;
   std::vector<Contact> all_;

@@ -76,8 +76,7 @@ Distance cube(const Vec3& p) {
                p.z < 0 ? Real(-1) : Real(1)};
   const Vec3 o{std::max<Real>(q.x, 0), std::max<Real>(q.y, 0), std::max<Real>(q.z, 0)};
   const Real outside = norm(o);
-  if (outside > 0)
-    return {outside, Vec3{s.x * o.x, s.y * o.y, s.z * o.z} / outside};
+  if (outside > 0) return {outside, Vec3{s.x * o.x, s.y * o.y, s.z * o.z} / outside};
   // Inside or on the surface: the largest of q (closest face), y first on ties.
   if (q.y >= q.x && q.y >= q.z) return {q.y, {0, s.y, 0}};
   if (q.x >= q.z) return {q.x, {s.x, 0, 0}};
@@ -123,7 +122,9 @@ Distance capsule(const Vec3& p) {
   return {n - 1, n > 0 ? d / n : Vec3{1, 0, 0}};
 }
 
-Distance half_space(const Vec3& p) { return {p.y, {0, 1, 0}}; }
+Distance half_space(const Vec3& p) {
+  return {p.y, {0, 1, 0}};
+}
 
 // ---------------------------------------------------------------------------------------------
 
