@@ -7,7 +7,8 @@
 # Findings (crash-*, leak-*, timeout-*, oom-*) are written to build/fuzz/findings/; the corpus
 # grows in build/fuzz/corpus/ (not committed). Each crash becomes a file in tests/data/bad/.
 # Inputs that only run slowly or use much memory (huge sizes, tiny steps) stop at
-# -timeout=10 / -rss_limit_mb=2048 and are reported, not fixed here (scene size limits).
+# -timeout=10 / -rss_limit_mb=2048 and are reported, not fixed here (scene size limits). Valid
+# models above 20k points + links are read and built but not simulated (fuzz_scene.cpp).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
