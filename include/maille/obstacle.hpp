@@ -30,7 +30,8 @@ struct GeometricObstacle {
   shapes::Affine place;   // canonical -> world
   Real stiffness = 2000;  // k, N/m
   Real damping = 1;       // z, N.s/m (along the normal)
-  bool world_normal = false;  // false: the brief's mapping through M_d; true: along the world normal
+  bool world_normal =
+      false;  // false: the brief's mapping through M_d; true: along the world normal
   std::vector<std::string> collides_with;  // groups; empty: every free point
 };
 

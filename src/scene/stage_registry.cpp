@@ -62,14 +62,14 @@ StageSpec obstacle_table(SceneTable& t, const Model& m) {
   o.name = t.text("name", "obstacle");
   const std::string method = t.text("method", "geometric", {"geometric", "facets", "conditional"});
   if (method != "geometric")
-    t.fail("method", "method = \"" + method +
-                         "\" is not built yet in this version; use \"geometric\"");
+    t.fail("method",
+           "method = \"" + method + "\" is not built yet in this version; use \"geometric\"");
   if (t.has("mesh")) t.fail("mesh", "mesh obstacles need method = \"facets\", not built yet");
   for (const char* other : {"threshold", "alpha", "beta", "motion"})
     if (t.has(other))
-      t.fail(other, std::string("is not used by method = \"geometric\"") +
-                        (std::string(other) == "motion" ? " (moving obstacles are not built yet)"
-                                                        : ""));
+      t.fail(other,
+             std::string("is not used by method = \"geometric\"") +
+                 (std::string(other) == "motion" ? " (moving obstacles are not built yet)" : ""));
   const std::string shape = t.text(
       "shape", "sphere", {"sphere", "cube", "cylinder", "cone", "torus", "capsule", "plane"});
   o.shape = shape == "sphere"     ? ShapeKind::sphere

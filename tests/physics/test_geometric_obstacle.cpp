@@ -34,16 +34,14 @@ TEST(GeometricObstacle, ARestingParticleSinksMgOverK) {
   const Real s = 0.3, sink = 0.01 * 9.81 / 400;
   struct Case {
     ShapeKind shape;
-    Vec3 above;   // start, just over the top
-    double top;   // world height of the surface under it
+    Vec3 above;  // start, just over the top
+    double top;  // world height of the surface under it
   };
-  const Case cases[] = {{ShapeKind::sphere, {0, 1.35, 0}, 1.3},  // on the axis: at the pole
-                        {ShapeKind::cube, {0.1, 1.35, -0.1}, 1.3},
-                        {ShapeKind::cylinder, {0.1, 1.35, 0.1}, 1.3},
-                        {ShapeKind::cone, {0.02, 1.35, 0}, 1.3},
-                        {ShapeKind::torus, {0.3, 1.15, 0}, 1.09},
-                        {ShapeKind::capsule, {0, 1.65, 0}, 1.6},
-                        {ShapeKind::plane, {0.4, 1.05, 0.4}, 1.0}};
+  const Case cases[] = {
+      {ShapeKind::sphere, {0, 1.35, 0}, 1.3},  // on the axis: at the pole
+      {ShapeKind::cube, {0.1, 1.35, -0.1}, 1.3}, {ShapeKind::cylinder, {0.1, 1.35, 0.1}, 1.3},
+      {ShapeKind::cone, {0.02, 1.35, 0}, 1.3},   {ShapeKind::torus, {0.3, 1.15, 0}, 1.09},
+      {ShapeKind::capsule, {0, 1.65, 0}, 1.6},   {ShapeKind::plane, {0.4, 1.05, 0.4}, 1.0}};
   for (const Case& c : cases) {
     const double y = resting_height(c.shape, c.above, s);
     EXPECT_NEAR(y, c.top - sink, 1e-6) << to_string(c.shape);
@@ -80,9 +78,11 @@ TEST(GeometricObstacle, WorldNormalVariantUnderNonUniformScale) {
 
 TEST(GeometricObstacle, SceneTableChecksKeysAgainstTheMethod) {
   auto scene = [](const std::string& extra) {
-    return parse_scene("[[mass]]\nname = \"bead\"\nmass = 0.01\nposition = [0.0, 2.0, 0.0]\n"
-                       "[[obstacle]]\nname = \"ball\"\nshape = \"sphere\"\n" + extra,
-                       "o.toml", LinkKindRegistry::with_builtins(), StageRegistry::with_builtins());
+    return parse_scene(
+        "[[mass]]\nname = \"bead\"\nmass = 0.01\nposition = [0.0, 2.0, 0.0]\n"
+        "[[obstacle]]\nname = \"ball\"\nshape = \"sphere\"\n" +
+            extra,
+        "o.toml", LinkKindRegistry::with_builtins(), StageRegistry::with_builtins());
   };
   auto ok = scene("scale = [0.3, 0.3, 0.3]\nstiffness = 500.0\n");
   ASSERT_TRUE(ok) << ok.error().to_string();

@@ -11,26 +11,40 @@ namespace maille {
 
 std::string_view to_string(ShapeKind s) {
   switch (s) {
-    case ShapeKind::sphere: return "sphere";
-    case ShapeKind::cube: return "cube";
-    case ShapeKind::cylinder: return "cylinder";
-    case ShapeKind::cone: return "cone";
-    case ShapeKind::torus: return "torus";
-    case ShapeKind::capsule: return "capsule";
-    case ShapeKind::plane: return "plane";
+    case ShapeKind::sphere:
+      return "sphere";
+    case ShapeKind::cube:
+      return "cube";
+    case ShapeKind::cylinder:
+      return "cylinder";
+    case ShapeKind::cone:
+      return "cone";
+    case ShapeKind::torus:
+      return "torus";
+    case ShapeKind::capsule:
+      return "capsule";
+    case ShapeKind::plane:
+      return "plane";
   }
   return "?";
 }
 
 shapes::Distance canonical_distance(ShapeKind s, const Vec3& p, Real top, Real tube) {
   switch (s) {
-    case ShapeKind::sphere: return shapes::sphere(p);
-    case ShapeKind::cube: return shapes::cube(p);
-    case ShapeKind::cylinder: return shapes::cylinder(p);
-    case ShapeKind::cone: return shapes::cone(p, top);
-    case ShapeKind::torus: return shapes::torus(p, tube);
-    case ShapeKind::capsule: return shapes::capsule(p);
-    case ShapeKind::plane: return shapes::half_space(p);
+    case ShapeKind::sphere:
+      return shapes::sphere(p);
+    case ShapeKind::cube:
+      return shapes::cube(p);
+    case ShapeKind::cylinder:
+      return shapes::cylinder(p);
+    case ShapeKind::cone:
+      return shapes::cone(p, top);
+    case ShapeKind::torus:
+      return shapes::torus(p, tube);
+    case ShapeKind::capsule:
+      return shapes::capsule(p);
+    case ShapeKind::plane:
+      return shapes::half_space(p);
   }
   return {};
 }
@@ -40,13 +54,19 @@ namespace {
 // Radius of a canonical sphere about the origin holding the shape (infinite for the plane).
 Real canonical_reach(const GeometricObstacle& o) {
   switch (o.shape) {
-    case ShapeKind::sphere: return 1;
-    case ShapeKind::cube: return std::sqrt(Real(3));
+    case ShapeKind::sphere:
+      return 1;
+    case ShapeKind::cube:
+      return std::sqrt(Real(3));
     case ShapeKind::cylinder:
-    case ShapeKind::cone: return std::sqrt(Real(2));
-    case ShapeKind::torus: return 1 + o.tube;
-    case ShapeKind::capsule: return 2;
-    case ShapeKind::plane: return std::numeric_limits<Real>::infinity();
+    case ShapeKind::cone:
+      return std::sqrt(Real(2));
+    case ShapeKind::torus:
+      return 1 + o.tube;
+    case ShapeKind::capsule:
+      return 2;
+    case ShapeKind::plane:
+      return std::numeric_limits<Real>::infinity();
   }
   return std::numeric_limits<Real>::infinity();
 }
@@ -57,7 +77,8 @@ class GeometricObstacleStage final : public Stage {
     std::vector<std::uint8_t> in(m.points.size(), o_.collides_with.empty() ? 1 : 0);
     for (const auto& name : o_.collides_with) {
       const Group* g = m.group(name);
-      if (!g) throw std::invalid_argument("obstacle '" + o_.name + "': no group named '" + name + "'");
+      if (!g)
+        throw std::invalid_argument("obstacle '" + o_.name + "': no group named '" + name + "'");
       std::fill(in.begin() + g->first, in.begin() + g->first + g->count, 1);
     }
     for (std::uint32_t p = 0; p < m.points.size(); ++p)
@@ -93,7 +114,8 @@ class GeometricObstacleStage final : public Stage {
       if (!o_.world_normal) {
         // The brief's mapping: a spring-damper on the canonical penetration, back through M_d.
         const Vec3 vc = o_.place.vector_to_canonical(v[p]);
-        force = o_.place.vector_to_world(pen_c * o_.stiffness - d.normal * (o_.damping * dot(vc, d.normal)));
+        force = o_.place.vector_to_world(pen_c * o_.stiffness -
+                                         d.normal * (o_.damping * dot(vc, d.normal)));
         deepest = std::max(deepest, norm(o_.place.vector_to_world(pen_c)));
       } else {
         // Along the world normal, with the world depth of the canonical penetration along it.
