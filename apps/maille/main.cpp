@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
       "Comparative studies written as CSV (integrators: stability, accuracy, energy, "
       "cost, and the implicit/explicit crossover)");
   study_cmd->add_option("topic", so.topic, "What to study")
-      ->check(CLI::IsMember({"integrators", "self-collision"}))
+      ->check(CLI::IsMember({"integrators", "self-collision", "validity"}))
       ->required();
   study_cmd->add_option("--out", so.out, "Directory for the CSV files (default out/study)");
   study_cmd->add_option("--threads", so.threads, "Threads for the cost table")->check(kThreads);

@@ -260,8 +260,9 @@ void crossover(std::ostream& out, bool quick) {
 }  // namespace
 
 int study(const StudyOptions& o) {
-  if (o.topic != "integrators" && o.topic != "self-collision") {
-    std::cerr << "unknown study '" << o.topic << "' (known: integrators, self-collision)\n";
+  if (o.topic != "integrators" && o.topic != "self-collision" && o.topic != "validity") {
+    std::cerr << "unknown study '" << o.topic
+              << "' (known: integrators, self-collision, validity)\n";
     return 2;
   }
   // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
@@ -274,6 +275,12 @@ int study(const StudyOptions& o) {
       body(f.stream());
       f.commit();
     };
+    if (o.topic == "validity") {
+      study_validity(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
+        write(name, body);
+      });
+      return 0;
+    }
     if (o.topic == "self-collision") {
       study_self_collision(o,
                            [&](const char* name, const std::function<void(std::ostream&)>& body) {

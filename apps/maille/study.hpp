@@ -20,5 +20,6 @@ int study(const StudyOptions& o);
 // Writes one CSV file of the study (whole or not at all).
 using StudyWriter = std::function<void(const char*, const std::function<void(std::ostream&)>&)>;
 void study_self_collision(const StudyOptions& o, const StudyWriter& write);
+void study_validity(const StudyOptions& o, const StudyWriter& write);
 
 }  // namespace maille::app
