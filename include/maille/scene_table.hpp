@@ -32,6 +32,9 @@ class SceneTable {
   virtual std::vector<std::string> texts(std::string_view key,
                                          std::vector<std::string> fallback) = 0;
 
+  // Fails at `key` unless lo <= value <= hi: "must be in [lo, hi] UNIT (got value)".
+  virtual void check_range(std::string_view key, Real value, Real lo, Real hi,
+                           std::string_view unit) const = 0;
   // Throws the scene error for `key` (at the key's line when present, else the table's).
   [[noreturn]] virtual void fail(std::string_view key, const std::string& message) const = 0;
 };

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "maille/limits.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/self_collision.hpp"
 
@@ -15,16 +16,38 @@ const StageRegistry::Entry* StageRegistry::find(std::string_view table) const {
 
 namespace {
 
+// The matrix rows hold, per colliding particle, every particle within R links: about
+// (2 R + 1)^2 on grid cloth (4 bytes each). Refused before any allocation when that would not
+// fit the memory budget (signatures keep rows for non-grid groups only, but a scene may be all
+// ropes and lattices: the same bound is used).
+void exclusion_fits(SceneTable& t, const Model& m, const SelfCollisionSettings& s) {
+  if (s.exclusion == Exclusion::none || s.topological_radius == 0) return;
+  std::uint64_t particles = 0;
+  for (std::uint32_t p = 0; p < m.points.size(); ++p) particles += m.points.inv_mass[p] > 0;
+  const double side = 2.0 * s.topological_radius + 1;
+  const double bytes = double(particles) * side * side * 4;
+  if (bytes > double(limits::memory_budget_bytes()))
+    t.fail("topological_radius",
+           "the exclusion rows would need about " + std::to_string(std::uint64_t(bytes)) +
+               " bytes for " + std::to_string(particles) +
+               " particles, above the memory budget: lower topological_radius");
+}
+
 // [self_collision]: docs/scene-format.md lists the keys.
 StageSpec self_collision_table(SceneTable& t, const Model& m) {
   SelfCollisionSettings s;
   s.groups = t.texts("groups", {});
   for (const auto& g : s.groups)
     if (!m.group(g)) t.fail("groups", "no group named '" + g + "'");
+  // The same bounds as every link's (limits.hpp): values beyond them overflow the arithmetic.
   s.radius = t.real("radius", 0, Bound::non_negative);
+  t.check_range("radius", s.radius, 0, limits::max_coordinate, "m");
   s.stiffness = t.real("stiffness", s.stiffness, Bound::positive);
+  t.check_range("stiffness", s.stiffness, 0, limits::max_stiffness, "N/m");
   s.damping = t.real("damping", s.damping, Bound::non_negative);
+  t.check_range("damping", s.damping, 0, limits::max_stiffness, "N.s/m");
   s.friction = t.real("friction", s.friction, Bound::non_negative);
+  t.check_range("friction", s.friction, 0, 1e3, "");
   const std::string bp =
       t.text("broad_phase", "uniform", {"brute", "uniform", "hashed", "hierarchical"});
   s.broad_phase = bp == "brute"     ? BroadPhase::brute
@@ -35,11 +58,13 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
     t.text("cell_size", "auto", {"auto"});
   else
     s.cell_size = t.real("cell_size", 0, Bound::positive);
+  t.check_range("cell_size", s.cell_size, 0, limits::max_coordinate, "m");
   const std::string ex = t.text("exclusion", "signature", {"none", "matrix", "signature"});
   s.exclusion = ex == "none"     ? Exclusion::none
                 : ex == "matrix" ? Exclusion::matrix
                                  : Exclusion::signature;
   s.topological_radius = static_cast<int>(t.integer("topological_radius", 2, 0, 16));
+  exclusion_fits(t, m, s);
   if (t.text("primitive", "points", {"points", "triangles"}) == "triangles")
     s.primitive = Primitive::triangles;
   try {
@@ -88,10 +113,13 @@ StageSpec obstacle_table(SceneTable& t, const Model& m) {
   const Vec3 position = t.vec3("position", {0, 0, 0});
   const Vec3 rotation = t.vec3("rotation", {0, 0, 0});
   const Vec3 scale = t.vec3("scale", {1, 1, 1});
-  if (!(scale.x > 0 && scale.y > 0 && scale.z > 0)) t.fail("scale", "every component must be > 0");
+  if (!(scale.x > 1e-9 && scale.y > 1e-9 && scale.z > 1e-9))
+    t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
   o.place = shapes::Affine::from(position, rotation, scale);
   o.stiffness = t.real("stiffness", o.stiffness, Bound::positive);
+  t.check_range("stiffness", o.stiffness, 0, limits::max_stiffness, "N/m");
   o.damping = t.real("damping", o.damping, Bound::non_negative);
+  t.check_range("damping", o.damping, 0, limits::max_stiffness, "N.s/m");
   o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
   o.collides_with = t.texts("collides_with", {});
   for (const auto& g : o.collides_with)

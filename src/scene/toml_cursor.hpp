@@ -54,7 +54,8 @@ class TomlCursor final : public SceneTable {
   std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback,
                                      std::int64_t min, std::int64_t max);
   // Fails at `key` unless lo <= value <= hi: "must be in [lo, hi] UNIT (got value)".
-  void check_range(std::string_view key, Real value, Real lo, Real hi, std::string_view unit) const;
+  void check_range(std::string_view key, Real value, Real lo, Real hi,
+                   std::string_view unit) const override;
   // The raw node (marked as read); null when absent.
   const toml::node* node(std::string_view key);
   std::optional<TomlCursor> table(std::string_view key);
