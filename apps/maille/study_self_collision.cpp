@@ -6,6 +6,8 @@
 //                  thread count (brute force up to 64k particles)
 //   cell_size.csv  fixed cell sizes (multiples of the radius): measured time beside the P n^2
 //                  model; the tuner's choice marked
+//   tuner.csv      the tuner's own log of its last tuning: each candidate cell size, its timed
+//                  pass and the P n^2 model's prediction, the choice marked
 //   exclusion.csv  none / matrix / signature: pairs tested, excluded, cells skipped, memory, time
 //   memory.csv     exclusion memory at 64k and 1M particles against a dense bit matrix
 //   flag_wind.csv  a 128^2 flag in gusty wind, ns per particle-step without and with
@@ -125,6 +127,22 @@ void cell_size(std::ostream& out, bool quick) {
   }
 }
 
+void tuner(std::ostream& out, bool quick) {
+  out << "broad_phase,side,cell_size_m,occupied_cells,model_P_n2,measured_ns,chosen\n";
+  const std::uint32_t n = quick ? 96 : 256;
+  Cloth c = crumpled(n);
+  for (BroadPhase b : {BroadPhase::uniform, BroadPhase::hashed}) {
+    SelfCollisionSettings s;
+    s.radius = c.spacing;
+    s.broad_phase = b;
+    SelfCollisionEngine e(c.model, s);
+    e.apply(c.x.data(), c.v.data(), c.f.data(), 1);  // the first pass tunes
+    for (const auto& r : e.last_tuning())
+      out << to_string(b) << ',' << n << ',' << r.cell_size << ',' << r.occupied << ','
+          << r.predicted << ',' << r.measured_ns << ',' << r.chosen << '\n';
+  }
+}
+
 void exclusion(std::ostream& out, bool quick) {
   out << "exclusion,side,particles,candidate_pairs,excluded_pairs,skipped_cells,contacts,"
          "exclusion_bytes,ns_per_particle_pass\n";
@@ -213,6 +231,7 @@ void study_self_collision(const StudyOptions& o, const StudyWriter& write) {
   std::printf("maille study self-collision -> %s\n", o.out.string().c_str());
   write("scaling.csv", [&](std::ostream& f) { scaling(f, o.quick, o.threads); });
   write("cell_size.csv", [&](std::ostream& f) { cell_size(f, o.quick); });
+  write("tuner.csv", [&](std::ostream& f) { tuner(f, o.quick); });
   write("exclusion.csv", [&](std::ostream& f) { exclusion(f, o.quick); });
   write("memory.csv", [&](std::ostream& f) { memory(f, o.quick); });
   write("flag_wind.csv", [&](std::ostream& f) { flag_wind(f, o.quick); });

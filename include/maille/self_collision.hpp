@@ -89,6 +89,7 @@ class SelfCollisionEngine {
   struct TuneRecord {
     double cell_size = 0, measured_ns = 0, predicted = 0;
     std::uint64_t occupied = 0;
+    bool chosen = false;  // the tuner kept this size
   };
   const std::vector<TuneRecord>& last_tuning() const;
   void set_broad_phase(BroadPhase b);

@@ -17,11 +17,9 @@ namespace {
 
 using namespace maille;
 
-// Two free masses m approach at relative speed u; the contact spring k (no damping) stops them
-// after a compression delta = u sqrt(m_r / k) with the reduced mass m_r = m / 2, then they
-// separate at speed u (elastic). Leapfrog at h = T/2000 is accurate to ~1e-5 here.
-TEST(SelfCollisionPhysics, HeadOnCollisionCompressionAndRebound) {
-  const Real m = 0.01, k = 400, u = 0.5, r = 0.05;
+// Two free masses m, 0.2 m apart along x, approaching at relative speed u, colliding through
+// self-collision (radius r, stiffness k, no damping, nothing excluded); no gravity.
+Model head_on_pair(Real m, Real k, Real u, Real r) {
   Model model;
   model.fields.gravity = {0, 0, 0};
   model.points.add(PointKind::free, m, {-0.1, 0, 0}, {u / 2, 0, 0});
@@ -34,6 +32,15 @@ TEST(SelfCollisionPhysics, HeadOnCollisionCompressionAndRebound) {
   s.exclusion = Exclusion::none;
   model.stages.push_back({"self_collision", Phase::forces,
                           [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+  return model;
+}
+
+// Two free masses m approach at relative speed u; the contact spring k (no damping) stops them
+// after a compression delta = u sqrt(m_r / k) with the reduced mass m_r = m / 2, then they
+// separate at speed u (elastic). Leapfrog at h = T/2000 is accurate to ~1e-5 here.
+TEST(SelfCollisionPhysics, HeadOnCollisionCompressionAndRebound) {
+  const Real m = 0.01, k = 400, u = 0.5, r = 0.05;
+  Model model = head_on_pair(m, k, u, r);
   const double period = 2 * std::numbers::pi * std::sqrt(m / 2 / k);
   Simulator sim(std::move(model), test::settings(period / 2000));
   double closest = 1;
@@ -236,18 +243,7 @@ TEST(SelfCollisionPhysics, ImplicitEulerKeepsLargeStepsWithContacts) {
   const double omega = std::sqrt(2 * k / m);  // relative motion: k over the reduced mass m/2
   const double h = 4 * (2 / omega);           // four times the leapfrog limit of the contact
   auto run = [&](const char* solver, double& closest) {
-    Model model;
-    model.fields.gravity = {0, 0, 0};
-    model.points.add(PointKind::free, m, {-0.1, 0, 0}, {u / 2, 0, 0});
-    model.points.add(PointKind::free, m, {0.1, 0, 0}, {-u / 2, 0, 0});
-    model.groups.push_back({"pair", "points", 0, 2});
-    SelfCollisionSettings s;
-    s.radius = r;
-    s.stiffness = k;
-    s.damping = 0;
-    s.exclusion = Exclusion::none;
-    model.stages.push_back({"self_collision", Phase::forces,
-                            [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+    Model model = head_on_pair(m, k, u, r);
     SimulationSettings settings = test::settings(h, "implicit_euler");
     settings.implicit.solver = solver;
     Simulator sim(std::move(model), settings);

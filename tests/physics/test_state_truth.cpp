@@ -37,6 +37,9 @@ TEST(StateTruth, CheckpointThenResumeIsBitIdenticalForEveryScheme) {
 
     Simulator first(swinging_flag(), test::settings(h, scheme));
     ASSERT_TRUE(first.run_steps(200));
+    // A stage's evolving data travels with the State (none of the built-in stages needs it
+    // today; the checkpoint must still carry it whole).
+    first.state_for_editing().memory("test_stage") = {1.5, -2.25, 1e300};
     const auto path = std::filesystem::temp_directory_path() / "maille_test_checkpoint.bin";
     write_checkpoint(path, {first.state(), scheme, h, first.frames_published(), 0,
                             model_fingerprint(first.model())});
@@ -44,6 +47,9 @@ TEST(StateTruth, CheckpointThenResumeIsBitIdenticalForEveryScheme) {
     auto c = read_checkpoint(path, second.model());
     ASSERT_TRUE(c) << c.error().to_string();
     second.restore(std::move(c->state), c->frames_published);
+    EXPECT_EQ(second.state_for_editing().memory("test_stage"),
+              (std::vector<double>{1.5, -2.25, 1e300}));
+    second.state_for_editing().stage_memory.clear();  // `whole` never had it
     ASSERT_TRUE(second.run_steps(200));
     EXPECT_EQ(state_hash(second.state()), state_hash(whole.state())) << scheme;
     std::filesystem::remove(path);

@@ -212,3 +212,38 @@ TEST(SelfCollision, ExclusionMemoryIsCompact) {
 }
 
 }  // namespace
+
+namespace {
+
+// The tuner times every candidate size, keeps the fastest, logs the P n^2 model beside each
+// time, and the pass that tuned reports the size it kept.
+TEST(SelfCollision, TunerLogsItsCandidatesAndKeepsOne) {
+  const maille::Model m = crumpled_flag(32);
+  maille::SelfCollisionSettings s;
+  s.radius = maille::Real(0.03);
+  maille::SelfCollisionEngine e(m, s);
+  std::vector<maille::Vec3> x(m.points.initial_position.begin(), m.points.initial_position.end());
+  std::vector<maille::Vec3> v(x.size()), f(x.size());
+  const auto st = e.apply(x.data(), v.data(), f.data(), 1);
+  const auto& log = e.last_tuning();
+  ASSERT_EQ(log.size(), 6u);
+  int chosen = 0;
+  double fastest = 1e300;
+  for (const auto& r : log) {
+    EXPECT_GE(r.cell_size, s.radius);
+    EXPECT_GT(r.predicted, 0);
+    fastest = std::min(fastest, r.measured_ns);
+    if (r.chosen) {
+      ++chosen;
+      EXPECT_EQ(r.cell_size, st.cell_size);
+    }
+  }
+  EXPECT_EQ(chosen, 1);
+  for (const auto& r : log) {
+    if (r.chosen) {
+      EXPECT_EQ(r.measured_ns, fastest);
+    }
+  }
+}
+
+}  // namespace

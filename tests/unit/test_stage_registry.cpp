@@ -123,7 +123,6 @@ TEST(StageRegistry, DisabledStagesAreNotInstalled) {
 TEST(StageRegistry, StageTableErrorsNameFileLineAndKey) {
   int after_calls = 0;
   const StageRegistry stages = test_registry(&after_calls);
-  const std::string bad = std::string(kScene) + "\n";
   auto unknown = parse_scene(R"([[mass]]
 mass = 1.0
 position = [0.0, 0.0, 0.0]

@@ -1,9 +1,5 @@
 #include "broad_phase.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -12,14 +8,6 @@
 namespace maille::collision {
 
 namespace {
-
-int thread_id() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
-}
 
 // The 13 neighbour offsets after (0, 0, 0) in (z, y, x) order: with the cell itself they cover
 // each pair of adjacent cells exactly once.

@@ -14,6 +14,10 @@
 //                  traversal visits node pairs whose boxes are closer than r
 #pragma once
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +25,15 @@
 #include "maille/vec3.hpp"
 
 namespace maille::collision {
+
+// The calling thread's index in its OpenMP team (0 outside a parallel region): its sink.
+inline int thread_id() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
 
 struct Sink {
   std::vector<std::uint32_t> pairs;  // a, b, b, a, ... (close pairs, both orders)

@@ -293,7 +293,11 @@ class SelfCollision {
       }
     }
     tuned_diag_ = diag;
-    return used;  // the sinks hold the last candidate's pairs: the same set for every size
+    for (auto& rec : tuning_) rec.chosen = rec.cell_size == tuned_cell_;
+    // Once more at the chosen size, so that this step's counters (occupied cells, cell size)
+    // describe the resolution kept (the pairs are the same at every size).
+    pass(Real(tuned_cell_), used);
+    return used;
   }
 
   void build_rows() {

@@ -1,9 +1,5 @@
 #include "triangle_proximity.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -44,14 +40,6 @@ std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b,
   const Real denom = 1 / (va + vb + vc);
   const Real v = vb * denom, w = vc * denom;
   return {1 - v - w, v, w};
-}
-
-int thread_id() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
 }
 
 }  // namespace
