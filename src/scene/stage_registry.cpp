@@ -22,8 +22,13 @@ namespace {
 // ropes and lattices: the same bound is used).
 void exclusion_fits(SceneTable& t, const Model& m, const SelfCollisionSettings& s) {
   if (s.exclusion == Exclusion::none || s.topological_radius == 0) return;
-  std::uint64_t particles = 0;
-  for (std::uint32_t p = 0; p < m.points.size(); ++p) particles += m.points.inv_mass[p] > 0;
+  std::uint64_t particles = 0;  // the free points of the colliding groups (every group: all)
+  auto count = [&](std::uint32_t first, std::uint32_t n) {
+    for (std::uint32_t p = first; p < first + n; ++p) particles += m.points.inv_mass[p] > 0;
+  };
+  if (s.groups.empty()) count(0, m.points.size());
+  for (const auto& name : s.groups)
+    if (const Group* g = m.group(name)) count(g->first, g->count);
   const double side = 2.0 * s.topological_radius + 1;
   const double bytes = double(particles) * side * side * 4;
   if (bytes > double(limits::memory_budget_bytes()))
