@@ -20,8 +20,6 @@
 
 namespace maille {
 
-enum class ShapeKind : std::uint8_t { sphere, cube, cylinder, cone, torus, capsule, plane };
-
 struct GeometricObstacle {
   std::string name = "obstacle";
   ShapeKind shape = ShapeKind::sphere;
@@ -35,8 +33,6 @@ struct GeometricObstacle {
   std::vector<std::string> collides_with;  // groups; empty: every free point
 };
 
-std::string_view to_string(ShapeKind s);
-shapes::Distance canonical_distance(ShapeKind s, const Vec3& p, Real top, Real tube);
 
 // The stage "obstacle:NAME" (Phase::forces). Counters obstacle_NAME_contacts, gauge
 // obstacle_NAME_depth (deepest world penetration, m). Throws std::invalid_argument for unknown

@@ -18,8 +18,20 @@
 // fixed rule, documented per shape: +y first, then +x.
 #pragma once
 
+#include <cstdint>
+#include <string_view>
+
 #include "maille/mat3.hpp"
 #include "maille/vec3.hpp"
+
+namespace maille {
+
+// The canonical shapes by name (scene files: shape = "..."). `plane` is the half-space for the
+// geometric method and the square [-1, 1] x {0} x [-1, 1] when tessellated.
+enum class ShapeKind : std::uint8_t { sphere, cube, cylinder, cone, torus, capsule, plane };
+std::string_view to_string(ShapeKind s);
+
+}  // namespace maille
 
 namespace maille::shapes {
 
@@ -54,5 +66,8 @@ struct Affine {
   // A canonical normal as a world normal (inverse transpose), unit length.
   Vec3 normal_to_world(const Vec3& n) const;
 };
+
+// The distance function of a shape kind (top: cone, tube: torus).
+Distance canonical(ShapeKind s, const Vec3& p, Real top, Real tube);
 
 }  // namespace maille::shapes

@@ -9,46 +9,6 @@
 
 namespace maille {
 
-std::string_view to_string(ShapeKind s) {
-  switch (s) {
-    case ShapeKind::sphere:
-      return "sphere";
-    case ShapeKind::cube:
-      return "cube";
-    case ShapeKind::cylinder:
-      return "cylinder";
-    case ShapeKind::cone:
-      return "cone";
-    case ShapeKind::torus:
-      return "torus";
-    case ShapeKind::capsule:
-      return "capsule";
-    case ShapeKind::plane:
-      return "plane";
-  }
-  return "?";
-}
-
-shapes::Distance canonical_distance(ShapeKind s, const Vec3& p, Real top, Real tube) {
-  switch (s) {
-    case ShapeKind::sphere:
-      return shapes::sphere(p);
-    case ShapeKind::cube:
-      return shapes::cube(p);
-    case ShapeKind::cylinder:
-      return shapes::cylinder(p);
-    case ShapeKind::cone:
-      return shapes::cone(p, top);
-    case ShapeKind::torus:
-      return shapes::torus(p, tube);
-    case ShapeKind::capsule:
-      return shapes::capsule(p);
-    case ShapeKind::plane:
-      return shapes::half_space(p);
-  }
-  return {};
-}
-
 namespace {
 
 // Radius of a canonical sphere about the origin holding the shape (infinite for the plane).
@@ -106,7 +66,7 @@ class GeometricObstacleStage final : public Stage {
       const Vec3 rel = x[p] - o_.place.translation;
       if (dot(rel, rel) > reach2) continue;  // far: one test
       const Vec3 c = o_.place.to_canonical(x[p]);
-      const shapes::Distance d = canonical_distance(o_.shape, c, o_.top, o_.tube);
+      const shapes::Distance d = shapes::canonical(o_.shape, c, o_.top, o_.tube);
       if (!d.inside()) continue;
       ++contacts;
       const Vec3 pen_c = d.penetration();

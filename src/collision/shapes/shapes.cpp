@@ -169,4 +169,48 @@ Vec3 Affine::normal_to_world(const Vec3& n) const {
   return l > 0 ? w / l : Vec3{0, 1, 0};
 }
 
+Distance canonical(ShapeKind s, const Vec3& p, Real top, Real tube) {
+  switch (s) {
+    case ShapeKind::sphere:
+      return sphere(p);
+    case ShapeKind::cube:
+      return cube(p);
+    case ShapeKind::cylinder:
+      return cylinder(p);
+    case ShapeKind::cone:
+      return cone(p, top);
+    case ShapeKind::torus:
+      return torus(p, tube);
+    case ShapeKind::capsule:
+      return capsule(p);
+    case ShapeKind::plane:
+      return half_space(p);
+  }
+  return {};
+}
+
 }  // namespace maille::shapes
+
+namespace maille {
+
+std::string_view to_string(ShapeKind s) {
+  switch (s) {
+    case ShapeKind::sphere:
+      return "sphere";
+    case ShapeKind::cube:
+      return "cube";
+    case ShapeKind::cylinder:
+      return "cylinder";
+    case ShapeKind::cone:
+      return "cone";
+    case ShapeKind::torus:
+      return "torus";
+    case ShapeKind::capsule:
+      return "capsule";
+    case ShapeKind::plane:
+      return "plane";
+  }
+  return "?";
+}
+
+}  // namespace maille

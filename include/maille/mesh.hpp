@@ -1,0 +1,59 @@
+// Triangle meshes for obstacles (Theme 2): read from OBJ or STL files, or tessellated from the
+// canonical shapes (shapes.hpp) at their canonical size. The facet stage (obstacle.hpp) and the
+// renderer use them; a mesh is only geometry, in the frame it was read or made in.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/shapes.hpp"
+#include "maille/vec3.hpp"
+
+namespace maille {
+
+struct TriMesh {
+  std::vector<Vec3> vertices;
+  // Vertex indices, counter-clockwise seen from outside: the face normal (b - a) x (c - a)
+  // points out of closed meshes.
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+
+  // Every edge is shared by exactly two triangles that run along it in opposite directions
+  // (a closed, consistently oriented, manifold surface: it has an inside).
+  bool closed() const;
+  // Signed volume (divergence theorem): positive for a closed mesh oriented outwards.
+  Real volume() const;
+  Real area() const;
+};
+
+// A mesh file that cannot be used. what() starts with the file name (and "FILE:LINE:" where a
+// line is known) and says what is wrong: empty, truncated, not a number, NaN or infinite
+// coordinate, index out of range, zero-area face, too many triangles.
+class MeshError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Reads an OBJ (tinyobjloader; polygons are triangulated, groups merged) or an STL (ASCII or
+// binary, told apart by content, not by extension) file. STL vertices that coincide exactly are
+// welded, so that shared edges are shared indices. Throws MeshError.
+TriMesh read_mesh(const std::string& path);
+// The same from bytes in memory; `name` is used in messages (fuzzing, tests).
+TriMesh parse_obj(std::string_view text, const std::string& name);
+TriMesh parse_stl(std::string_view bytes, const std::string& name);
+// Writes an ASCII OBJ (tests and tools; examples ship their meshes this way).
+std::string to_obj(const TriMesh& mesh);
+
+// A canonical shape as a closed mesh (the plane: the open square [-1, 1] x {0} x [-1, 1], normal
+// +y), with about `resolution` segments around (and proportionally along) curved directions.
+// top: cone's top radius ratio in [0, 1]; tube: torus's tube radius ratio in (0, 1]. Vertices
+// lie on the canonical surface.
+TriMesh tessellate(ShapeKind shape, int resolution, Real top = Real(0.5), Real tube = Real(0.3));
+// A sphere by subdividing an icosahedron `levels` times (20 * 4^levels faces), vertices on the
+// unit sphere.
+TriMesh icosphere(int levels);
+
+}  // namespace maille
