@@ -64,6 +64,8 @@ class Integrator {
   // Whether stages that rewrite forces or velocities after the fact (facet responses) can be
   // combined with the scheme: not for schemes that evaluate forces at intermediate states.
   virtual bool accepts_state_rewrites() const { return true; }
+  // Whether positions advance with the velocity after the step's kick (StageContext).
+  virtual bool drifts_after_kick() const { return true; }
   // Why the scheme cannot integrate this model (empty: it can).
   virtual std::string check(const Model&) const { return {}; }
   // Drop scratch buffers sized for a model (the scheme's history lives in the State).

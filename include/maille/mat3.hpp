@@ -50,6 +50,26 @@ constexpr Vec3 operator*(const Mat3& a, const Vec3& v) {
           a.m[2][0] * v.x + a.m[2][1] * v.y + a.m[2][2] * v.z};
 }
 
+constexpr Mat3 operator*(const Mat3& a, const Mat3& b) {
+  Mat3 r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      r.m[i][j] = a.m[i][0] * b.m[0][j] + a.m[i][1] * b.m[1][j] + a.m[i][2] * b.m[2][j];
+  return r;
+}
+constexpr Mat3 transpose(const Mat3& a) {
+  Mat3 r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.m[i][j] = a.m[j][i];
+  return r;
+}
+// a^T v without forming the transpose (normals through an inverse transpose).
+constexpr Vec3 transpose_times(const Mat3& a, const Vec3& v) {
+  return {a.m[0][0] * v.x + a.m[1][0] * v.y + a.m[2][0] * v.z,
+          a.m[0][1] * v.x + a.m[1][1] * v.y + a.m[2][1] * v.z,
+          a.m[0][2] * v.x + a.m[1][2] * v.y + a.m[2][2] * v.z};
+}
+
 // Derivatives of a link's force on its first point a, with respect to the state of its second
 // point b (the force depends on x_b - x_a and v_b - v_a only, so the derivatives with respect
 // to a are the opposites, and b's force, -f_a, has the opposite derivatives again).

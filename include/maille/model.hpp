@@ -9,6 +9,7 @@
 
 #include "maille/drive.hpp"
 #include "maille/fields.hpp"
+#include "maille/geometric_point.hpp"
 #include "maille/link_set.hpp"
 #include "maille/points.hpp"
 #include "maille/stage.hpp"
@@ -39,6 +40,9 @@ struct Model {
   Surface surface;
   std::vector<Drive> drives;
   std::vector<Group> groups;
+  // Geometric fixed points ([[geometric_point]]): shapes with no velocity or force, reached
+  // only through geometric contact links (geometric_point.hpp).
+  std::vector<GeometricPoint> geometric_points;
   // Stages the scene installed ([self_collision], [[obstacle]], ...): every Simulator built from
   // this model instantiates them (see stage_registry.hpp).
   std::vector<StageSpec> stages;

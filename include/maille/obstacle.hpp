@@ -1,42 +1,105 @@
-// Obstacles (Theme 2), the geometric method: a geometric fixed point (a canonical shape placed
-// by an affine map, shapes.hpp) pushes the free points of some groups out of it with a
-// thresholded spring-damper acting on the penetration vector.
+// Obstacles (Theme 2): fixed or scripted geometry that free points collide with, by one of three
+// methods chosen per obstacle (`[[obstacle]] method = ...` in scenes, docs/scene-format.md):
 //
-// Per particle, as the brief describes: x and v go into the canonical frame through M_i; the
-// shape's distance function gives the canonical penetration vector d (zero outside); the force
-// k d - z (v_c . n) n is computed there and comes back through M_d. Under a uniform scale s this
-// is k times the world penetration (a resting particle sinks m g / k); under a non-uniform
-// scale M_d bends it off the surface normal, so `normal = "world"` offers the variant along the
-// world normal with the world depth. Far particles cost one bounding-sphere test.
+//   geometric    a geometric fixed point: x and v go into the shape's canonical frame through
+//                M_i, the canonical distance function gives the penetration vector d, the
+//                thresholded spring-damper k d - z (v_c . n) n acts there and comes back through
+//                M_d (the brief's "liaison conditionnelle sur distance non euclidienne"). Under a
+//                uniform scale a resting particle sinks m g / k; under a non-uniform one M_d
+//                bends the force off the surface normal, so `normal = "world"` acts along the
+//                world normal with the world depth instead. Phase::forces.
+//   facets       inverse dynamics on a triangle mesh (the brief's "par dynamique inverse"): the
+//                segment P -> Q the particle will travel this step is tested against the facets
+//                (N.AP > eps, N.PQ < 0, u <= 1, M inside); on a hit the force and velocity are
+//                rewritten with dissipation alpha and friction beta (docs/obstacles.md derives
+//                what they mean). Phase::response: after every force, before integration.
+//   conditional  fixed points sampled on the surface (spacing tied to the threshold), each with
+//                a conditional spring-damper (the `conditional` link's law) to the free points
+//                that come closer than `threshold`, found through a grid of the samples.
+//
+// An obstacle may move by a scripted rigid motion (rotate, translate, oscillate); every method
+// uses the velocity relative to the obstacle's surface.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "maille/mesh.hpp"
 #include "maille/model.hpp"
 #include "maille/shapes.hpp"
 #include "maille/stage.hpp"
 
 namespace maille {
 
-struct GeometricObstacle {
+enum class ObstacleMethod : std::uint8_t { geometric, facets, conditional };
+std::string_view to_string(ObstacleMethod m);
+
+// A rigid scripted motion applied on top of the obstacle's placement: a point x of the placed
+// obstacle is at R(t) (x - center) + center + offset(t).
+struct ObstacleMotion {
+  enum class Kind : std::uint8_t {
+    none,
+    rotate,     // about the line through `center` along `axis`, `frequency` turns per second
+    translate,  // offset(t) = velocity t
+    oscillate,  // offset(t) = amplitude (sin(2 pi f t + phase) - sin(phase))
+  };
+  Kind kind = Kind::none;
+  Vec3 axis{0, 1, 0};
+  Vec3 center{};
+  Vec3 velocity{};
+  Vec3 amplitude{};
+  Real frequency = 0;
+  Real phase = 0;
+
+  // The placement at time t (the base placement moved rigidly).
+  shapes::Affine at(const shapes::Affine& base, double t) const;
+  // Velocity of the obstacle's material point that is at world position x at time t.
+  Vec3 velocity_at(const Vec3& x, double t) const;
+  bool moves() const { return kind != Kind::none; }
+};
+
+struct Obstacle {
   std::string name = "obstacle";
+  ObstacleMethod method = ObstacleMethod::geometric;
   ShapeKind shape = ShapeKind::sphere;
   Real top = Real(0.5);   // cone: top radius / bottom radius, in [0, 1]
   Real tube = Real(0.3);  // torus: tube radius / major radius, in (0, 1]
-  shapes::Affine place;   // canonical -> world
-  Real stiffness = 2000;  // k, N/m
-  Real damping = 1;       // z, N.s/m (along the normal)
-  bool world_normal =
-      false;  // false: the brief's mapping through M_d; true: along the world normal
+  // A mesh file instead of a canonical shape (facets, conditional): the mesh in its own frame,
+  // placed by `place` like a shape. Null: the canonical shape (tessellated where needed).
+  std::shared_ptr<const TriMesh> mesh;
+  std::string mesh_file;        // for messages and the viewer
+  int resolution = 48;          // segments around curved canonical shapes (facets, drawing)
+  shapes::Affine place;         // canonical (or mesh) frame -> world, at t = 0
+  ObstacleMotion motion;        // on top of `place`
+  Real stiffness = 2000;        // k, N/m (geometric, conditional)
+  Real damping = 1;             // z, N.s/m (geometric, conditional), along the normal
+  bool world_normal = false;    // geometric: false, the brief's mapping; true: world normal
+  Real threshold = Real(0.02);  // conditional: contact distance of the sampled points, m
+  Real alpha = Real(0.8);       // facets: dissipation in [0, 1] (normal restitution)
+  Real beta = Real(0.3);        // facets: friction in [0, 1] (Coulomb coefficient)
+  Real epsilon = Real(1e-6);    // facets: the brief's eps (m): "above the facet" means N.AP > eps
   std::vector<std::string> collides_with;  // groups; empty: every free point
 };
 
+// The obstacle's surface as a mesh in its own frame (the file's, or the canonical shape
+// tessellated at `resolution`).
+TriMesh obstacle_mesh(const Obstacle& o);
 
-// The stage "obstacle:NAME" (Phase::forces). Counters obstacle_NAME_contacts, gauge
-// obstacle_NAME_depth (deepest world penetration, m). Throws std::invalid_argument for unknown
-// groups or groups without free points.
-std::unique_ptr<Stage> make_geometric_obstacle_stage(const Model& m, const GeometricObstacle& o);
+// The free points of `collides_with` (every free point when empty). Throws
+// std::invalid_argument naming the obstacle for an unknown group or when no free point is left.
+std::vector<std::uint32_t> colliding_points(const Model& m, const Obstacle& o);
+
+// The stage "obstacle:NAME" for the obstacle's method. Counters per step (stats.csv):
+//   obstacle_NAME_contacts  particles in contact this step
+//   obstacle_NAME_depth     deepest penetration, m (gauge)
+// and for facets: obstacle_NAME_hits (swept hits), _sticks, _slides, _facet_leaks (particles
+// found inside a closed mesh and pushed out). Throws std::invalid_argument (see
+// colliding_points; a geometric obstacle needs a canonical shape).
+std::unique_ptr<Stage> make_obstacle_stage(const Model& m, const Obstacle& o);
+// The same, one method each (make_obstacle_stage dispatches on o.method).
+std::unique_ptr<Stage> make_geometric_obstacle_stage(const Model& m, const Obstacle& o);
+std::unique_ptr<Stage> make_facet_obstacle_stage(const Model& m, const Obstacle& o);
+std::unique_ptr<Stage> make_conditional_obstacle_stage(const Model& m, const Obstacle& o);
 
 }  // namespace maille

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,6 +32,12 @@ class SceneTable {
   virtual Vec3 vec3(std::string_view key, Vec3 fallback) = 0;
   virtual std::vector<std::string> texts(std::string_view key,
                                          std::vector<std::string> fallback) = 0;
+
+  // A sub-table (inline `key = { ... }` or `[table.key]`), null when absent; it fails on a key
+  // of another type. Call finish() on it once read.
+  virtual std::unique_ptr<SceneTable> child(std::string_view key) = 0;
+  // Fails on the first key never read (a misspelt key is an error, never ignored).
+  virtual void finish() const = 0;
 
   // Fails at `key` unless lo <= value <= hi: "must be in [lo, hi] UNIT (got value)".
   virtual void check_range(std::string_view key, Real value, Real lo, Real hi,

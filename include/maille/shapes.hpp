@@ -65,7 +65,12 @@ struct Affine {
   Vec3 vector_to_canonical(const Vec3& w) const { return inverse * w; }
   // A canonical normal as a world normal (inverse transpose), unit length.
   Vec3 normal_to_world(const Vec3& n) const;
+  // This placement moved rigidly: x -> R (x - center) + center + offset (R a rotation).
+  Affine moved(const Mat3& R, const Vec3& center, const Vec3& offset) const;
 };
+
+// The rotation by `angle` (rad) about the unit vector `axis` (Rodrigues).
+Mat3 rotation(const Vec3& axis, double angle);
 
 // The distance function of a shape kind (top: cone, tube: torus).
 Distance canonical(ShapeKind s, const Vec3& p, Real top, Real tube);

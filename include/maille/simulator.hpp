@@ -140,6 +140,7 @@ class Simulator : private ForceEvaluator {
     std::unique_ptr<Stage> stage;
     int profile_id = 0;
     bool from_model = false;  // made from Model::stages (rebuilt by edit_model)
+    int spec = -1;            // its index in Model::stages when from_model
   };
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
@@ -147,7 +148,8 @@ class Simulator : private ForceEvaluator {
   void respond();  // response stages, once per step
   void build_integrator(const std::string& name);
   void install_model_stages();
-  void add_installed(std::unique_ptr<Stage> stage, bool from_model);
+  void add_installed(std::unique_ptr<Stage> stage, bool from_model, int spec = -1);
+  void switch_variant(std::size_t spec, const std::string& value);
   void check_stage(const Stage& stage) const;
   void restimate_stability();
   void model_structure_changed();

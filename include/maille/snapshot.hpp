@@ -5,8 +5,12 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
+#include "maille/mat3.hpp"
+#include "maille/mesh.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -17,6 +21,17 @@ struct OverlaySegment {
   std::array<float, 3> colour{1, 1, 0};
 };
 
+// A solid drawn with the scene (obstacles): a mesh shared with the stage that owns it, placed
+// by x_world = direct x + translation at the time of the snapshot. The mesh never changes
+// between snapshots of one stage, so renderers may upload it once per pointer.
+struct SurfaceInstance {
+  std::string name;                     // the stage's, e.g. "obstacle:table"
+  std::shared_ptr<const TriMesh> mesh;  // counter-clockwise seen from outside
+  Mat3 direct = Mat3::identity();
+  Vec3 translation{};
+  std::array<float, 4> colour{0.55f, 0.6f, 0.7f, 0.45f};  // RGBA: translucent by default
+};
+
 struct Snapshot {
   std::uint64_t frame = 0;  // 0, 1, 2, ... one per publication
   std::uint64_t step = 0;   // simulation step of the positions
@@ -25,6 +40,8 @@ struct Snapshot {
   // What stages chose to show (self-collision contacts and cells...), only when the simulator
   // was asked for overlays (Simulator::set_overlays): empty otherwise, and free.
   std::vector<OverlaySegment> overlay;
+  // Solids placed at the snapshot's time (always filled: obstacles are part of the scene).
+  std::vector<SurfaceInstance> surfaces;
 };
 
 using SnapshotListener = std::function<void(const Snapshot&)>;

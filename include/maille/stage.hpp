@@ -51,6 +51,10 @@ struct StageContext {
   std::uint64_t step = 0;  // steps taken since the start
   int threads = 1;         // threads the simulator runs with
   VelocityTime velocity = VelocityTime::synchronous;
+  // How the scheme moves positions next (response stages predict the displacement): true, with
+  // the velocity after this step's kick, x + h (v + h f / m) (leapfrog, symplectic Euler);
+  // false, with the current velocity, x + h v (explicit Euler).
+  bool drift_after_kick = true;
   bool jacobians = false;      // the scheme is implicit: provide implicit_links()
   Profile* profile = nullptr;  // counters and gauges (stage time is measured by the simulator)
 };
@@ -88,15 +92,29 @@ class Stage {
   virtual const LinkPoolBase* implicit_links() const { return nullptr; }
   // Segments to draw over the scene at the state of the last step (contacts, cells...).
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
+  // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.
+  virtual void surfaces(double /*t*/, std::vector<SurfaceInstance>& /*out*/) const {}
 };
 
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator
 // built from the model (benchmarks' repeats, the viewer's reload), given that simulator's own
 // copy of the model (stages may keep a reference to it: a Simulator never moves).
 struct StageSpec {
+  using Factory = std::function<std::unique_ptr<Stage>(const Model&)>;
+  StageSpec() = default;
+  StageSpec(std::string n, Phase p, Factory f) : name(std::move(n)), phase(p), make(std::move(f)) {}
+
   std::string name;
   Phase phase = Phase::forces;
-  std::function<std::unique_ptr<Stage>(const Model&)> make;
+  Factory make;
+  // Optional: other forms of the same stage that tools switch to live (an obstacle's method).
+  // They appear as one more option of the stage (Simulator::stage_options), named
+  // `variant_option`, whose choices are `variants`; choosing one installs vary(choice) in
+  // place of this spec (phases may differ: the scheme is checked first).
+  std::string variant_option;
+  std::vector<std::string> variants;
+  std::string variant;  // the current choice
+  std::function<StageSpec(const std::string&)> vary;
 };
 
 }  // namespace maille

@@ -107,12 +107,13 @@ void Simulator::restimate_stability() {
 }
 
 void Simulator::install_model_stages() {
-  for (const StageSpec& spec : model_.stages) {
+  for (std::size_t i = 0; i < model_.stages.size(); ++i) {
+    const StageSpec& spec = model_.stages[i];
     const auto& off = settings_.disabled_stages;
     if (std::find(off.begin(), off.end(), spec.name) != off.end()) continue;
     std::unique_ptr<Stage> stage = spec.make(model_);
     check_stage(*stage);
-    add_installed(std::move(stage), true);
+    add_installed(std::move(stage), true, static_cast<int>(i));
   }
 }
 
@@ -149,12 +150,12 @@ void Simulator::add_stage(std::unique_ptr<Stage> stage) {
   add_installed(std::move(stage), false);
 }
 
-void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model) {
+void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model, int spec) {
   const int id = profile_.stage(stage->name());
   auto& list = stage->phase() == Phase::forces     ? force_stages_
                : stage->phase() == Phase::response ? response_stages_
                                                    : after_stages_;
-  list.push_back({std::move(stage), id, from_model});
+  list.push_back({std::move(stage), id, from_model, spec});
   restimate_stability();
 }
 
@@ -259,6 +260,7 @@ StageContext Simulator::context(const State& s) const {
   ctx.step = s.step;
   ctx.threads = threads_;
   ctx.velocity = integrator_->velocity_time(s);
+  ctx.drift_after_kick = integrator_->drifts_after_kick();
   ctx.jacobians = integrator_->uses_jacobians();
   ctx.profile = const_cast<Profile*>(&profile_);  // counters only; timing stays here
   return ctx;
@@ -354,6 +356,9 @@ void Simulator::publish() {
   if (overlays_)
     for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
       for (const auto& st : *list) st.stage->overlay(model_, state_, snapshot_.overlay);
+  snapshot_.surfaces.clear();
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (const auto& st : *list) st.stage->surfaces(state_.time, snapshot_.surfaces);
   for (const auto& l : publish_listeners_) l(snapshot_);
   ++snapshot_.frame;
 }
@@ -365,9 +370,30 @@ void Simulator::publish_now() {
 std::vector<Simulator::StageOptions> Simulator::stage_options() const {
   std::vector<StageOptions> out;
   for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list)
-      if (auto o = st.stage->options(); !o.empty()) out.push_back({st.stage->name(), std::move(o)});
+    for (const auto& st : *list) {
+      auto o = st.stage->options();
+      if (st.spec >= 0)
+        if (const StageSpec& spec = model_.stages[st.spec]; spec.vary)
+          o.insert(o.begin(), {spec.variant_option, spec.variants, spec.variant});
+      if (!o.empty()) out.push_back({st.stage->name(), std::move(o)});
+    }
   return out;
+}
+
+// Installs another variant of a model stage in place of the current one; nothing changes when
+// the variant is unknown or the scheme refuses it.
+void Simulator::switch_variant(std::size_t spec_index, const std::string& value) {
+  const StageSpec& spec = model_.stages[spec_index];
+  if (std::find(spec.variants.begin(), spec.variants.end(), value) == spec.variants.end())
+    throw std::invalid_argument("stage '" + spec.name + "': no " + spec.variant_option + " '" +
+                                value + "'");
+  StageSpec next = spec.vary(value);
+  std::unique_ptr<Stage> stage = next.make(model_);
+  check_stage(*stage);
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    std::erase_if(*list, [&](const Installed& st) { return st.spec == int(spec_index); });
+  model_.stages[spec_index] = std::move(next);
+  add_installed(std::move(stage), true, static_cast<int>(spec_index));
 }
 
 void Simulator::set_stage_option(const std::string& stage, const std::string& option,
@@ -375,6 +401,9 @@ void Simulator::set_stage_option(const std::string& stage, const std::string& op
   for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
     for (auto& st : *list)
       if (st.stage->name() == stage) {
+        if (st.spec >= 0 && model_.stages[st.spec].vary &&
+            model_.stages[st.spec].variant_option == option)
+          return switch_variant(static_cast<std::size_t>(st.spec), value);
         st.stage->set_option(option, value);
         return;
       }

@@ -13,6 +13,7 @@ namespace {
 class ExplicitEuler final : public Integrator {
  public:
   std::string_view name() const override { return "explicit_euler"; }
+  bool drifts_after_kick() const override { return false; }  // x moves with v_n
   void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
     const Real* inv_mass = m.points.inv_mass.data();
     const Vec3* f = s.f().data();

@@ -65,7 +65,9 @@ class SceneReader {
     for (auto& t : top.tables("fixed")) point(t, scene.model, PointKind::fixed);
     for (const auto& b : builder_tables())
       for (auto& t : top.tables(b.keyword)) builder(t, scene.model, b);
+    for (auto& t : top.tables("geometric_point")) geometric_point(t, scene.model);
     for (auto& t : top.tables("link")) link(t, scene.model);
+    if (!geometric_contacts_.empty()) install_geometric_contacts(scene.model);
     for (auto& t : top.tables("contact")) contact(t, scene.model);
     stage_tables(top, scene.model);
     top.finish();
@@ -283,8 +285,82 @@ class SceneReader {
     return g->first + static_cast<std::uint32_t>(i);
   }
 
+  // [[geometric_point]]: a shape placed by an affine map (docs/scene-format.md).
+  void geometric_point(TomlCursor& t, Model& m) {
+    GeometricPoint g;
+    g.name = t.text("name");
+    for (const auto& other : m.geometric_points)
+      if (other.name == g.name) t.fail("name", "another geometric point is named '" + g.name + "'");
+    const std::string shape = t.text(
+        "shape", "sphere", {"sphere", "cube", "cylinder", "cone", "torus", "capsule", "plane"});
+    g.shape = shape == "cube"       ? ShapeKind::cube
+              : shape == "cylinder" ? ShapeKind::cylinder
+              : shape == "cone"     ? ShapeKind::cone
+              : shape == "torus"    ? ShapeKind::torus
+              : shape == "capsule"  ? ShapeKind::capsule
+              : shape == "plane"    ? ShapeKind::plane
+                                    : ShapeKind::sphere;
+    if (g.shape != ShapeKind::torus && t.has("tube")) t.fail("tube", "only a torus has a tube");
+    if (g.shape != ShapeKind::cone && t.has("top")) t.fail("top", "only a cone has a top radius");
+    g.tube = t.real("tube", g.tube, Bound::positive);
+    if (g.tube > 1) t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
+    g.top = t.real("top", g.top, Bound::non_negative);
+    if (g.top > 1) t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
+    const Vec3 position = t.vec3("position", {0, 0, 0});
+    const Vec3 rotation = t.vec3("rotation", {0, 0, 0});
+    const Vec3 scale = t.vec3("scale", {1, 1, 1});
+    if (!(scale.x > 1e-9 && scale.y > 1e-9 && scale.z > 1e-9))
+      t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
+    g.place = shapes::Affine::from(position, rotation, scale);
+    m.geometric_points.push_back(std::move(g));
+    t.finish();
+  }
+
+  // [[link]] kind = "geometric_contact": a = a geometric point, b = a free mass (or a group:
+  // one contact per free point of it).
+  void geometric_contact(TomlCursor& t, const Model& m) {
+    const std::string a = t.text("a");
+    std::uint32_t g = 0;
+    while (g < m.geometric_points.size() && m.geometric_points[g].name != a) ++g;
+    if (g == m.geometric_points.size())
+      t.fail("a", "no geometric point named '" + a +
+                      "': a geometric contact links a [[geometric_point]] (a) to a free mass (b)");
+    GeometricContact c;
+    c.geometric = g;
+    c.stiffness = t.real("stiffness", Bound::non_negative);
+    t.check_range("stiffness", c.stiffness, 0, limits::max_stiffness, "N/m");
+    c.damping = t.real("damping", 0, Bound::non_negative);
+    t.check_range("damping", c.damping, 0, limits::max_stiffness, "N.s/m");
+    c.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
+    const toml::node* b = t.node("b");
+    const Group* group = b && b->is_string() ? m.group(*b->value<std::string>()) : nullptr;
+    std::vector<std::uint32_t> points;
+    if (group && group->count > 1) {
+      for (std::uint32_t p = group->first; p < group->first + group->count; ++p)
+        if (m.points.inv_mass[p] > 0) points.push_back(p);
+      if (points.empty()) t.fail("b", "the group has no free point");
+    } else {
+      points.push_back(point_ref(t, "b", m));
+      if (!(m.points.inv_mass[points[0]] > 0))
+        t.fail("b", "must be a free mass: a geometric contact acts on a free mass only");
+    }
+    for (std::uint32_t p : points) {
+      c.point = p;
+      geometric_contacts_.push_back(c);
+    }
+    t.finish();
+  }
+
+  void install_geometric_contacts(Model& m) {
+    m.stages.push_back(
+        {"geometric_contacts", Phase::forces, [contacts = geometric_contacts_](const Model& model) {
+           return make_geometric_contact_stage(model, contacts);
+         }});
+  }
+
   void link(TomlCursor& t, Model& m) {
     const std::string kind = t.text("kind");
+    if (kind == "geometric_contact") return geometric_contact(t, m);
     const LinkKindRegistry::Entry* entry = kinds_.find(kind);
     if (!entry)
       t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.keywords() + ")");
@@ -352,6 +428,7 @@ class SceneReader {
 
   const LinkKindRegistry& kinds_;
   const StageRegistry& stages_;
+  std::vector<GeometricContact> geometric_contacts_;
   std::string file_;
   std::set<std::string> names_;
 };

@@ -3,8 +3,8 @@
 #include <stdexcept>
 
 #include "maille/limits.hpp"
-#include "maille/obstacle.hpp"
 #include "maille/self_collision.hpp"
+#include "stage_tables.hpp"
 
 namespace maille {
 
@@ -85,59 +85,6 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
           [s](const Model& model) { return make_self_collision_stage(model, s); }};
 }
 
-// [[obstacle]]: docs/scene-format.md. The geometric method is built; `facets` and `conditional`
-// and mesh files are refused with a message until they are (issue: obstacles, Theme 2).
-StageSpec obstacle_table(SceneTable& t, const Model& m) {
-  GeometricObstacle o;
-  o.name = t.text("name", "obstacle");
-  const std::string method = t.text("method", "geometric", {"geometric", "facets", "conditional"});
-  if (method != "geometric")
-    t.fail("method",
-           "method = \"" + method + "\" is not built yet in this version; use \"geometric\"");
-  if (t.has("mesh")) t.fail("mesh", "mesh obstacles need method = \"facets\", not built yet");
-  for (const char* other : {"threshold", "alpha", "beta", "motion"})
-    if (t.has(other))
-      t.fail(other,
-             std::string("is not used by method = \"geometric\"") +
-                 (std::string(other) == "motion" ? " (moving obstacles are not built yet)" : ""));
-  const std::string shape = t.text(
-      "shape", "sphere", {"sphere", "cube", "cylinder", "cone", "torus", "capsule", "plane"});
-  o.shape = shape == "sphere"     ? ShapeKind::sphere
-            : shape == "cube"     ? ShapeKind::cube
-            : shape == "cylinder" ? ShapeKind::cylinder
-            : shape == "cone"     ? ShapeKind::cone
-            : shape == "torus"    ? ShapeKind::torus
-            : shape == "capsule"  ? ShapeKind::capsule
-                                  : ShapeKind::plane;
-  if (o.shape != ShapeKind::torus && t.has("tube")) t.fail("tube", "only a torus has a tube");
-  if (o.shape != ShapeKind::cone && t.has("top")) t.fail("top", "only a cone has a top radius");
-  o.tube = t.real("tube", o.tube, Bound::positive);
-  if (o.tube > 1) t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
-  o.top = t.real("top", o.top, Bound::non_negative);
-  if (o.top > 1) t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
-  const Vec3 position = t.vec3("position", {0, 0, 0});
-  const Vec3 rotation = t.vec3("rotation", {0, 0, 0});
-  const Vec3 scale = t.vec3("scale", {1, 1, 1});
-  if (!(scale.x > 1e-9 && scale.y > 1e-9 && scale.z > 1e-9))
-    t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
-  o.place = shapes::Affine::from(position, rotation, scale);
-  o.stiffness = t.real("stiffness", o.stiffness, Bound::positive);
-  t.check_range("stiffness", o.stiffness, 0, limits::max_stiffness, "N/m");
-  o.damping = t.real("damping", o.damping, Bound::non_negative);
-  t.check_range("damping", o.damping, 0, limits::max_stiffness, "N.s/m");
-  o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
-  o.collides_with = t.texts("collides_with", {});
-  for (const auto& g : o.collides_with)
-    if (!m.group(g)) t.fail("collides_with", "no group named '" + g + "'");
-  try {
-    make_geometric_obstacle_stage(m, o);  // checks that some free point collides
-  } catch (const std::invalid_argument& e) {
-    t.fail("collides_with", e.what());
-  }
-  return {"obstacle:" + o.name, Phase::forces,
-          [o](const Model& model) { return make_geometric_obstacle_stage(model, o); }};
-}
-
 }  // namespace
 
 // Built-in stage tables register here, one line each.
@@ -146,7 +93,9 @@ StageRegistry StageRegistry::with_builtins() {
   r.add({"self_collision", false,
          "self-collision of cloth and ropes: grids, topological exclusion, conditional response",
          self_collision_table});
-  r.add({"obstacle", true, "fixed geometry: a canonical shape placed by an affine map",
+  r.add({"obstacle", true,
+         "fixed or moving geometry (a canonical shape or a mesh file) by one of three methods: "
+         "geometric, facets, conditional",
          obstacle_table});
   return r;
 }

@@ -182,6 +182,11 @@ std::optional<TomlCursor> TomlCursor::table(std::string_view key) {
   return TomlCursor(*n->as_table(), file_, key_path(key));
 }
 
+std::unique_ptr<SceneTable> TomlCursor::child(std::string_view key) {
+  auto t = table(key);
+  return t ? std::make_unique<TomlCursor>(std::move(*t)) : nullptr;
+}
+
 std::vector<TomlCursor> TomlCursor::tables(std::string_view key) {
   std::vector<TomlCursor> out;
   const toml::node* n = node(key);

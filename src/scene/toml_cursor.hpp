@@ -59,12 +59,13 @@ class TomlCursor final : public SceneTable {
   // The raw node (marked as read); null when absent.
   const toml::node* node(std::string_view key);
   std::optional<TomlCursor> table(std::string_view key);
+  std::unique_ptr<SceneTable> child(std::string_view key) override;
   std::vector<TomlCursor> tables(std::string_view key);  // an array of tables
 
   [[noreturn]] void fail(std::string_view key, const std::string& message) const override;
   [[noreturn]] void fail_at(const toml::source_region& where, std::string_view key,
                             const std::string& message) const;
-  void finish() const;  // fails on the first key never read
+  void finish() const override;  // fails on the first key never read
 
  private:
   std::string key_path(std::string_view key) const;

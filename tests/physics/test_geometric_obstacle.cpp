@@ -18,7 +18,7 @@ double resting_height(ShapeKind shape, const Vec3& above, Real scale) {
   Model m;
   const auto bead = m.points.add(PointKind::free, 0.01, above);
   m.groups.push_back({"bead", "points", bead, 1});
-  GeometricObstacle o;
+  Obstacle o;
   o.shape = shape;
   o.place = shapes::Affine::from({0, 1, 0}, {0, 0, 0}, {scale, scale, scale});
   o.stiffness = 400;
@@ -58,7 +58,7 @@ TEST(GeometricObstacle, WorldNormalVariantUnderNonUniformScale) {
     const Vec3 p = surface * Real(0.98);
     const auto bead = m.points.add(PointKind::free, 0.01, p);
     m.groups.push_back({"bead", "points", bead, 1});
-    GeometricObstacle o;
+    Obstacle o;
     o.place = shapes::Affine::from({0, 0, 0}, {0, 0, 0}, {0.6, 0.3, 0.3});
     o.damping = 0;
     o.world_normal = world;
@@ -94,9 +94,18 @@ TEST(GeometricObstacle, SceneTableChecksKeysAgainstTheMethod) {
   EXPECT_NE(threshold.error().message.find("geometric"), std::string::npos);
   auto tube = scene("tube = 0.3\n");
   ASSERT_FALSE(tube);
-  auto facets = scene("method = \"facets\"\n");
-  ASSERT_FALSE(facets);
-  EXPECT_NE(facets.error().message.find("not built yet"), std::string::npos);
+  auto facets = scene("method = \"facets\"\nalpha = 0.5\nbeta = 0.2\n");
+  ASSERT_TRUE(facets) << facets.error().to_string();
+  EXPECT_EQ(facets->model.stages[0].phase, Phase::response);
+  auto spring_on_facets = scene("method = \"facets\"\nstiffness = 10.0\n");
+  ASSERT_FALSE(spring_on_facets);
+  EXPECT_NE(spring_on_facets.error().key.find("stiffness"), std::string::npos);
+  EXPECT_NE(spring_on_facets.error().message.find("\"facets\""), std::string::npos);
+  auto alpha_on_conditional = scene("method = \"conditional\"\nalpha = 0.5\n");
+  ASSERT_FALSE(alpha_on_conditional);
+  EXPECT_NE(alpha_on_conditional.error().message.find("\"conditional\""), std::string::npos);
+  auto conditional = scene("method = \"conditional\"\nthreshold = 0.05\nscale = [0.3, 0.3, 0.3]\n");
+  ASSERT_TRUE(conditional) << conditional.error().to_string();
 }
 
 }  // namespace

@@ -169,6 +169,26 @@ Vec3 Affine::normal_to_world(const Vec3& n) const {
   return l > 0 ? w / l : Vec3{0, 1, 0};
 }
 
+Affine Affine::moved(const Mat3& R, const Vec3& center, const Vec3& offset) const {
+  Affine a;
+  a.direct = R * direct;
+  a.inverse = inverse * transpose(R);  // R is orthogonal: R^-1 = R^T
+  a.translation = R * (translation - center) + center + offset;
+  return a;
+}
+
+Mat3 rotation(const Vec3& k, double angle) {
+  const Real c = Real(std::cos(angle)), s = Real(std::sin(angle)), t = 1 - c;
+  Mat3 r;
+  r.m[0][0] = c + t * k.x * k.x, r.m[0][1] = t * k.x * k.y - s * k.z;
+  r.m[0][2] = t * k.x * k.z + s * k.y;
+  r.m[1][0] = t * k.y * k.x + s * k.z, r.m[1][1] = c + t * k.y * k.y;
+  r.m[1][2] = t * k.y * k.z - s * k.x;
+  r.m[2][0] = t * k.z * k.x - s * k.y, r.m[2][1] = t * k.z * k.y + s * k.x;
+  r.m[2][2] = c + t * k.z * k.z;
+  return r;
+}
+
 Distance canonical(ShapeKind s, const Vec3& p, Real top, Real tube) {
   switch (s) {
     case ShapeKind::sphere:

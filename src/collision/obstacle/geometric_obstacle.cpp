@@ -1,18 +1,23 @@
-// The geometric obstacle stage (include/maille/obstacle.hpp).
+// The geometric obstacle stage (include/maille/obstacle.hpp): one geometric fixed point and its
+// contacts with the colliding points, far points culled by a bounding sphere.
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
+#include "maille/geometric_point.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
+#include "obstacle_surface.hpp"
 
 namespace maille {
 
 namespace {
 
 // Radius of a canonical sphere about the origin holding the shape (infinite for the plane).
-Real canonical_reach(const GeometricObstacle& o) {
+Real canonical_reach(const Obstacle& o) {
   switch (o.shape) {
     case ShapeKind::sphere:
       return 1;
@@ -33,23 +38,20 @@ Real canonical_reach(const GeometricObstacle& o) {
 
 class GeometricObstacleStage final : public Stage {
  public:
-  GeometricObstacleStage(const Model& m, GeometricObstacle o) : o_(std::move(o)) {
-    std::vector<std::uint8_t> in(m.points.size(), o_.collides_with.empty() ? 1 : 0);
-    for (const auto& name : o_.collides_with) {
-      const Group* g = m.group(name);
-      if (!g)
-        throw std::invalid_argument("obstacle '" + o_.name + "': no group named '" + name + "'");
-      std::fill(in.begin() + g->first, in.begin() + g->first + g->count, 1);
-    }
-    for (std::uint32_t p = 0; p < m.points.size(); ++p)
-      if (in[p] && m.points.inv_mass[p] > 0) set_.push_back(p);
-    if (set_.empty())
-      throw std::invalid_argument("obstacle '" + o_.name + "': no free point collides with it");
+  GeometricObstacleStage(const Model& m, Obstacle o)
+      : o_(std::move(o)),
+        set_(colliding_points(m, o_)),
+        surface_(o_, o_.mesh ? o_.mesh : std::make_shared<const TriMesh>(obstacle_mesh(o_))) {
+    if (o_.mesh)
+      throw std::invalid_argument("obstacle '" + o_.name +
+                                  "': a mesh has no canonical distance; use method \"facets\" "
+                                  "or \"conditional\"");
     // The world bounding sphere: the canonical reach times the largest stretch of M_d.
     Real stretch = 0;
     for (const Vec3& e : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
       stretch = std::max(stretch, norm(o_.place.vector_to_world(e)));
     reach_ = canonical_reach(o_) * stretch * std::sqrt(Real(3));
+    point_ = {"obstacle:" + o_.name, o_.shape, o_.top, o_.tube, o_.place};
   }
 
   std::string name() const override { return "obstacle:" + o_.name; }
@@ -62,28 +64,18 @@ class GeometricObstacleStage final : public Stage {
     std::uint64_t contacts = 0;
     Real deepest = 0;
     const Real reach2 = reach_ * reach_;
+    const shapes::Affine place = o_.motion.at(o_.place, ctx.t);
     for (std::uint32_t p : set_) {
-      const Vec3 rel = x[p] - o_.place.translation;
+      const Vec3 rel = x[p] - place.translation;
       if (dot(rel, rel) > reach2) continue;  // far: one test
-      const Vec3 c = o_.place.to_canonical(x[p]);
-      const shapes::Distance d = shapes::canonical(o_.shape, c, o_.top, o_.tube);
-      if (!d.inside()) continue;
+      // The damper acts on the velocity relative to the obstacle's surface.
+      const Vec3 vr = o_.motion.moves() ? v[p] - o_.motion.velocity_at(x[p], ctx.t) : v[p];
+      Real depth = 0;
+      const Vec3 force = geometric_contact_force(point_, place, x[p], vr, o_.stiffness, o_.damping,
+                                                 o_.world_normal, depth);
+      if (depth <= 0) continue;
       ++contacts;
-      const Vec3 pen_c = d.penetration();
-      Vec3 force;
-      if (!o_.world_normal) {
-        // The brief's mapping: a spring-damper on the canonical penetration, back through M_d.
-        const Vec3 vc = o_.place.vector_to_canonical(v[p]);
-        force = o_.place.vector_to_world(pen_c * o_.stiffness -
-                                         d.normal * (o_.damping * dot(vc, d.normal)));
-        deepest = std::max(deepest, norm(o_.place.vector_to_world(pen_c)));
-      } else {
-        // Along the world normal, with the world depth of the canonical penetration along it.
-        const Vec3 n = o_.place.normal_to_world(d.normal);
-        const Real depth = std::max<Real>(dot(o_.place.vector_to_world(pen_c), n), 0);
-        force = n * (o_.stiffness * depth - o_.damping * dot(v[p], n));
-        deepest = std::max(deepest, depth);
-      }
+      deepest = std::max(deepest, depth);
       f[p] += force;
     }
     if (!ctx.profile) return;
@@ -92,6 +84,10 @@ class GeometricObstacleStage final : public Stage {
               ctx.profile->gauge("obstacle_" + o_.name + "_depth")};
     ctx.profile->set_count(ids_[0], contacts);
     ctx.profile->set_gauge(ids_[1], deepest);
+  }
+
+  void surfaces(double t, std::vector<SurfaceInstance>& out) const override {
+    surface_.add(o_, t, out);
   }
 
   // A particle touches one obstacle at a time. Through M_d the force is k times the world
@@ -105,15 +101,17 @@ class GeometricObstacleStage final : public Stage {
   }
 
  private:
-  GeometricObstacle o_;
+  Obstacle o_;
   std::vector<std::uint32_t> set_;
+  ObstacleSurface surface_;
+  GeometricPoint point_;  // the obstacle's geometric fixed point (placed by the motion per step)
   Real reach_ = 0;
   std::array<int, 2> ids_{-1, -1};
 };
 
 }  // namespace
 
-std::unique_ptr<Stage> make_geometric_obstacle_stage(const Model& m, const GeometricObstacle& o) {
+std::unique_ptr<Stage> make_geometric_obstacle_stage(const Model& m, const Obstacle& o) {
   return std::make_unique<GeometricObstacleStage>(m, o);
 }
 

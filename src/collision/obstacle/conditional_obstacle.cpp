@@ -1,0 +1,182 @@
+// The conditional obstacle stage (include/maille/obstacle.hpp): fixed points sampled on the
+// obstacle's surface, each acting on the colliding particles through the `conditional` link's
+// law (ConditionalSpringDamper: a spring-damper toward the threshold while closer than it).
+//
+// Rather than one link per (sample, particle) pair, which is what the brief's method would
+// build and what costs P x S, the samples are binned in a hashed grid of cells one threshold
+// wide: a particle meets only the samples of the 27 cells around it, and a particle away from
+// the obstacle costs one box test. The forces are those of the links the brief would build.
+//
+// Samples are laid on each facet of the obstacle's mesh (placed in the world at t = 0) on a
+// triangular lattice no coarser than the threshold, shared vertices and edges merged, so no gap
+// wider than the threshold opens between them. A moving obstacle moves rigidly: particles are
+// brought into the obstacle's frame at t = 0 (distances unchanged), the samples never move.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "maille/links/conditional.hpp"
+#include "maille/obstacle.hpp"
+#include "maille/profile.hpp"
+#include "maille/state.hpp"
+#include "obstacle_surface.hpp"
+
+namespace maille {
+
+namespace {
+
+// Samples per particle that can act at once, for the stability estimate: on a flat surface
+// sampled at spacing s, a particle within s of it is within s of at most about 4 samples.
+constexpr Real kSamplesAtOnce = 4;
+// Refuse samplings that would not fit in memory (a huge obstacle with a tiny threshold).
+constexpr std::uint64_t kMaxSamples = 20'000'000;
+
+struct CellKey {
+  std::int64_t i, j, k;
+  bool operator==(const CellKey&) const = default;
+};
+struct CellHash {
+  std::size_t operator()(const CellKey& c) const {
+    return std::size_t(c.i * 73856093LL) ^ std::size_t(c.j * 19349663LL) ^
+           std::size_t(c.k * 83492791LL);
+  }
+};
+
+std::vector<Vec3> sample_surface(const TriMesh& mesh, const shapes::Affine& place, Real spacing,
+                                 const std::string& name) {
+  std::vector<Vec3> world(mesh.vertices.size());
+  for (std::size_t i = 0; i < world.size(); ++i) world[i] = place.to_world(mesh.vertices[i]);
+  // Merge coincident samples (shared edges and vertices) by a grid far finer than the spacing.
+  std::unordered_map<CellKey, std::uint32_t, CellHash> seen;
+  std::vector<Vec3> samples;
+  const Real snap = spacing * Real(1e-6);
+  auto add = [&](const Vec3& x) {
+    const CellKey key{std::llround(x.x / snap), std::llround(x.y / snap), std::llround(x.z / snap)};
+    if (seen.emplace(key, std::uint32_t(samples.size())).second) samples.push_back(x);
+  };
+  std::uint64_t planned = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = world[t[0]], &b = world[t[1]], &c = world[t[2]];
+    const Real longest = std::max({norm(b - a), norm(c - b), norm(a - c)});
+    const auto divisions = std::uint64_t(std::ceil(longest / spacing));
+    planned += (divisions + 1) * (divisions + 2) / 2;
+    if (planned > kMaxSamples)
+      throw std::invalid_argument("obstacle '" + name +
+                                  "': sampling the surface at the threshold (" +
+                                  std::to_string(spacing) + " m) would need more than " +
+                                  std::to_string(kMaxSamples) + " points: raise threshold");
+    const Real inv = divisions > 0 ? Real(1) / Real(divisions) : 0;
+    for (std::uint64_t i = 0; i <= divisions; ++i)
+      for (std::uint64_t j = 0; i + j <= divisions; ++j)
+        add(a + (b - a) * (Real(i) * inv) + (c - a) * (Real(j) * inv));
+  }
+  return samples;
+}
+
+class ConditionalObstacleStage final : public Stage {
+ public:
+  ConditionalObstacleStage(const Model& m, Obstacle o)
+      : o_(std::move(o)),
+        set_(colliding_points(m, o_)),
+        surface_(o_, std::make_shared<const TriMesh>(obstacle_mesh(o_))) {
+    samples_ = sample_surface(*surface_.mesh(), o_.place, o_.threshold, o_.name);
+    inv_cell_ = 1 / o_.threshold;
+    lo_ = hi_ = samples_.front();
+    for (std::uint32_t i = 0; i < samples_.size(); ++i) {
+      const Vec3& x = samples_[i];
+      lo_ = {std::min(lo_.x, x.x), std::min(lo_.y, x.y), std::min(lo_.z, x.z)};
+      hi_ = {std::max(hi_.x, x.x), std::max(hi_.y, x.y), std::max(hi_.z, x.z)};
+      cells_[key(x)].push_back(i);
+    }
+    lo_ -= Vec3{1, 1, 1} * o_.threshold, hi_ += Vec3{1, 1, 1} * o_.threshold;
+    params_.stiffness = o_.stiffness;
+    params_.damping = o_.damping;
+    params_.threshold = o_.threshold;
+    params_.rest_length = o_.threshold;  // continuous at the threshold, as [[contact]] does
+  }
+
+  std::string name() const override { return "obstacle:" + o_.name; }
+  Phase phase() const override { return Phase::forces; }
+
+  void apply(const Model&, State& s, const StageContext& ctx) override {
+    const bool moves = o_.motion.moves();
+    // The rigid motion since t = 0 (x_now = R x_0 + d): particles go back by its inverse.
+    const shapes::Affine now = o_.motion.at(shapes::Affine{}, ctx.t);
+    const Vec3* x = s.x().data();
+    const Vec3* v = s.v().data();
+    Vec3* f = s.f().data();
+    std::uint64_t contacts = 0;
+    Real deepest = 0;
+    for (std::uint32_t p : set_) {
+      const Vec3 xb = moves ? transpose_times(now.direct, x[p] - now.translation) : x[p];
+      if (xb.x < lo_.x || xb.y < lo_.y || xb.z < lo_.z || xb.x > hi_.x || xb.y > hi_.y ||
+          xb.z > hi_.z)
+        continue;  // away from the obstacle: one box test
+      const Vec3 vr =
+          moves ? transpose_times(now.direct, v[p] - o_.motion.velocity_at(x[p], ctx.t)) : v[p];
+      Vec3 force;
+      Real nearest2 = o_.threshold * o_.threshold;
+      const CellKey c = key(xb);
+      for (std::int64_t dk = -1; dk <= 1; ++dk)
+        for (std::int64_t dj = -1; dj <= 1; ++dj)
+          for (std::int64_t di = -1; di <= 1; ++di) {
+            const auto it = cells_.find({c.i + di, c.j + dj, c.k + dk});
+            if (it == cells_.end()) continue;
+            for (std::uint32_t si : it->second) {
+              const Vec3& xs = samples_[si];
+              if (!ConditionalSpringDamper::is_active(xs, xb, params_)) continue;
+              nearest2 = std::min(nearest2, norm2(xb - xs));
+              force -= ConditionalSpringDamper::force(xs, xb, Vec3{}, vr, params_);
+            }
+          }
+      if (nearest2 >= o_.threshold * o_.threshold) continue;
+      ++contacts;
+      deepest = std::max(deepest, o_.threshold - std::sqrt(nearest2));
+      f[p] += moves ? now.direct * force : force;
+    }
+    if (!ctx.profile) return;
+    if (ids_[0] < 0)
+      ids_ = {ctx.profile->counter("obstacle_" + o_.name + "_contacts"),
+              ctx.profile->gauge("obstacle_" + o_.name + "_depth")};
+    ctx.profile->set_count(ids_[0], contacts);
+    ctx.profile->set_gauge(ids_[1], deepest);
+  }
+
+  void stability_terms(std::span<const Real>, std::span<Real> k_row,
+                       std::span<Real> c_row) const override {
+    for (std::uint32_t p : set_) {
+      k_row[p] += kSamplesAtOnce * o_.stiffness;
+      c_row[p] += kSamplesAtOnce * o_.damping;
+    }
+  }
+
+  void surfaces(double t, std::vector<SurfaceInstance>& out) const override {
+    surface_.add(o_, t, out);
+  }
+
+ private:
+  CellKey key(const Vec3& x) const {
+    return {std::int64_t(std::floor(x.x * inv_cell_)), std::int64_t(std::floor(x.y * inv_cell_)),
+            std::int64_t(std::floor(x.z * inv_cell_))};
+  }
+
+  Obstacle o_;
+  std::vector<std::uint32_t> set_;
+  ObstacleSurface surface_;
+  std::vector<Vec3> samples_;  // world positions at t = 0
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells_;
+  Vec3 lo_, hi_;  // the samples' box grown by the threshold
+  Real inv_cell_ = 1;
+  ConditionalSpringDamper::Params params_;
+  std::array<int, 2> ids_{-1, -1};
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> make_conditional_obstacle_stage(const Model& m, const Obstacle& o) {
+  return std::make_unique<ConditionalObstacleStage>(m, o);
+}
+
+}  // namespace maille

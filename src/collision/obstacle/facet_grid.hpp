@@ -1,0 +1,75 @@
+// The facets of a mesh obstacle in the mesh's own frame, with what the inverse-dynamics stage
+// asks of them per particle: which facets are near a segment (a uniform grid of the facets'
+// boxes), where a segment first crosses a facet (the brief's ray-facet test), and the closest
+// surface point with a reliable inside/outside sign (angle-weighted pseudo-normals, Baerentzen
+// and Aanaes 2005) for the leak check. Built once; obstacles move by moving the particles into
+// this frame, never by refitting.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "maille/mesh.hpp"
+
+namespace maille::facets {
+
+struct Facet {
+  Vec3 a, e1, e2;  // vertex a and edges b - a, c - a
+  Vec3 n;          // unit normal (e1 x e2 normalised): the outside
+  // Barycentric solve of a point on the plane: precomputed Gram entries.
+  Real d00, d01, d11, inv_det;
+  std::array<Vec3, 3> vertex_pseudo;  // angle-weighted normals at a, b, c
+  std::array<Vec3, 3> edge_pseudo;    // sum of the two faces' normals on ab, bc, ca
+};
+
+struct Hit {
+  std::uint32_t facet = 0;
+  Real u = 2;  // fraction of the segment where it crosses the facet's plane
+};
+
+struct Closest {
+  std::uint32_t facet = 0;
+  Vec3 point;
+  Real distance2 = 0;
+  Real sign = 1;  // +1 outside, -1 inside (by the pseudo-normal of the closest feature)
+};
+
+class FacetGrid {
+ public:
+  explicit FacetGrid(const TriMesh& mesh);
+
+  const std::vector<Facet>& facets() const { return facets_; }
+  bool closed() const { return closed_; }
+  // Facets whose boxes (grown by `margin`) may meet the box [lo, hi]; appended to `out` (may
+  // repeat a facet). Returns false, leaving `out` unchanged, when the box misses the grid.
+  bool candidates(const Vec3& lo, const Vec3& hi, std::vector<std::uint32_t>& out) const;
+  // A box grown by this much always finds the facets within that distance (the grid's margin).
+  Real margin() const { return margin_; }
+
+  // The brief's test of the segment p -> q against facet f, with `eps` the "above" threshold
+  // in this frame: N.AP > eps, N.PQ < 0, u <= 1 and M inside the facet (closed edges, with a
+  // relative tolerance so that a crossing on a shared edge is found by both facets).
+  bool crosses(std::uint32_t f, const Vec3& p, const Vec3& q, Real eps, Real& u) const;
+  // Whether the projection of p on facet f's plane lies inside it (closed edges).
+  bool projects_inside(std::uint32_t f, const Vec3& p) const;
+  // The closest point of facet f to p, and the sign of p against the surface there.
+  Closest closest(std::uint32_t f, const Vec3& p) const;
+
+ private:
+  std::uint64_t cell_index(int i, int j, int k) const {
+    return (std::uint64_t(k) * dims_[1] + std::uint64_t(j)) * dims_[0] + std::uint64_t(i);
+  }
+  std::array<int, 3> cell_of(const Vec3& x) const;
+
+  std::vector<Facet> facets_;
+  bool closed_ = false;
+  Vec3 lo_, hi_;  // the grid's box (facets' boxes grown by the margin)
+  Real cell_ = 1, inv_cell_ = 1, margin_ = 0;
+  std::array<int, 3> dims_{1, 1, 1};
+  std::vector<std::uint32_t> starts_;  // per cell, into entries_ (CSR)
+  std::vector<std::uint32_t> entries_;
+};
+
+}  // namespace maille::facets

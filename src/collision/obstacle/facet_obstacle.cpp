@@ -1,0 +1,266 @@
+// The facet obstacle stage: inverse dynamics on a triangle mesh (include/maille/obstacle.hpp).
+//
+// Per colliding particle, once per step after every force (Phase::response):
+//   1. the segment P -> Q it will travel (Q = P + h V, or P + h (V + h F / m) for schemes that
+//      kick before they drift: the brief's ray, made exact for the scheme) goes into the mesh's
+//      frame, P through the placement at t and Q through the placement at t + h, so a moving
+//      obstacle is met by the relative motion;
+//   2. the grid gives the nearby facets; the brief's test picks the earliest crossing; the
+//      response rewrites F and V (facet_response.hpp) and the new segment is tested again, up to
+//      kPasses times (a particle driven into a concave corner meets both faces);
+//   3. no crossing, but resting on a facet (|N.AP| <= eps, the brief's test (a) fails) and
+//      heading into it: the same response, so a resting particle is held;
+//   4. a closed mesh: a particle found behind its closest facet (by pseudo-normals) is inside:
+//      it is put back on the surface, its inward velocity removed, and counted in facet_leaks.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "facet_grid.hpp"
+#include "facet_response.hpp"
+#include "maille/obstacle.hpp"
+#include "maille/profile.hpp"
+#include "maille/state.hpp"
+#include "obstacle_surface.hpp"
+
+namespace maille {
+
+namespace {
+
+constexpr int kPasses = 4;
+
+struct Counts {
+  std::uint64_t contacts = 0, hits = 0, sticks = 0, slides = 0, leaks = 0;
+  Real deepest = 0;
+  void add(const Counts& o) {
+    contacts += o.contacts, hits += o.hits, sticks += o.sticks, slides += o.slides;
+    leaks += o.leaks;
+    deepest = std::max(deepest, o.deepest);
+  }
+};
+
+Vec3 lower(const Vec3& a, const Vec3& b) {
+  return {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+}
+Vec3 upper(const Vec3& a, const Vec3& b) {
+  return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+}
+
+// Largest stretch of a matrix (its Frobenius norm bounds the largest singular value).
+Real stretch_bound(const Mat3& m) {
+  Real s = 0;
+  for (const auto& row : m.m)
+    for (Real e : row) s += e * e;
+  return std::sqrt(s);
+}
+
+class FacetObstacleStage final : public Stage {
+ public:
+  FacetObstacleStage(const Model& m, Obstacle o)
+      : o_(std::move(o)),
+        set_(colliding_points(m, o_)),
+        surface_(o_, std::make_shared<const TriMesh>(obstacle_mesh(o_))),
+        grid_(*surface_.mesh()) {
+    if (grid_.facets().empty())
+      throw std::invalid_argument("obstacle '" + o_.name + "': the mesh has no facet");
+  }
+
+  std::string name() const override { return "obstacle:" + o_.name; }
+  Phase phase() const override { return Phase::response; }
+
+  void apply(const Model& m, State& s, const StageContext& ctx) override {
+    const Real h = Real(ctx.h);
+    const shapes::Affine now = o_.motion.at(o_.place, ctx.t);
+    const shapes::Affine next = o_.motion.at(o_.place, ctx.t + ctx.h);
+    // Distances in the mesh frame are world distances times |M_i^T n| (per facet); the query
+    // box is grown by eps times the largest stretch so it holds every facet within eps.
+    const Real band = 2 * o_.epsilon * stretch_bound(now.inverse);
+    const int threads = std::max(1, ctx.threads);
+    if (scratch_.size() < std::size_t(threads)) scratch_.resize(threads);
+    counts_.assign(threads, Counts{});
+    auto& counts = counts_;
+    const auto n = static_cast<std::int64_t>(set_.size());
+    Vec3* x = s.x().data();
+    Vec3* v = s.v().data();
+    Vec3* f = s.f().data();
+    const Real* inv_mass = m.points.inv_mass.data();
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::uint32_t p = set_[i];
+      const int t = thread_index();
+      particle(x[p], v[p], f[p], 1 / inv_mass[p], h, ctx, now, next, band, scratch_[t], counts[t]);
+    }
+    Counts total;
+    for (const Counts& c : counts) total.add(c);
+    report(ctx, total);
+  }
+
+  // No stability_terms: the response is no stiffness the explicit limit must allow for.
+
+  void surfaces(double t, std::vector<SurfaceInstance>& out) const override {
+    surface_.add(o_, t, out);
+  }
+
+ private:
+  static int thread_index() {
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+  }
+
+  // World normal of facet fi under placement a, and the factor from world to mesh-frame
+  // distances along it.
+  std::pair<Vec3, Real> world_normal(const shapes::Affine& a, std::uint32_t fi) const {
+    const Vec3 w = transpose_times(a.inverse, grid_.facets()[fi].n);
+    const Real l = norm(w);
+    return {l > 0 ? w / l : Vec3{0, 1, 0}, l};
+  }
+
+  void particle(Vec3& x, Vec3& v, Vec3& f, Real mass, Real h, const StageContext& ctx,
+                const shapes::Affine& now, const shapes::Affine& next, Real band,
+                std::vector<std::uint32_t>& near, Counts& c) const {
+    const Vec3 p = now.to_canonical(x);
+    auto end_point = [&] {
+      const Vec3 kicked = ctx.drift_after_kick ? v + f * (h / mass) : v;
+      return next.to_canonical(x + kicked * h);
+    };
+    Vec3 q = end_point();
+    near.clear();
+    if (!grid_.candidates(lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band,
+                          near))
+      return;  // far from the obstacle: one box test
+    const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
+    bool touched = false, stuck = false;
+    for (int pass = 0; pass < kPasses; ++pass) {
+      const Contact hit = first_contact(p, q, now, near, pass == 0);
+      if (!hit.found) break;
+      c.hits += pass == 0 && hit.swept;
+      touched = true;
+      stuck = facets::respond(v, f, world_normal(now, hit.facet).first, surface_v, mass, h,
+                              o_.alpha, o_.beta)
+                  .stuck;
+      q = end_point();
+      if (pass == kPasses - 1 && first_contact(p, q, now, near, false).found) {
+        v = surface_v;  // cornered: stay where it is (outside) for this step
+        f = {};
+      }
+    }
+    if (touched) {
+      ++c.contacts;
+      stuck ? ++c.sticks : ++c.slides;
+    }
+    if (grid_.closed()) push_out_if_inside(p, x, v, f, surface_v, now, near, c);
+  }
+
+  struct Contact {
+    bool found = false;
+    bool swept = false;  // the brief's crossing (else: resting on the facet)
+    std::uint32_t facet = 0;
+  };
+
+  // The earliest facet the segment p -> q crosses (ties: the lowest index); else, when
+  // `resting` is asked, a facet the particle rests on: within eps of its plane, over it, and
+  // heading into it (the brief's test (a) fails there, yet the particle must be held).
+  Contact first_contact(const Vec3& p, const Vec3& q, const shapes::Affine& now,
+                        const std::vector<std::uint32_t>& near, bool resting) const {
+    Contact hit;
+    Real first = 2;
+    for (std::uint32_t fi : near) {
+      Real u;
+      const Real eps = o_.epsilon * world_normal(now, fi).second;
+      if (grid_.crosses(fi, p, q, eps, u) && (u < first || (u == first && fi < hit.facet)))
+        first = u, hit = {true, true, fi};
+    }
+    if (hit.found || !resting) return hit;
+    for (std::uint32_t fi : near) {
+      const facets::Facet& fa = grid_.facets()[fi];
+      const Real eps = o_.epsilon * world_normal(now, fi).second;
+      if (std::abs(dot(fa.n, p - fa.a)) > eps || !(dot(fa.n, q - p) < 0) ||
+          !grid_.projects_inside(fi, p))
+        continue;
+      if (!hit.found || fi < hit.facet) hit = {true, false, fi};
+    }
+    return hit;
+  }
+
+  bool still_crossing(const Vec3& p, const Vec3& q, const shapes::Affine& now,
+                      const std::vector<std::uint32_t>& near) const {
+    for (std::uint32_t fi : near) {
+      Real u;
+      if (grid_.crosses(fi, p, q, o_.epsilon * world_normal(now, fi).second, u)) return true;
+    }
+    return false;
+  }
+
+  void push_out_if_inside(const Vec3& p, Vec3& x, Vec3& v, Vec3& f, const Vec3& surface_v,
+                          const shapes::Affine& now, const std::vector<std::uint32_t>& near,
+                          Counts& c) const {
+    // Only a particle behind some nearby facet's plane can be inside: most are not, cheaply.
+    bool behind = false;
+    for (std::uint32_t fi : near) {
+      const facets::Facet& fa = grid_.facets()[fi];
+      if (dot(fa.n, p - fa.a) < -o_.epsilon * world_normal(now, fi).second) {
+        behind = true;
+        break;
+      }
+    }
+    if (!behind) return;
+    facets::Closest best;
+    best.distance2 = std::numeric_limits<Real>::max();
+    for (std::uint32_t fi : near) {
+      const facets::Closest cl = grid_.closest(fi, p);
+      if (cl.distance2 < best.distance2) best = cl;
+    }
+    if (best.sign > 0) return;
+    const auto [n, scale] = world_normal(now, best.facet);
+    const Vec3 surface = now.to_world(best.point);
+    c.deepest = std::max(c.deepest, norm(surface - x));
+    x = surface + n * (2 * o_.epsilon);
+    const Real vn = dot(v - surface_v, n);
+    if (vn < 0) v -= n * vn;
+    const Real fn = dot(f, n);
+    if (fn < 0) f -= n * fn;
+    ++c.leaks;
+  }
+
+  void report(const StageContext& ctx, const Counts& total) {
+    if (!ctx.profile) return;
+    Profile& pr = *ctx.profile;
+    if (ids_[0] < 0) {
+      const std::string base = "obstacle_" + o_.name + "_";
+      ids_ = {pr.counter(base + "contacts"), pr.gauge(base + "depth"),
+              pr.counter(base + "hits"),     pr.counter(base + "sticks"),
+              pr.counter(base + "slides"),   pr.counter(base + "facet_leaks")};
+    }
+    pr.set_count(ids_[0], total.contacts);
+    pr.set_gauge(ids_[1], total.deepest);
+    pr.set_count(ids_[2], total.hits);
+    pr.set_count(ids_[3], total.sticks);
+    pr.set_count(ids_[4], total.slides);
+    pr.set_count(ids_[5], total.leaks);
+  }
+
+  Obstacle o_;
+  std::vector<std::uint32_t> set_;
+  ObstacleSurface surface_;
+  facets::FacetGrid grid_;
+  std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
+  std::vector<Counts> counts_;                       // per thread
+  std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
+};
+
+}  // namespace
+
+std::unique_ptr<Stage> make_facet_obstacle_stage(const Model& m, const Obstacle& o) {
+  return std::make_unique<FacetObstacleStage>(m, o);
+}
+
+}  // namespace maille

@@ -1,0 +1,188 @@
+// [[obstacle]] (docs/scene-format.md): one obstacle, a canonical shape or a mesh file, by one of
+// three methods. Keys the chosen method does not use are errors naming the key and the method;
+// the others keep their defaults, so the viewer can switch the method live (StageSpec::vary).
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <memory>
+
+#include "maille/limits.hpp"
+#include "maille/obstacle.hpp"
+#include "stage_tables.hpp"
+
+namespace maille {
+
+namespace {
+
+struct MethodKey {
+  const char* key;
+  const char* used_by;  // the methods using it, for the message
+  bool geometric, facets, conditional;
+};
+constexpr MethodKey kMethodKeys[] = {
+    {"stiffness", "geometric and conditional", true, false, true},
+    {"damping", "geometric and conditional", true, false, true},
+    {"normal", "geometric", true, false, false},
+    {"threshold", "conditional", false, false, true},
+    {"alpha", "facets", false, true, false},
+    {"beta", "facets", false, true, false},
+    {"epsilon", "facets", false, true, false},
+};
+
+bool uses(const MethodKey& k, ObstacleMethod m) {
+  return m == ObstacleMethod::geometric ? k.geometric
+         : m == ObstacleMethod::facets  ? k.facets
+                                        : k.conditional;
+}
+
+ObstacleMethod method_named(const std::string& s) {
+  return s == "facets"        ? ObstacleMethod::facets
+         : s == "conditional" ? ObstacleMethod::conditional
+                              : ObstacleMethod::geometric;
+}
+
+ShapeKind shape_named(const std::string& s) {
+  return s == "cube"       ? ShapeKind::cube
+         : s == "cylinder" ? ShapeKind::cylinder
+         : s == "cone"     ? ShapeKind::cone
+         : s == "torus"    ? ShapeKind::torus
+         : s == "capsule"  ? ShapeKind::capsule
+         : s == "plane"    ? ShapeKind::plane
+                           : ShapeKind::sphere;
+}
+
+Real frequency(SceneTable& t) {
+  const Real f = t.real("frequency", Bound::positive);
+  t.check_range("frequency", f, 0, 1e6, "Hz");
+  return f;
+}
+
+// motion = { path = "rotate" | "translate" | "oscillate", ... }
+ObstacleMotion motion(SceneTable& t, const Vec3& position) {
+  ObstacleMotion mo;
+  const std::string path = t.text("path", "rotate", {"rotate", "translate", "oscillate"});
+  if (path == "rotate") {
+    mo.kind = ObstacleMotion::Kind::rotate;
+    mo.axis = t.vec3("axis", mo.axis);
+    if (norm(mo.axis) == 0) t.fail("axis", "must not be zero");
+    mo.center = t.vec3("center", position);
+    mo.frequency = frequency(t);
+  } else if (path == "translate") {
+    mo.kind = ObstacleMotion::Kind::translate;
+    mo.velocity = t.vec3("velocity", {});
+  } else {
+    mo.kind = ObstacleMotion::Kind::oscillate;
+    mo.amplitude = t.vec3("amplitude", {});
+    mo.frequency = frequency(t);
+    mo.phase = t.real("phase", 0, Bound::any);
+  }
+  t.finish();
+  return mo;
+}
+
+void read_shape(SceneTable& t, Obstacle& o) {
+  if (t.has("mesh")) {
+    if (t.has("shape")) t.fail("mesh", "give either shape or mesh, not both");
+    const std::string file = t.text("mesh", "");
+    const std::filesystem::path where = std::filesystem::path(t.file()).parent_path() / file;
+    try {
+      o.mesh = std::make_shared<const TriMesh>(read_mesh(where.string()));
+    } catch (const MeshError& e) {
+      t.fail("mesh", e.what());
+    }
+    o.mesh_file = where.string();
+    if (o.method == ObstacleMethod::geometric)
+      t.fail("mesh",
+             "a mesh has no canonical distance function: use method = \"facets\" or "
+             "\"conditional\"");
+  } else {
+    o.shape = shape_named(t.text(
+        "shape", "sphere", {"sphere", "cube", "cylinder", "cone", "torus", "capsule", "plane"}));
+  }
+  if (o.shape != ShapeKind::torus || o.mesh) {
+    if (t.has("tube")) t.fail("tube", "only a torus has a tube");
+  }
+  if (o.shape != ShapeKind::cone || o.mesh) {
+    if (t.has("top")) t.fail("top", "only a cone has a top radius");
+  }
+  o.tube = t.real("tube", o.tube, Bound::positive);
+  if (o.tube > 1) t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
+  o.top = t.real("top", o.top, Bound::non_negative);
+  if (o.top > 1) t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
+  o.resolution = static_cast<int>(t.integer("resolution", o.resolution, 8, 512));
+}
+
+void read_placement(SceneTable& t, Obstacle& o) {
+  const Vec3 position = t.vec3("position", {0, 0, 0});
+  const Vec3 rotation = t.vec3("rotation", {0, 0, 0});
+  const Vec3 scale = t.vec3("scale", {1, 1, 1});
+  if (!(scale.x > 1e-9 && scale.y > 1e-9 && scale.z > 1e-9))
+    t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
+  o.place = shapes::Affine::from(position, rotation, scale);
+  if (auto mt = t.child("motion")) o.motion = motion(*mt, position);
+}
+
+void read_method_keys(SceneTable& t, Obstacle& o) {
+  for (const MethodKey& k : kMethodKeys)
+    if (t.has(k.key) && !uses(k, o.method))
+      t.fail(k.key, std::string("is not used by method = \"") + std::string(to_string(o.method)) +
+                        "\" (it is a key of " + k.used_by + ")");
+  o.stiffness = t.real("stiffness", o.stiffness, Bound::positive);
+  t.check_range("stiffness", o.stiffness, 0, limits::max_stiffness, "N/m");
+  o.damping = t.real("damping", o.damping, Bound::non_negative);
+  t.check_range("damping", o.damping, 0, limits::max_stiffness, "N.s/m");
+  o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
+  o.threshold = t.real("threshold", o.threshold, Bound::positive);
+  t.check_range("threshold", o.threshold, 0, limits::max_coordinate, "m");
+  o.alpha = t.real("alpha", o.alpha, Bound::non_negative);
+  t.check_range("alpha", o.alpha, 0, 1, "");
+  o.beta = t.real("beta", o.beta, Bound::non_negative);
+  t.check_range("beta", o.beta, 0, 1, "");
+  o.epsilon = t.real("epsilon", o.epsilon, Bound::positive);
+  t.check_range("epsilon", o.epsilon, 0, 1, "m");
+}
+
+StageSpec spec_of(const Obstacle& o) {
+  StageSpec spec{"obstacle:" + o.name,
+                 o.method == ObstacleMethod::facets ? Phase::response : Phase::forces,
+                 [o](const Model& model) { return make_obstacle_stage(model, o); }};
+  spec.variant_option = "method";
+  spec.variants = {"geometric", "facets", "conditional"};
+  if (o.mesh) spec.variants.erase(spec.variants.begin());  // no distance function
+  spec.variant = std::string(to_string(o.method));
+  spec.vary = [o](const std::string& method) {
+    Obstacle other = o;
+    other.method = method_named(method);
+    return spec_of(other);
+  };
+  return spec;
+}
+
+}  // namespace
+
+StageSpec obstacle_table(SceneTable& t, const Model& m) {
+  Obstacle o;
+  o.name = t.text("name", "obstacle");
+  const bool safe = !o.name.empty() && std::all_of(o.name.begin(), o.name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  if (!safe) t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
+  for (const StageSpec& other : m.stages)
+    if (other.name == "obstacle:" + o.name)
+      t.fail("name", "another obstacle is named '" + o.name + "'");
+  o.method = method_named(t.text("method", "geometric", {"geometric", "facets", "conditional"}));
+  read_shape(t, o);
+  read_placement(t, o);
+  read_method_keys(t, o);
+  o.collides_with = t.texts("collides_with", {});
+  for (const auto& g : o.collides_with)
+    if (!m.group(g)) t.fail("collides_with", "no group named '" + g + "'");
+  try {
+    make_obstacle_stage(m, o);  // checks the colliding points, the mesh, the sampling
+  } catch (const std::invalid_argument& e) {
+    t.fail(o.method == ObstacleMethod::conditional ? "threshold" : "collides_with", e.what());
+  }
+  return spec_of(o);
+}
+
+}  // namespace maille
