@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -29,6 +30,22 @@ struct TriMesh {
   Real area() const;
 };
 
+// What a mesh file may ask for. Beyond these the reader throws MeshError before allocating for
+// them: a header or a count that claims more is refused, not trusted.
+namespace mesh_limits {
+inline constexpr std::size_t max_triangles = 10'000'000;
+// Positions (and OBJ texture coordinates and normals, which are read and dropped).
+inline constexpr std::size_t max_vertices = 3 * max_triangles;
+// Vertices of one OBJ polygon: tinyobjloader's ear clipping is cubic in it.
+inline constexpr std::size_t max_polygon_vertices = 256;
+inline constexpr std::uintmax_t max_file_bytes = std::uintmax_t{1} << 30;  // 1 GiB
+// Coordinates beyond this magnitude are refused: products of differences (areas, volumes) stay
+// far from overflow, in float builds too.
+inline constexpr Real max_coordinate = Real(1e15);
+// A face whose area is below this fraction of the squared bounding-box diagonal is zero-area.
+inline constexpr Real min_relative_area = Real(1e-12);
+}  // namespace mesh_limits
+
 // A mesh file that cannot be used. what() starts with the file name (and "FILE:LINE:" where a
 // line is known) and says what is wrong: empty, truncated, not a number, NaN or infinite
 // coordinate, index out of range, zero-area face, too many triangles.
@@ -50,10 +67,12 @@ std::string to_obj(const TriMesh& mesh);
 // A canonical shape as a closed mesh (the plane: the open square [-1, 1] x {0} x [-1, 1], normal
 // +y), with about `resolution` segments around (and proportionally along) curved directions.
 // top: cone's top radius ratio in [0, 1]; tube: torus's tube radius ratio in (0, 1]. Vertices
-// lie on the canonical surface.
+// lie on the canonical surface. resolution: [3, 1024] (the plane's squares per side: [1, 1024];
+// the cube's squares per edge are resolution / 4, at least 1). Arguments out of range throw
+// std::invalid_argument (a caller's error: scene values are checked where they are read).
 TriMesh tessellate(ShapeKind shape, int resolution, Real top = Real(0.5), Real tube = Real(0.3));
 // A sphere by subdividing an icosahedron `levels` times (20 * 4^levels faces), vertices on the
-// unit sphere.
+// unit sphere. levels: [0, 8], else std::invalid_argument.
 TriMesh icosphere(int levels);
 
 }  // namespace maille
