@@ -73,8 +73,9 @@ TEST(FacetObstacle, NothingEndsBelowAPlaneAtAnySpeed) {
       ASSERT_TRUE(sim.step());
       for (std::uint32_t p : ids) {
         const Vec3 x = sim.state().x()[p];
-        if (std::abs(x.x) < 2 && std::abs(x.z) < 2)  // over the plane
+        if (std::abs(x.x) < 2 && std::abs(x.z) < 2) {  // over the plane
           ASSERT_GE(x.y, 0) << scheme << " particle " << p << " step " << step;
+        }
       }
     }
   }
@@ -184,7 +185,8 @@ void throw_at(const TriMesh& mesh, const Obstacle& o, int count, std::uint64_t s
     inside += winding(mesh, o.place.to_canonical(sim.state().x()[p])) > 0.5;
   EXPECT_EQ(inside, 0);
   EXPECT_GT(counter(sim, "obstacle_o_hits"), std::uint64_t(count) / 2);
-  RecordProperty("facet_leaks_pushed_out", std::to_string(counter(sim, "obstacle_o_facet_leaks")));
+  ::testing::Test::RecordProperty("facet_leaks_pushed_out",
+                                  std::to_string(counter(sim, "obstacle_o_facet_leaks")));
 }
 
 TEST(FacetObstacle, ThrownParticlesNeverEndInsideACube) {
@@ -218,14 +220,15 @@ TEST(FacetObstacle, ARotatingCubeSweepsParticlesOut) {
   o.motion.frequency = 2;
   Model m;
   m.fields.gravity = {0, 0, 0};
-  for (int i = 0; i < 400; ++i) {
+  const TriMesh mesh = obstacle_mesh(o);
+  for (int i = 0; i < 400; ++i) {  // around the cube's sweep, none inside it at the start
     const Real a = Real(i) * Real(0.0157), r = Real(0.15) + Real(i % 10) * Real(0.015);
-    m.points.add(PointKind::free, 0.01,
-                 {r * std::cos(a), Real(0.05) * Real(i % 3 - 1), r * std::sin(a)});
+    const Vec3 x{r * std::cos(a), Real(0.05) * Real(i % 3 - 1), r * std::sin(a)};
+    if (winding(mesh, o.place.to_canonical(x)) < 0.5) m.points.add(PointKind::free, 0.01, x);
   }
+  ASSERT_GT(m.points.size(), 250u);
   install(m, o);
   Simulator sim(std::move(m), test::settings(1e-4));
-  const TriMesh mesh = obstacle_mesh(o);
   for (int k = 0; k < 10; ++k) {
     ASSERT_TRUE(sim.run_steps(250));
     const shapes::Affine now = o.motion.at(o.place, sim.state().time);

@@ -145,7 +145,7 @@ class FacetObstacleStage final : public Stage {
       c.hits += pass == 0 && hit.swept;
       touched = true;
       stuck = facets::respond(v, f, world_normal(now, hit.facet).first, surface_v, mass, h,
-                              o_.alpha, o_.beta)
+                              o_.alpha, o_.beta, ctx.drift_after_kick)
                   .stuck;
       q = end_point();
       if (pass == kPasses - 1 && first_contact(p, q, now, near, false).found) {

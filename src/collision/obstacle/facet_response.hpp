@@ -16,6 +16,13 @@
 // velocity, F_T' = F_T - beta |F_N| V_T / |V_T|, and stops (sticks) rather than reverse when
 // static friction can hold it; without it, a particle sliding on a level facet, where F_T = 0,
 // would never slow down.
+//
+// Resting contact. Reflecting the force launches a particle at rest by alpha h |F_N| / m each
+// step: it would hop forever over the facet, with no friction while in the air, and creep down
+// any incline. So, as rigid-body engines do with a restitution threshold, a contact whose
+// approach speed W_N is no more than two steps of its push (2 h |F_N| / m) is a resting one:
+// its inward force and velocity are cancelled (the support's reaction) rather than reflected;
+// the tangential rules are unchanged. Impacts above that speed follow the alpha law.
 #pragma once
 
 #include "maille/vec3.hpp"
@@ -26,16 +33,19 @@ struct Response {
   bool stuck = false;  // no tangential motion leaves the contact this step
 };
 
+// `kicked`: the scheme drifts with the velocity after this step's kick (StageContext).
 inline Response respond(Vec3& v, Vec3& f, const Vec3& n, const Vec3& surface_velocity, Real mass,
-                        Real h, Real alpha, Real beta) {
+                        Real h, Real alpha, Real beta, bool kicked = true) {
   const Vec3 vr = v - surface_velocity;
   const Real fn = dot(f, n), vn = dot(vr, n);
   const Vec3 f_n = n * fn, v_n = n * vn;
   const Vec3 f_t = f - f_n;
   Vec3 v_t = vr - v_n;
   const Real push = fn < 0 ? -fn : Real(0);  // |F_N| of a force into the facet
-  const Vec3 f_n_out = fn < 0 ? f_n * -alpha : f_n;
-  const Vec3 v_n_out = vn < 0 ? v_n * -alpha : v_n;
+  const Real approach = -(vn + (kicked ? h * fn / mass : Real(0)));
+  const Real restitution = approach > 2 * h * push / mass ? alpha : Real(0);
+  const Vec3 f_n_out = fn < 0 ? f_n * -restitution : f_n;
+  const Vec3 v_n_out = vn < 0 ? v_n * -restitution : v_n;
   if (vn < 0) {  // impact friction on the velocity
     const Real vt = norm(v_t);
     v_t = vt > 0 ? v_t * std::max<Real>(0, 1 - beta * -vn / vt) : Vec3{};
