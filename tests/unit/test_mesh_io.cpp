@@ -110,6 +110,23 @@ TEST(mesh_io, ExampleFilesRead) {
   }
 }
 
+// The committed example models (scripts/make_example_meshes.py) are usable obstacles.
+TEST(mesh_io, ExampleModelsAreClosedAndOutward) {
+  const std::string models = std::string(MAILLE_SOURCE_DIR) + "/examples/models/";
+  const TriMesh rock = read_mesh(models + "rock.obj");
+  EXPECT_EQ(rock.triangles.size(), 5120u);  // icosphere level 4
+  EXPECT_TRUE(rock.closed());
+  EXPECT_GT(rock.volume(), 0);
+  for (const Vec3& p : rock.vertices) {
+    EXPECT_GT(double(norm(p)), 0.7);
+    EXPECT_LT(double(norm(p)), 1.2);
+  }
+  const TriMesh chair = read_mesh(models + "armchair.obj");
+  EXPECT_EQ(chair.triangles.size(), 8u * 12);  // eight boxes
+  EXPECT_TRUE(chair.closed());
+  EXPECT_GT(chair.volume(), 0);
+}
+
 // Each file in tests/data/meshes/bad: the message starts with the file's path (and its line
 // where one is known) and says what is wrong.
 TEST(mesh_io, BadFilesSayWhatAndWhere) {
