@@ -83,14 +83,15 @@ FacetGrid::FacetGrid(const TriMesh& mesh) : closed_(mesh.closed()) {
   }
   set_pseudo_normals(mesh, facets_);
   if (facets_.empty()) return;
-  // Facet boxes are grown by a rounding margin; cells about as large as a facet, so a query
-  // meets a handful of them; at most a few cells per facet, so memory stays linear.
+  // Facet boxes are grown by a rounding margin.
   const Vec3 size = hi_ - lo_;
   const Real diagonal = norm(size);
   margin_ = diagonal * Real(1e-9) + std::numeric_limits<Real>::min();
   lo_ -= Vec3{1, 1, 1} * margin_, hi_ += Vec3{1, 1, 1} * margin_;
-  cell_ = std::max(extent_sum / Real(facets_.size()), diagonal * Real(1e-3));
-  const double budget = 4.0 * double(facets_.size()) + 64;
+  // Cells a third of a facet: a particle's query (one cell, most steps) meets about three
+  // facets rather than ten; a surface fills few cells of its box, hence the generous budget.
+  cell_ = std::max(extent_sum / Real(3 * facets_.size()), diagonal * Real(1e-3));
+  const double budget = std::min(256.0 * double(facets_.size()) + 4096, double(1u << 24));
   for (;;) {
     for (int d = 0; d < 3; ++d)
       dims_[d] = std::max(1, static_cast<int>(std::ceil((hi_[d] - lo_[d]) / cell_)));
@@ -123,30 +124,38 @@ FacetGrid::FacetGrid(const TriMesh& mesh) : closed_(mesh.closed()) {
 std::array<int, 3> FacetGrid::cell_of(const Vec3& x) const {
   std::array<int, 3> c{};
   for (int d = 0; d < 3; ++d) {
-    const Real t = (x[d] - lo_[d]) * inv_cell_;
-    c[d] = t <= 0 ? 0 : std::min(dims_[d] - 1, static_cast<int>(std::min<Real>(t, 1e9)));
+    // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
+    const Real t = std::clamp<Real>((x[d] - lo_[d]) * inv_cell_, 0, Real(dims_[d] - 1));
+    c[d] = static_cast<int>(t);
   }
   return c;
 }
 
-bool FacetGrid::candidates(const Vec3& lo, const Vec3& hi, std::vector<std::uint32_t>& out) const {
-  if (facets_.empty()) return false;
+std::span<const std::uint32_t> FacetGrid::candidates(const Vec3& lo, const Vec3& hi,
+                                                     std::vector<std::uint32_t>& scratch) const {
+  if (facets_.empty()) return {};
   for (int d = 0; d < 3; ++d)
-    if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return false;  // NaN misses too
+    if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return {};  // NaN misses too
   const auto c0 = cell_of(lo), c1 = cell_of(hi);
+  if (c0 == c1) {
+    const std::uint64_t c = cell_index(c0[0], c0[1], c0[2]);
+    return {entries_.data() + starts_[c], entries_.data() + starts_[c + 1]};
+  }
+  scratch.clear();
   const std::uint64_t n =
       std::uint64_t(c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * std::uint64_t(c1[2] - c0[2] + 1);
   if (n > kMaxQueryCells) {
-    for (std::uint32_t f = 0; f < facets_.size(); ++f) out.push_back(f);
-    return true;
+    for (std::uint32_t f = 0; f < facets_.size(); ++f) scratch.push_back(f);
+    return scratch;
   }
   for (int k = c0[2]; k <= c1[2]; ++k)
     for (int j = c0[1]; j <= c1[1]; ++j)
       for (int i = c0[0]; i <= c1[0]; ++i) {
         const std::uint64_t c = cell_index(i, j, k);
-        out.insert(out.end(), entries_.begin() + starts_[c], entries_.begin() + starts_[c + 1]);
+        scratch.insert(scratch.end(), entries_.begin() + starts_[c],
+                       entries_.begin() + starts_[c + 1]);
       }
-  return true;
+  return scratch;
 }
 
 bool FacetGrid::crosses(std::uint32_t fi, const Vec3& p, const Vec3& q, Real eps, Real& u) const {

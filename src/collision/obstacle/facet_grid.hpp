@@ -42,9 +42,11 @@ class FacetGrid {
 
   const std::vector<Facet>& facets() const { return facets_; }
   bool closed() const { return closed_; }
-  // Facets whose boxes (grown by `margin`) may meet the box [lo, hi]; appended to `out` (may
-  // repeat a facet). Returns false, leaving `out` unchanged, when the box misses the grid.
-  bool candidates(const Vec3& lo, const Vec3& hi, std::vector<std::uint32_t>& out) const;
+  // Facets whose boxes may meet the box [lo, hi] (a facet may repeat): empty when the box
+  // misses the grid. Within one cell (most queries) a view of the grid's own row; else
+  // gathered into `scratch`, which the result then views.
+  std::span<const std::uint32_t> candidates(const Vec3& lo, const Vec3& hi,
+                                            std::vector<std::uint32_t>& scratch) const;
   // A box grown by this much always finds the facets within that distance (the grid's margin).
   Real margin() const { return margin_; }
 

@@ -69,6 +69,11 @@ class FacetObstacleStage final : public Stage {
         grid_(*surface_.mesh()) {
     if (grid_.facets().empty())
       throw std::invalid_argument("obstacle '" + o_.name + "': the mesh has no facet");
+    // The brief's eps in each facet's own units: a world distance d along the facet's world
+    // normal is d |M_i^T n| in the mesh frame (a rigid motion on top does not change it).
+    eps_.reserve(grid_.facets().size());
+    for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi)
+      eps_.push_back(o_.epsilon * world_normal(o_.place, fi).second);
   }
 
   std::string name() const override { return "obstacle:" + o_.name; }
@@ -126,21 +131,21 @@ class FacetObstacleStage final : public Stage {
 
   void particle(Vec3& x, Vec3& v, Vec3& f, Real mass, Real h, const StageContext& ctx,
                 const shapes::Affine& now, const shapes::Affine& next, Real band,
-                std::vector<std::uint32_t>& near, Counts& c) const {
+                std::vector<std::uint32_t>& scratch, Counts& c) const {
     const Vec3 p = now.to_canonical(x);
     auto end_point = [&] {
       const Vec3 kicked = ctx.drift_after_kick ? v + f * (h / mass) : v;
       return next.to_canonical(x + kicked * h);
     };
     Vec3 q = end_point();
-    near.clear();
-    if (!grid_.candidates(lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band,
-                          near))
-      return;  // far from the obstacle: one box test
+    const std::span<const std::uint32_t> near = grid_.candidates(
+        lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band, scratch);
+    if (near.empty()) return;  // far from the obstacle: one box test
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
-    bool touched = false, stuck = false;
+    bool touched = false, stuck = false, behind = false;
     for (int pass = 0; pass < kPasses; ++pass) {
-      const Contact hit = first_contact(p, q, now, near, pass == 0);
+      const Contact hit = first_contact(p, q, near, pass == 0);
+      behind |= hit.behind;
       if (!hit.found) break;
       c.hits += pass == 0 && hit.swept;
       touched = true;
@@ -148,7 +153,7 @@ class FacetObstacleStage final : public Stage {
                               o_.alpha, o_.beta, ctx.drift_after_kick)
                   .stuck;
       q = end_point();
-      if (pass == kPasses - 1 && first_contact(p, q, now, near, false).found) {
+      if (pass == kPasses - 1 && first_contact(p, q, near, false).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
         f = {};
       }
@@ -157,62 +162,50 @@ class FacetObstacleStage final : public Stage {
       ++c.contacts;
       stuck ? ++c.sticks : ++c.slides;
     }
-    if (grid_.closed()) push_out_if_inside(p, x, v, f, surface_v, now, near, c);
+    if (behind && grid_.closed()) push_out_if_inside(p, x, v, f, surface_v, now, near, c);
   }
 
   struct Contact {
     bool found = false;
-    bool swept = false;  // the brief's crossing (else: resting on the facet)
+    bool swept = false;   // the brief's crossing (else: resting on the facet)
+    bool behind = false;  // p is behind a nearby facet it projects onto: maybe inside
     std::uint32_t facet = 0;
   };
 
-  // The earliest facet the segment p -> q crosses (ties: the lowest index); else, when
-  // `resting` is asked, a facet the particle rests on: within eps of its plane, over it, and
-  // heading into it (the brief's test (a) fails there, yet the particle must be held).
-  Contact first_contact(const Vec3& p, const Vec3& q, const shapes::Affine& now,
-                        const std::vector<std::uint32_t>& near, bool resting) const {
-    Contact hit;
+  // One scan of the nearby facets: the earliest one the segment p -> q crosses (ties: the
+  // lowest index); else, on the first pass, a facet the particle rests on: within eps of its
+  // plane, over it, heading into it (the brief's test (a) fails there, yet it must be held).
+  // The first pass also notes whether p lies behind a facet it projects onto, the only way a
+  // particle can be inside a closed mesh near its surface (most are not: no closest-point
+  // search for them).
+  Contact first_contact(const Vec3& p, const Vec3& q, std::span<const std::uint32_t> near,
+                        bool first_pass) const {
+    Contact hit, rest;
     Real first = 2;
     for (std::uint32_t fi : near) {
-      Real u;
-      const Real eps = o_.epsilon * world_normal(now, fi).second;
-      if (grid_.crosses(fi, p, q, eps, u) && (u < first || (u == first && fi < hit.facet)))
-        first = u, hit = {true, true, fi};
-    }
-    if (hit.found || !resting) return hit;
-    for (std::uint32_t fi : near) {
       const facets::Facet& fa = grid_.facets()[fi];
-      const Real eps = o_.epsilon * world_normal(now, fi).second;
-      if (std::abs(dot(fa.n, p - fa.a)) > eps || !(dot(fa.n, q - p) < 0) ||
-          !grid_.projects_inside(fi, p))
+      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      Real u;
+      if (above > eps) {
+        if (grid_.crosses(fi, p, q, eps, u) && (u < first || (u == first && fi < hit.facet)))
+          first = u, hit = {true, true, false, fi};
+      } else if (!first_pass) {
         continue;
-      if (!hit.found || fi < hit.facet) hit = {true, false, fi};
+      } else if (above >= -eps) {
+        if ((!rest.found || fi < rest.facet) && dot(fa.n, q - p) < 0 &&
+            grid_.projects_inside(fi, p))
+          rest = {true, false, false, fi};
+      } else if (!hit.behind && grid_.projects_inside(fi, p)) {
+        hit.behind = true;
+      }
     }
+    if (!hit.found && rest.found) rest.behind = hit.behind, hit = rest;
     return hit;
   }
 
-  bool still_crossing(const Vec3& p, const Vec3& q, const shapes::Affine& now,
-                      const std::vector<std::uint32_t>& near) const {
-    for (std::uint32_t fi : near) {
-      Real u;
-      if (grid_.crosses(fi, p, q, o_.epsilon * world_normal(now, fi).second, u)) return true;
-    }
-    return false;
-  }
-
   void push_out_if_inside(const Vec3& p, Vec3& x, Vec3& v, Vec3& f, const Vec3& surface_v,
-                          const shapes::Affine& now, const std::vector<std::uint32_t>& near,
+                          const shapes::Affine& now, std::span<const std::uint32_t> near,
                           Counts& c) const {
-    // Only a particle behind some nearby facet's plane can be inside: most are not, cheaply.
-    bool behind = false;
-    for (std::uint32_t fi : near) {
-      const facets::Facet& fa = grid_.facets()[fi];
-      if (dot(fa.n, p - fa.a) < -o_.epsilon * world_normal(now, fi).second) {
-        behind = true;
-        break;
-      }
-    }
-    if (!behind) return;
     facets::Closest best;
     best.distance2 = std::numeric_limits<Real>::max();
     for (std::uint32_t fi : near) {
@@ -220,7 +213,7 @@ class FacetObstacleStage final : public Stage {
       if (cl.distance2 < best.distance2) best = cl;
     }
     if (best.sign > 0) return;
-    const auto [n, scale] = world_normal(now, best.facet);
+    const Vec3 n = world_normal(now, best.facet).first;
     const Vec3 surface = now.to_world(best.point);
     c.deepest = std::max(c.deepest, norm(surface - x));
     x = surface + n * (2 * o_.epsilon);
@@ -252,6 +245,7 @@ class FacetObstacleStage final : public Stage {
   std::vector<std::uint32_t> set_;
   ObstacleSurface surface_;
   facets::FacetGrid grid_;
+  std::vector<Real> eps_;                            // per facet, in the mesh frame
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
   std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
