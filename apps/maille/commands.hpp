@@ -40,6 +40,7 @@ int info(const std::string& scene, const std::vector<std::string>& sets = {});
 struct BenchOptions {
   std::string scene;
   std::uint64_t steps = 1000;
+  std::uint64_t warmup = 0;  // steps run before the timing (a cloth settles on an obstacle)
   std::optional<int> threads;
   int repeat = 3;
   bool header = true;

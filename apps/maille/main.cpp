@@ -92,6 +92,10 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   bench_cmd->add_option("--steps", bo.steps, "Steps per repetition")->check(kSteps);
+  bench_cmd
+      ->add_option("--warmup", bo.warmup,
+                   "Steps run before each timed repetition (not timed: contacts settle)")
+      ->check(kSteps);
   bench_cmd->add_option("--threads", bo.threads, "Threads (default: the scene's, else auto)")
       ->check(kThreads);
   bench_cmd->add_option("--repeat", bo.repeat, "Repetitions (the fastest is reported)")

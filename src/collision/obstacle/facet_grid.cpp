@@ -38,7 +38,7 @@ Vec3 component_max(const Vec3& a, const Vec3& b) {
 // Pseudo-normals (Baerentzen and Aanaes): at an edge the sum of its faces' normals, at a vertex
 // the sum of the normals weighted by the faces' angles there. Their sign test is exact for
 // closest points on edges and vertices, where a face normal alone misjudges inside/outside.
-void set_pseudo_normals(const TriMesh& mesh, std::vector<Facet>& facets) {
+std::vector<PseudoNormals> pseudo_normals(const TriMesh& mesh, const std::vector<Facet>& facets) {
   std::vector<Vec3> at_vertex(mesh.vertices.size());
   std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> at_edge;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -50,19 +50,61 @@ void set_pseudo_normals(const TriMesh& mesh, std::vector<Facet>& facets) {
       at_edge[{std::min(i, j), std::max(i, j)}] += facets[f].n;
     }
   }
+  std::vector<PseudoNormals> out(mesh.triangles.size());
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     const auto& t = mesh.triangles[f];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t i = t[k], j = t[(k + 1) % 3];
-      facets[f].vertex_pseudo[k] = unit_or_zero(at_vertex[i]);
-      facets[f].edge_pseudo[k] = unit_or_zero(at_edge[{std::min(i, j), std::max(i, j)}]);
+      out[f].vertex[k] = unit_or_zero(at_vertex[i]);
+      out[f].edge[k] = unit_or_zero(at_edge[{std::min(i, j), std::max(i, j)}]);
     }
   }
+  return out;
+}
+
+// Interleaves the low 10 bits of x, y, z (a Morton code).
+std::uint32_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  auto spread = [](std::uint32_t v) {
+    v &= 0x3ff;
+    v = (v | (v << 16)) & 0x030000ff;
+    v = (v | (v << 8)) & 0x0300f00f;
+    v = (v | (v << 4)) & 0x030c30c3;
+    v = (v | (v << 2)) & 0x09249249;
+    return v;
+  };
+  return spread(x) | (spread(y) << 1) | (spread(z) << 2);
+}
+
+// The mesh with its triangles in Morton order of their centroids: facets near in space are near
+// in memory, so the few a particle tests share cache lines with its neighbours' (the stage is
+// bound by memory latency, not arithmetic).
+TriMesh spatially_sorted(const TriMesh& mesh) {
+  TriMesh out = mesh;
+  if (mesh.triangles.empty()) return out;
+  Vec3 lo = mesh.vertices.front(), hi = lo;
+  for (const Vec3& v : mesh.vertices) lo = component_min(lo, v), hi = component_max(hi, v);
+  const Vec3 size = hi - lo;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> keys;  // (code, triangle)
+  keys.reserve(mesh.triangles.size());
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3 c = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3;
+    std::array<std::uint32_t, 3> q{};
+    for (int d = 0; d < 3; ++d)
+      q[d] = size[d] > 0 ? static_cast<std::uint32_t>(
+                               std::clamp<Real>((c[d] - lo[d]) / size[d] * 1023, 0, 1023))
+                         : 0;
+    keys.push_back({morton(q[0], q[1], q[2]), t});
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 0; i < keys.size(); ++i) out.triangles[i] = mesh.triangles[keys[i].second];
+  return out;
 }
 
 }  // namespace
 
-FacetGrid::FacetGrid(const TriMesh& mesh) : closed_(mesh.closed()) {
+FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
+  const TriMesh mesh = spatially_sorted(unsorted);
   facets_.reserve(mesh.triangles.size());
   lo_ = Vec3{1, 1, 1} * std::numeric_limits<Real>::max();
   hi_ = lo_ * Real(-1);
@@ -81,7 +123,7 @@ FacetGrid::FacetGrid(const TriMesh& mesh) : closed_(mesh.closed()) {
     lo_ = component_min(lo_, flo), hi_ = component_max(hi_, fhi);
     extent_sum += std::max({fhi.x - flo.x, fhi.y - flo.y, fhi.z - flo.z});
   }
-  set_pseudo_normals(mesh, facets_);
+  pseudo_ = pseudo_normals(mesh, facets_);
   if (facets_.empty()) return;
   // Facet boxes are grown by a rounding margin.
   const Vec3 size = hi_ - lo_;
@@ -99,6 +141,7 @@ FacetGrid::FacetGrid(const TriMesh& mesh) : closed_(mesh.closed()) {
     cell_ *= Real(1.26);  // about 2x fewer cells per round
   }
   inv_cell_ = 1 / cell_;
+  top_ = {Real(dims_[0] - 1), Real(dims_[1] - 1), Real(dims_[2] - 1)};
   margin_ = std::max(margin_, cell_ / 2);
   // Counting sort of (cell, facet) entries into CSR rows.
   const std::uint64_t cells = std::uint64_t(dims_[0]) * dims_[1] * dims_[2];
@@ -123,23 +166,29 @@ FacetGrid::FacetGrid(const TriMesh& mesh) : closed_(mesh.closed()) {
 
 std::array<int, 3> FacetGrid::cell_of(const Vec3& x) const {
   std::array<int, 3> c{};
-  for (int d = 0; d < 3; ++d) {
-    // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
-    const Real t = std::clamp<Real>((x[d] - lo_[d]) * inv_cell_, 0, Real(dims_[d] - 1));
-    c[d] = static_cast<int>(t);
-  }
+  // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
+  c[0] = static_cast<int>(std::clamp<Real>((x.x - lo_.x) * inv_cell_, 0, top_.x));
+  c[1] = static_cast<int>(std::clamp<Real>((x.y - lo_.y) * inv_cell_, 0, top_.y));
+  c[2] = static_cast<int>(std::clamp<Real>((x.z - lo_.z) * inv_cell_, 0, top_.z));
   return c;
 }
 
 std::span<const std::uint32_t> FacetGrid::candidates(const Vec3& lo, const Vec3& hi,
-                                                     std::vector<std::uint32_t>& scratch) const {
+                                                     std::vector<std::uint32_t>& scratch,
+                                                     Row& row) const {
   if (facets_.empty()) return {};
   for (int d = 0; d < 3; ++d)
     if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return {};  // NaN misses too
   const auto c0 = cell_of(lo), c1 = cell_of(hi);
   if (c0 == c1) {
     const std::uint64_t c = cell_index(c0[0], c0[1], c0[2]);
-    return {entries_.data() + starts_[c], entries_.data() + starts_[c + 1]};
+    if (c != row.cell) {
+      row.cell = c, row.begin = starts_[c], row.end = starts_[c + 1];
+      if (row.end - row.begin <= row.ids.size())
+        std::copy(entries_.begin() + row.begin, entries_.begin() + row.end, row.ids.begin());
+    }
+    if (row.end - row.begin <= row.ids.size()) return {row.ids.data(), row.end - row.begin};
+    return {entries_.data() + row.begin, entries_.data() + row.end};
   }
   scratch.clear();
   const std::uint64_t n =
@@ -183,6 +232,7 @@ bool FacetGrid::projects_inside(std::uint32_t fi, const Vec3& p) const {
 // Ericson, Real-Time Collision Detection, 5.1.5, keeping which feature is closest.
 Closest FacetGrid::closest(std::uint32_t fi, const Vec3& p) const {
   const Facet& f = facets_[fi];
+  const PseudoNormals& ps = pseudo_[fi];
   const Vec3 a = f.a, b = f.a + f.e1, c = f.a + f.e2;
   Closest r;
   r.facet = fi;
@@ -195,17 +245,17 @@ Closest FacetGrid::closest(std::uint32_t fi, const Vec3& p) const {
   const Real d5 = dot(f.e1, cp), d6 = dot(f.e2, cp);
   const Real va = d3 * d6 - d5 * d4, vb = d5 * d2 - d1 * d6, vc = d1 * d4 - d3 * d2;
   if (d1 <= 0 && d2 <= 0) {
-    r.point = a, pseudo = f.vertex_pseudo[0];
+    r.point = a, pseudo = ps.vertex[0];
   } else if (d3 >= 0 && d4 <= d3) {
-    r.point = b, pseudo = f.vertex_pseudo[1];
+    r.point = b, pseudo = ps.vertex[1];
   } else if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    r.point = a + f.e1 * (d1 / (d1 - d3)), pseudo = f.edge_pseudo[0];
+    r.point = a + f.e1 * (d1 / (d1 - d3)), pseudo = ps.edge[0];
   } else if (d6 >= 0 && d5 <= d6) {
-    r.point = c, pseudo = f.vertex_pseudo[2];
+    r.point = c, pseudo = ps.vertex[2];
   } else if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    r.point = a + f.e2 * (d2 / (d2 - d6)), pseudo = f.edge_pseudo[2];
+    r.point = a + f.e2 * (d2 / (d2 - d6)), pseudo = ps.edge[2];
   } else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    r.point = b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))), pseudo = f.edge_pseudo[1];
+    r.point = b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))), pseudo = ps.edge[1];
   } else {
     const Real denom = 1 / (va + vb + vc);
     r.point = a + f.e1 * (vb * denom) + f.e2 * (vc * denom), pseudo = f.n;

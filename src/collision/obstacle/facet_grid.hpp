@@ -15,13 +15,19 @@
 
 namespace maille::facets {
 
+// What every query reads (128 bytes): kept apart from the pseudo-normals, which only the rare
+// inside check reads, so the facets near a cloth stay in cache.
 struct Facet {
-  Vec3 a, e1, e2;  // vertex a and edges b - a, c - a
-  Vec3 n;          // unit normal (e1 x e2 normalised): the outside
+  Vec3 a;       // vertex a
+  Vec3 n;       // unit normal (e1 x e2 normalised): the outside
+  Vec3 e1, e2;  // edges b - a, c - a
   // Barycentric solve of a point on the plane: precomputed Gram entries.
   Real d00, d01, d11, inv_det;
-  std::array<Vec3, 3> vertex_pseudo;  // angle-weighted normals at a, b, c
-  std::array<Vec3, 3> edge_pseudo;    // sum of the two faces' normals on ab, bc, ca
+};
+
+struct PseudoNormals {
+  std::array<Vec3, 3> vertex;  // angle-weighted normals at a, b, c
+  std::array<Vec3, 3> edge;    // sum of the two faces' normals on ab, bc, ca
 };
 
 struct Hit {
@@ -43,10 +49,18 @@ class FacetGrid {
   const std::vector<Facet>& facets() const { return facets_; }
   bool closed() const { return closed_; }
   // Facets whose boxes may meet the box [lo, hi] (a facet may repeat): empty when the box
-  // misses the grid. Within one cell (most queries) a view of the grid's own row; else
-  // gathered into `scratch`, which the result then views.
+  // misses the grid; else gathered into `scratch`, which the result views. `row` is the
+  // caller's memory of the single cell its last query fell in and of that cell's facets: a
+  // query in the same cell again (a settled cloth, most steps) reads them from there, in the
+  // caller's sequential memory, rather than from the grid (cache misses over a large mesh).
+  static constexpr std::uint64_t kNoCell = ~std::uint64_t(0);
+  struct Row {
+    std::uint64_t cell = kNoCell;
+    std::uint32_t begin = 0, end = 0;    // the row in the grid
+    std::array<std::uint32_t, 6> ids{};  // a copy of it when it is that short
+  };
   std::span<const std::uint32_t> candidates(const Vec3& lo, const Vec3& hi,
-                                            std::vector<std::uint32_t>& scratch) const;
+                                            std::vector<std::uint32_t>& scratch, Row& row) const;
   // A box grown by this much always finds the facets within that distance (the grid's margin).
   Real margin() const { return margin_; }
 
@@ -66,10 +80,12 @@ class FacetGrid {
   std::array<int, 3> cell_of(const Vec3& x) const;
 
   std::vector<Facet> facets_;
+  std::vector<PseudoNormals> pseudo_;
   bool closed_ = false;
   Vec3 lo_, hi_;  // the grid's box (facets' boxes grown by the margin)
   Real cell_ = 1, inv_cell_ = 1, margin_ = 0;
   std::array<int, 3> dims_{1, 1, 1};
+  Vec3 top_{};  // the last cell's index per axis, as reals (cell_of clamps to it)
   std::vector<std::uint32_t> starts_;  // per cell, into entries_ (CSR)
   std::vector<std::uint32_t> entries_;
 };

@@ -65,6 +65,7 @@ class FacetObstacleStage final : public Stage {
   FacetObstacleStage(const Model& m, Obstacle o)
       : o_(std::move(o)),
         set_(colliding_points(m, o_)),
+        row_(set_.size()),
         surface_(o_, std::make_shared<const TriMesh>(obstacle_mesh(o_))),
         grid_(*surface_.mesh()) {
     if (grid_.facets().empty())
@@ -72,8 +73,12 @@ class FacetObstacleStage final : public Stage {
     // The brief's eps in each facet's own units: a world distance d along the facet's world
     // normal is d |M_i^T n| in the mesh frame (a rigid motion on top does not change it).
     eps_.reserve(grid_.facets().size());
-    for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi)
-      eps_.push_back(o_.epsilon * world_normal(o_.place, fi).second);
+    normals_.reserve(grid_.facets().size());
+    for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi) {
+      const auto [n, stretch] = world_normal(o_.place, fi);
+      eps_.push_back(o_.epsilon * stretch);
+      normals_.push_back(n);
+    }
   }
 
   std::string name() const override { return "obstacle:" + o_.name; }
@@ -99,7 +104,8 @@ class FacetObstacleStage final : public Stage {
     for (std::int64_t i = 0; i < n; ++i) {
       const std::uint32_t p = set_[i];
       const int t = thread_index();
-      particle(x[p], v[p], f[p], 1 / inv_mass[p], h, ctx, now, next, band, scratch_[t], counts[t]);
+      particle(x[p], v[p], f[p], inv_mass[p], h, ctx, now, next, band, scratch_[t], row_[i],
+               counts[t]);
     }
     Counts total;
     for (const Counts& c : counts) total.add(c);
@@ -121,6 +127,13 @@ class FacetObstacleStage final : public Stage {
 #endif
   }
 
+  // World normal of facet fi at the placement `now`: the one at rest turned by the motion's
+  // rotation (the rigid motion keeps normals unit: no square root per contact).
+  Vec3 normal_at(const shapes::Affine& now, std::uint32_t fi) const {
+    if (!o_.motion.moves()) return normals_[fi];
+    return now.direct * (o_.place.inverse * normals_[fi]);
+  }
+
   // World normal of facet fi under placement a, and the factor from world to mesh-frame
   // distances along it.
   std::pair<Vec3, Real> world_normal(const shapes::Affine& a, std::uint32_t fi) const {
@@ -129,17 +142,17 @@ class FacetObstacleStage final : public Stage {
     return {l > 0 ? w / l : Vec3{0, 1, 0}, l};
   }
 
-  void particle(Vec3& x, Vec3& v, Vec3& f, Real mass, Real h, const StageContext& ctx,
+  void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, Real h, const StageContext& ctx,
                 const shapes::Affine& now, const shapes::Affine& next, Real band,
-                std::vector<std::uint32_t>& scratch, Counts& c) const {
+                std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Counts& c) const {
     const Vec3 p = now.to_canonical(x);
     auto end_point = [&] {
-      const Vec3 kicked = ctx.drift_after_kick ? v + f * (h / mass) : v;
+      const Vec3 kicked = ctx.drift_after_kick ? v + f * (h * inv_mass) : v;
       return next.to_canonical(x + kicked * h);
     };
     Vec3 q = end_point();
     const std::span<const std::uint32_t> near = grid_.candidates(
-        lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band, scratch);
+        lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band, scratch, row);
     if (near.empty()) return;  // far from the obstacle: one box test
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
     bool touched = false, stuck = false, behind = false;
@@ -149,10 +162,11 @@ class FacetObstacleStage final : public Stage {
       if (!hit.found) break;
       c.hits += pass == 0 && hit.swept;
       touched = true;
-      stuck = facets::respond(v, f, world_normal(now, hit.facet).first, surface_v, mass, h,
-                              o_.alpha, o_.beta, ctx.drift_after_kick)
+      stuck = facets::respond(v, f, normal_at(now, hit.facet), surface_v, inv_mass, h, o_.alpha,
+                              o_.beta, ctx.drift_after_kick)
                   .stuck;
       q = end_point();
+      if (q == p) break;  // held still (a resting, sticking particle): nothing left to cross
       if (pass == kPasses - 1 && first_contact(p, q, near, false).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
         f = {};
@@ -182,6 +196,10 @@ class FacetObstacleStage final : public Stage {
                         bool first_pass) const {
     Contact hit, rest;
     Real first = 2;
+    // The facet whose plane is nearest p: a particle inside a closed mesh, near its surface,
+    // lies behind it and over it (one inside test per particle, not one per facet).
+    Real nearest = std::numeric_limits<Real>::max(), nearest_above = 0;
+    std::uint32_t nearest_facet = 0;
     for (std::uint32_t fi : near) {
       const facets::Facet& fa = grid_.facets()[fi];
       const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
@@ -189,16 +207,16 @@ class FacetObstacleStage final : public Stage {
       if (above > eps) {
         if (grid_.crosses(fi, p, q, eps, u) && (u < first || (u == first && fi < hit.facet)))
           first = u, hit = {true, true, false, fi};
-      } else if (!first_pass) {
-        continue;
-      } else if (above >= -eps) {
+      } else if (first_pass && above >= -eps) {
         if ((!rest.found || fi < rest.facet) && dot(fa.n, q - p) < 0 &&
             grid_.projects_inside(fi, p))
           rest = {true, false, false, fi};
-      } else if (!hit.behind && grid_.projects_inside(fi, p)) {
-        hit.behind = true;
       }
+      if (first_pass && std::abs(above) < nearest)
+        nearest = std::abs(above), nearest_above = above, nearest_facet = fi;
     }
+    if (first_pass && nearest_above < -eps_[nearest_facet])
+      hit.behind = grid_.projects_inside(nearest_facet, p);
     if (!hit.found && rest.found) rest.behind = hit.behind, hit = rest;
     return hit;
   }
@@ -213,7 +231,7 @@ class FacetObstacleStage final : public Stage {
       if (cl.distance2 < best.distance2) best = cl;
     }
     if (best.sign > 0) return;
-    const Vec3 n = world_normal(now, best.facet).first;
+    const Vec3 n = normal_at(now, best.facet);
     const Vec3 surface = now.to_world(best.point);
     c.deepest = std::max(c.deepest, norm(surface - x));
     x = surface + n * (2 * o_.epsilon);
@@ -243,9 +261,12 @@ class FacetObstacleStage final : public Stage {
 
   Obstacle o_;
   std::vector<std::uint32_t> set_;
+  // Per colliding point: the grid cell of its last query and its facets (FacetGrid::Row).
+  std::vector<facets::FacetGrid::Row> row_;
   ObstacleSurface surface_;
   facets::FacetGrid grid_;
-  std::vector<Real> eps_;                            // per facet, in the mesh frame
+  std::vector<Real> eps_;      // per facet, in the mesh frame
+  std::vector<Vec3> normals_;  // per facet, in the world at rest (placement `place`)
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
   std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};

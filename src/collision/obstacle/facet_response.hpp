@@ -34,16 +34,16 @@ struct Response {
 };
 
 // `kicked`: the scheme drifts with the velocity after this step's kick (StageContext).
-inline Response respond(Vec3& v, Vec3& f, const Vec3& n, const Vec3& surface_velocity, Real mass,
-                        Real h, Real alpha, Real beta, bool kicked = true) {
+inline Response respond(Vec3& v, Vec3& f, const Vec3& n, const Vec3& surface_velocity,
+                        Real inv_mass, Real h, Real alpha, Real beta, bool kicked = true) {
   const Vec3 vr = v - surface_velocity;
   const Real fn = dot(f, n), vn = dot(vr, n);
   const Vec3 f_n = n * fn, v_n = n * vn;
   const Vec3 f_t = f - f_n;
   Vec3 v_t = vr - v_n;
   const Real push = fn < 0 ? -fn : Real(0);  // |F_N| of a force into the facet
-  const Real approach = -(vn + (kicked ? h * fn / mass : Real(0)));
-  const Real restitution = approach > 2 * h * push / mass ? alpha : Real(0);
+  const Real approach = -(vn + (kicked ? h * fn * inv_mass : Real(0)));
+  const Real restitution = approach > 2 * h * push * inv_mass ? alpha : Real(0);
   const Vec3 f_n_out = fn < 0 ? f_n * -restitution : f_n;
   const Vec3 v_n_out = vn < 0 ? v_n * -restitution : v_n;
   if (vn < 0) {  // impact friction on the velocity
@@ -55,9 +55,9 @@ inline Response respond(Vec3& v, Vec3& f, const Vec3& n, const Vec3& surface_vel
   bool stuck = false;
   if (vt > Real(1e-12)) {  // sliding: kinetic friction against the velocity
     f_t_out = f_t - v_t * (beta * push / vt);
-    const Vec3 w_t = v_t + f_t_out * (h / mass);
+    const Vec3 w_t = v_t + f_t_out * (h * inv_mass);
     if (dot(w_t, v_t) < 0 && ft <= beta * push) {  // it would reverse: static friction holds
-      f_t_out = v_t * (-mass / h);
+      f_t_out = v_t * (-1 / (h * inv_mass));
       stuck = true;
     }
   } else if (ft < beta * push || ft == 0) {  // the brief's static rule

@@ -46,11 +46,12 @@ class GeometricObstacleStage final : public Stage {
       throw std::invalid_argument("obstacle '" + o_.name +
                                   "': a mesh has no canonical distance; use method \"facets\" "
                                   "or \"conditional\"");
-    // The world bounding sphere: the canonical reach times the largest stretch of M_d.
+    // The world bounding sphere: the canonical reach times the largest stretch of M_d. M_d =
+    // R S has orthogonal columns, so its largest column is exactly its largest singular value.
     Real stretch = 0;
     for (const Vec3& e : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
       stretch = std::max(stretch, norm(o_.place.vector_to_world(e)));
-    reach_ = canonical_reach(o_) * stretch * std::sqrt(Real(3));
+    reach_ = canonical_reach(o_) * stretch * Real(1 + 1e-9);
     point_ = {"obstacle:" + o_.name, o_.shape, o_.top, o_.tube, o_.place};
   }
 
@@ -65,7 +66,13 @@ class GeometricObstacleStage final : public Stage {
     Real deepest = 0;
     const Real reach2 = reach_ * reach_;
     const shapes::Affine place = o_.motion.at(o_.place, ctx.t);
-    for (std::uint32_t p : set_) {
+    const auto n = static_cast<std::int64_t>(set_.size());
+    const int threads = std::max(1, ctx.threads);
+    // Each particle's force is its own: threads share nothing but the two reductions.
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1 && n > 4096) \
+    reduction(+ : contacts) reduction(max : deepest)
+    for (std::int64_t i = 0; i < n; ++i) {
+      const std::uint32_t p = set_[i];
       const Vec3 rel = x[p] - place.translation;
       if (dot(rel, rel) > reach2) continue;  // far: one test
       // The damper acts on the velocity relative to the obstacle's surface.
