@@ -5,6 +5,8 @@
                   smooth sum of sines: radius 1 +- 0.12, closed, outward
     armchair.obj  an armchair of welded boxes (seat, back, two arms, four legs): eight closed
                   components, about 1.6 m wide (units: metres, y up, facing +z)
+    bowl.obj      a hemispherical bowl, open upwards: a shell between radii 0.9 and 1 below
+                  y = 0, closed by its rim (1536 triangles), outward from the solid shell
 
 Usage: scripts/make_example_meshes.py [OUT_DIR]   (default: examples/models next to this script)
 
@@ -105,6 +107,65 @@ def armchair():
     return verts, faces
 
 
+def bowl(around=48, rings=8, inner=0.9):
+    """The lower half of a thick sphere shell: outer and inner surfaces from the bottom poles to
+    the equator, joined by a flat rim. Normals point out of the solid (the inner surface's point
+    towards the centre). Triangles are wound to face along those normals."""
+    verts, faces = [], []
+
+    def surface(radius):
+        pole = len(verts)
+        verts.append((0.0, -radius, 0.0))
+        for i in range(1, rings + 1):
+            phi = math.pi / 2 * i / rings  # from the bottom pole up to the equator
+            for j in range(around):
+                theta = 2 * math.pi * j / around
+                verts.append((radius * math.sin(phi) * math.cos(theta), -radius * math.cos(phi),
+                              radius * math.sin(phi) * math.sin(theta)))
+        return pole
+
+    def ring(pole, i, j):  # vertex j (mod around) of ring i (1 = next to the pole)
+        return pole + 1 + (i - 1) * around + j % around
+
+    outer, inner_pole = surface(1.0), surface(inner)
+    for pole, out in ((outer, True), (inner_pole, False)):
+        tris = []
+        for j in range(around):
+            tris.append((pole, ring(pole, 1, j + 1), ring(pole, 1, j)))
+        for i in range(1, rings):
+            for j in range(around):
+                a, b = ring(pole, i, j), ring(pole, i, j + 1)
+                c, d = ring(pole, i + 1, j + 1), ring(pole, i + 1, j)
+                tris += [(a, b, c), (a, c, d)]
+        # Wound outward for the outer surface; reversed for the inner one.
+        faces += [(a, c, b) for a, b, c in tris] if out else tris
+    for j in range(around):  # the rim at y = 0, facing up
+        a, b = ring(outer, rings, j), ring(outer, rings, j + 1)
+        c, d = ring(inner_pole, rings, j + 1), ring(inner_pole, rings, j)
+        faces += [(a, c, b), (a, d, c)]
+    check_facing(verts, faces, inner)
+    return verts, faces
+
+
+def check_facing(verts, faces, inner):
+    """Each bowl triangle's normal points out of the shell: away from the centre on the outer
+    surface, towards it on the inner one, up on the rim."""
+    for a, b, c in faces:
+        pa, pb, pc = verts[a], verts[b], verts[c]
+        u = [pb[k] - pa[k] for k in range(3)]
+        v = [pc[k] - pa[k] for k in range(3)]
+        n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+        centre = [(pa[k] + pb[k] + pc[k]) / 3 for k in range(3)]
+        r = math.sqrt(sum(x * x for x in centre))
+        radial = sum(n[k] * centre[k] for k in range(3))
+        if all(abs(p[1]) < 1e-12 for p in (pa, pb, pc)):
+            assert n[1] > 0, "rim triangle facing down"
+        elif r > (1 + inner) / 2:
+            assert radial > 0, "outer triangle facing in"
+        else:
+            assert radial < 0, "inner triangle facing out"
+
+
 def write_obj(path, title, verts, faces):
     lines = [f"# {title}", f"# {len(verts)} vertices, {len(faces)} triangles; written by "
              "scripts/make_example_meshes.py"]
@@ -122,6 +183,9 @@ def main():
     write_obj(os.path.join(out, "rock.obj"), "A rock: a bumpy icosphere, radius about 1", v, f)
     v, f = armchair()
     write_obj(os.path.join(out, "armchair.obj"), "An armchair of eight closed boxes (metres, y up)",
+              v, f)
+    v, f = bowl()
+    write_obj(os.path.join(out, "bowl.obj"), "A bowl: a hemispherical shell, radii 0.9 to 1, open up",
               v, f)
 
 

@@ -125,6 +125,14 @@ TEST(mesh_io, ExampleModelsAreClosedAndOutward) {
   EXPECT_EQ(chair.triangles.size(), 8u * 12);  // eight boxes
   EXPECT_TRUE(chair.closed());
   EXPECT_GT(chair.volume(), 0);
+  // The bowl: half a shell between radii 0.9 and 1, (2 pi / 3)(1 - 0.9^3) = 0.5676 m^3 for
+  // the smooth one; its polyhedron is inscribed: within 3 theta^2 / 8 per curved direction
+  // (test_mesh.cpp), theta = 2 pi / 48 around and (pi / 2) / 8 along: 2.1 %.
+  const TriMesh bowl = read_mesh(models + "bowl.obj");
+  EXPECT_TRUE(bowl.closed());
+  const double around = 2 * 3.14159265358979 / 48, along = 3.14159265358979 / 16;
+  const double bound = 3 * (around * around + along * along) / 8;
+  EXPECT_NEAR(double(bowl.volume()), 2 * 3.14159265358979 / 3 * (1 - 0.729), bound * 0.5676);
 }
 
 // Each file in tests/data/meshes/bad: the message starts with the file's path (and its line
