@@ -260,9 +260,10 @@ void crossover(std::ostream& out, bool quick) {
 }  // namespace
 
 int study(const StudyOptions& o) {
-  if (o.topic != "integrators" && o.topic != "self-collision" && o.topic != "validity") {
+  if (o.topic != "integrators" && o.topic != "self-collision" && o.topic != "validity" &&
+      o.topic != "obstacles") {
     std::cerr << "unknown study '" << o.topic
-              << "' (known: integrators, self-collision, validity)\n";
+              << "' (known: integrators, self-collision, validity, obstacles)\n";
     return 2;
   }
   // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
@@ -277,6 +278,12 @@ int study(const StudyOptions& o) {
     };
     if (o.topic == "validity") {
       study_validity(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
+        write(name, body);
+      });
+      return 0;
+    }
+    if (o.topic == "obstacles") {
+      study_obstacles(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
         write(name, body);
       });
       return 0;

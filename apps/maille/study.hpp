@@ -1,5 +1,5 @@
-// `maille study integrators | self-collision`: see study.cpp and study_self_collision.cpp for
-// the files they write.
+// `maille study integrators | self-collision | validity | obstacles`: see study.cpp and
+// study_*.cpp for the files they write.
 #pragma once
 
 #include <filesystem>
@@ -21,5 +21,6 @@ int study(const StudyOptions& o);
 using StudyWriter = std::function<void(const char*, const std::function<void(std::ostream&)>&)>;
 void study_self_collision(const StudyOptions& o, const StudyWriter& write);
 void study_validity(const StudyOptions& o, const StudyWriter& write);
+void study_obstacles(const StudyOptions& o, const StudyWriter& write);
 
 }  // namespace maille::app

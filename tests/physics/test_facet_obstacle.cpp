@@ -237,6 +237,27 @@ TEST(FacetObstacle, ARotatingCubeSweepsParticlesOut) {
   }
 }
 
+// A scene that starts with particles inside a closed mesh (deep, near a face, near a corner):
+// the first step finds each by its nearest facet, puts it on the surface and counts it.
+TEST(FacetObstacle, ParticlesStartingInsideArePutOutOnTheFirstStep) {
+  const Obstacle o =
+      facet_obstacle(ShapeKind::cube,
+                     shapes::Affine::from({0, 0.3, 0}, {30, 20, 10}, {0.25, 0.25, 0.25}), 0, 0, 4);
+  Model m;
+  m.fields.gravity = {0, 0, 0};
+  // The centre, near a face, near a corner (canonical coordinates).
+  for (const Vec3& local : {Vec3{0, 0, 0}, Vec3{0.9, 0.1, 0}, Vec3{0.95, 0.95, 0.95}})
+    m.points.add(PointKind::free, 0.01, o.place.to_world(local));
+  install(m, o);
+  Simulator sim(std::move(m), test::settings(1e-4));
+  ASSERT_TRUE(sim.step());
+  EXPECT_EQ(counter(sim, "obstacle_o_facet_leaks"), 3u);
+  for (std::uint32_t p = 0; p < 3; ++p) {
+    const Vec3 c = o.place.to_canonical(sim.state().x()[p]);
+    EXPECT_GE(std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}), 1) << p;
+  }
+}
+
 TEST(FacetObstacle, SchemesThatEvaluateForcesTwiceRefuseIt) {
   Model m;
   m.points.add(PointKind::free, 0.01, {0, 1, 0});

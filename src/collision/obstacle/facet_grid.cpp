@@ -266,4 +266,29 @@ Closest FacetGrid::closest(std::uint32_t fi, const Vec3& p) const {
   return r;
 }
 
+Closest FacetGrid::nearest(const Vec3& p) const {
+  Closest best;
+  best.distance2 = std::numeric_limits<Real>::max();
+  if (facets_.empty()) return best;
+  const auto c = cell_of(p);  // p is in the grid's box (callers check): c holds it
+  const int most = std::max({dims_[0], dims_[1], dims_[2]});
+  for (int r = 0; r <= most; ++r) {
+    // Every cell at Chebyshev distance r from c (the shell), clamped to the grid.
+    for (int k = std::max(0, c[2] - r); k <= std::min(dims_[2] - 1, c[2] + r); ++k)
+      for (int j = std::max(0, c[1] - r); j <= std::min(dims_[1] - 1, c[1] + r); ++j)
+        for (int i = std::max(0, c[0] - r); i <= std::min(dims_[0] - 1, c[0] + r); ++i) {
+          if (std::max({std::abs(i - c[0]), std::abs(j - c[1]), std::abs(k - c[2])}) != r) continue;
+          const std::uint64_t cell = cell_index(i, j, k);
+          for (std::uint32_t e = starts_[cell]; e < starts_[cell + 1]; ++e) {
+            const Closest cl = closest(entries_[e], p);
+            if (cl.distance2 < best.distance2) best = cl;
+          }
+        }
+    // Cells beyond shell r are at least r cells (less p's offset in its cell) away from p.
+    const Real reach = Real(r) * cell_;
+    if (best.distance2 <= reach * reach) break;
+  }
+  return best;
+}
+
 }  // namespace maille::facets

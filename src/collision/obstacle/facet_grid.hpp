@@ -72,6 +72,13 @@ class FacetGrid {
   bool projects_inside(std::uint32_t f, const Vec3& p) const;
   // The closest point of facet f to p, and the sign of p against the surface there.
   Closest closest(std::uint32_t f, const Vec3& p) const;
+  // The closest point of the whole mesh to p, a point in the grid's box (see inside_box),
+  // cells searched in growing shells until no unvisited cell can hold a closer facet.
+  Closest nearest(const Vec3& p) const;
+  bool inside_box(const Vec3& p) const {
+    return p.x >= lo_.x && p.y >= lo_.y && p.z >= lo_.z && p.x <= hi_.x && p.y <= hi_.y &&
+           p.z <= hi_.z;
+  }
 
  private:
   std::uint64_t cell_index(int i, int j, int k) const {

@@ -94,6 +94,7 @@ class FacetObstacleStage final : public Stage {
     const int threads = std::max(1, ctx.threads);
     if (scratch_.size() < std::size_t(threads)) scratch_.resize(threads);
     counts_.assign(threads, Counts{});
+    if (!swept_inside_) sweep_inside(s, now, counts_[0]);
     auto& counts = counts_;
     const auto n = static_cast<std::int64_t>(set_.size());
     Vec3* x = s.x().data();
@@ -221,6 +222,26 @@ class FacetObstacleStage final : public Stage {
     return hit;
   }
 
+  void model_changed(const Model& m) override {
+    set_ = colliding_points(m, o_);
+    row_.assign(set_.size(), {});
+    swept_inside_ = false;
+  }
+
+  // Once, before the first step (and after a model change): a particle may start inside a
+  // closed mesh (a scene that overlaps it), deeper than the per-step check looks. Each particle
+  // in the mesh's box gets the exact test (nearest facet, pseudo-normal sign) and is put out.
+  void sweep_inside(State& s, const shapes::Affine& now, Counts& c) {
+    swept_inside_ = true;
+    if (!grid_.closed()) return;
+    for (std::uint32_t p : set_) {
+      const Vec3 local = now.to_canonical(s.x()[p]);
+      if (!grid_.inside_box(local)) continue;
+      const facets::Closest cl = grid_.nearest(local);
+      if (cl.sign < 0) put_out(cl, s.x()[p], s.v()[p], s.f()[p], {}, now, c);
+    }
+  }
+
   void push_out_if_inside(const Vec3& p, Vec3& x, Vec3& v, Vec3& f, const Vec3& surface_v,
                           const shapes::Affine& now, std::span<const std::uint32_t> near,
                           Counts& c) const {
@@ -231,6 +252,13 @@ class FacetObstacleStage final : public Stage {
       if (cl.distance2 < best.distance2) best = cl;
     }
     if (best.sign > 0) return;
+    put_out(best, x, v, f, surface_v, now, c);
+  }
+
+  // A particle found inside: onto the surface (2 eps out along the facet's normal), its inward
+  // relative velocity and force removed.
+  void put_out(const facets::Closest& best, Vec3& x, Vec3& v, Vec3& f, const Vec3& surface_v,
+               const shapes::Affine& now, Counts& c) const {
     const Vec3 n = normal_at(now, best.facet);
     const Vec3 surface = now.to_world(best.point);
     c.deepest = std::max(c.deepest, norm(surface - x));
@@ -267,6 +295,7 @@ class FacetObstacleStage final : public Stage {
   facets::FacetGrid grid_;
   std::vector<Real> eps_;      // per facet, in the mesh frame
   std::vector<Vec3> normals_;  // per facet, in the world at rest (placement `place`)
+  bool swept_inside_ = false;  // the first step's full inside test was made
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
   std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
