@@ -103,7 +103,7 @@ class Viewer {
     glfwGetFramebufferSize(window_, &width, &height);
     if (width <= 0 || height <= 0) return true;  // minimised
     const double aspect = double(width) / height;
-    if (tuning_.auto_frame) auto_frame_.update(camera_, renderer_.positions(), aspect);
+    if (tuning_.auto_frame) auto_frame_.update(camera_, renderer_.bounds(), aspect);
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
