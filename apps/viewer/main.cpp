@@ -1,5 +1,8 @@
 // maille-viewer SCENE: watch, drag and tune a scene live. See README.md ("The viewer").
 #include <CLI/CLI.hpp>
+#include <iostream>
+#include <string>
+#include <vector>
 
 #include "viewer.hpp"
 
@@ -7,6 +10,7 @@ int main(int argc, char** argv) {
   maille::viewer::ViewerOptions o;
   CLI::App app{"Maille viewer: run a scene live, drag particles, tune parameters"};
   std::string scene, examples = MAILLE_EXAMPLES_DIR, screenshot;
+  std::vector<std::string> stage_options;
   app.add_option("scene", scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   app.add_option("--examples", examples, "Directory listed by the scene picker");
   app.add_option("--width", o.width, "Window width")->check(CLI::PositiveNumber);
@@ -15,7 +19,19 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--screenshot", screenshot, "With --frames: write the last frame here (PNG)");
   app.add_flag("--paused", o.paused, "Start paused");
+  app.add_option("--stage-option", stage_options,
+                 "STAGE.OPTION=VALUE, repeatable: set as from the Stages panel, e.g. "
+                 "obstacle:ball.method=facets");
   CLI11_PARSE(app, argc, argv);
+  for (const auto& text : stage_options) {
+    const auto dot = text.find('.'), eq = text.find('=');
+    if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
+      std::cerr << "--stage-option: expected STAGE.OPTION=VALUE, got '" << text << "'\n";
+      return 2;
+    }
+    o.stage_options.push_back(
+        {text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), text.substr(eq + 1)});
+  }
   o.scene = scene;
   o.examples = examples;
   o.screenshot = screenshot;

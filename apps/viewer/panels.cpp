@@ -16,6 +16,13 @@ float to_float(Real v) {
   return static_cast<float>(v);
 }
 
+// A command the physics refused, and why (wrapped: the reasons are sentences).
+void notice(const std::string& text) {
+  ImGui::PushTextWrapPos(0);
+  ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "%s", text.c_str());
+  ImGui::PopTextWrapPos();
+}
+
 void simulation_controls(PhysicsThread& physics, const PhysicsStatus& st, Tuning& t) {
   if (ImGui::Button(st.running ? "Pause (space)" : "Play (space)"))
     st.running ? physics.pause() : physics.play();
@@ -51,7 +58,11 @@ void simulation_controls(PhysicsThread& physics, const PhysicsStatus& st, Tuning
     ImGui::TextColored(ImVec4(1, 0.35f, 0.3f, 1), "Blow-up: %s", st.blow_up->c_str());
     ImGui::PopTextWrapPos();
   }
-  if (!st.notice.empty()) ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "%s", st.notice.c_str());
+  // A stage's refusal is shown under the stage, when the Stages panel lists it.
+  const bool under_stage =
+      std::any_of(st.stage_options.begin(), st.stage_options.end(),
+                  [&](const Simulator::StageOptions& s) { return s.stage == st.notice_stage; });
+  if (!st.notice.empty() && !under_stage) notice(st.notice);
 }
 
 void field_controls(PhysicsThread& physics, Tuning& t) {
@@ -104,7 +115,9 @@ void link_controls(const Scene& scene, PhysicsThread& physics, Tuning& t) {
 }
 
 // Every plugged-in stage's live settings, as combo boxes (self-collision: on/off, broad phase,
-// exclusion, contacts and cells drawn): no stage-specific code here.
+// exclusion, contacts and cells drawn; an obstacle's method): no stage-specific code here. The
+// combo shows the stage's current choice, so a refused switch leaves it where it was, with the
+// reason under the stage.
 void stage_controls(PhysicsThread& physics, const PhysicsStatus& st) {
   for (const auto& stage : st.stage_options) {
     ImGui::TextUnformatted(stage.stage.c_str());
@@ -117,6 +130,7 @@ void stage_controls(PhysicsThread& physics, const PhysicsStatus& st) {
         ImGui::EndCombo();
       }
     }
+    if (!st.notice.empty() && st.notice_stage == stage.stage) notice(st.notice);
   }
 }
 
@@ -131,6 +145,8 @@ void drawing_controls(render::RenderOptions& o, Tuning& t, PanelRequests& r) {
   ImGui::Checkbox("contacts", &o.contacts);
   ImGui::SameLine();
   ImGui::Checkbox("grid", &o.grid);
+  ImGui::SameLine();
+  ImGui::Checkbox("obstacles", &o.solids);
   ImGui::SliderFloat("strain range", &o.strain_range, 0.001f, 0.5f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
   ImGui::SliderFloat("link width (px)", &o.link_width, 0.5f, 8.0f);

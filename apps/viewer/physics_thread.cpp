@@ -117,9 +117,11 @@ void PhysicsThread::set_integrator(const std::string& name) {
       sim.set_integrator(name);
       std::lock_guard lock(mutex_);
       status_.notice.clear();
+      status_.notice_stage.clear();
     } catch (const std::exception& e) {
       std::lock_guard lock(mutex_);
       status_.notice = "integrator " + name + ": " + e.what();
+      status_.notice_stage.clear();
     }
   });
 }
@@ -141,15 +143,19 @@ void PhysicsThread::set_fields(const Fields& fields) {
 void PhysicsThread::set_stage_option(const std::string& stage, const std::string& option,
                                      const std::string& value) {
   send([this, stage, option, value](Simulator& sim) {
+    // A refused choice (std::invalid_argument: an unknown name, or a method the scheme cannot
+    // run, such as facets under rk4) changes nothing; the panel shows why.
     try {
       sim.set_stage_option(stage, option, value);
-      sim.publish_now();  // show the change (drawing options) even while paused
+      sim.publish_now();  // show the change (drawing options, a new method's colour) when paused
       std::lock_guard lock(mutex_);
       status_.stage_options = sim.stage_options();
       status_.notice.clear();
+      status_.notice_stage.clear();
     } catch (const std::exception& e) {
       std::lock_guard lock(mutex_);
-      status_.notice = e.what();
+      status_.notice = option + " = " + value + " refused: " + e.what();
+      status_.notice_stage = stage;
     }
   });
 }

@@ -43,7 +43,8 @@ struct PhysicsStatus {
   double steps_per_second = 0;  // wall-clock rate over the last batch
   double realtime_factor = 0;   // simulated s per wall s over the last batch
   std::optional<std::string> blow_up;
-  std::string notice;  // the last command that could not be applied, and why
+  std::string notice;        // the last command that could not be applied, and why
+  std::string notice_stage;  // the stage it was about (the Stages panel shows it there)
   std::vector<StageTime> stages;
   std::vector<CounterValue> counters;
   std::vector<Simulator::StageOptions> stage_options;  // plugged-in stages' live settings

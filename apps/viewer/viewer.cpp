@@ -103,7 +103,7 @@ class Viewer {
     glfwGetFramebufferSize(window_, &width, &height);
     if (width <= 0 || height <= 0) return true;  // minimised
     const double aspect = double(width) / height;
-    if (tuning_.auto_frame) auto_frame_.update(camera_, renderer_.positions(), aspect);
+    if (tuning_.auto_frame) auto_frame_.update(camera_, renderer_.bounds(), aspect);
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -308,6 +308,8 @@ int run_viewer(const ViewerOptions& o) {
       std::cerr << viewer.load_error() << '\n';
       code = 1;
     } else {
+      for (const auto& [stage, option, value] : o.stage_options)
+        viewer.physics().set_stage_option(stage, option, value);
       for (int n = 1; o.frames <= 0 || n <= o.frames; ++n) {
         const bool last = o.frames > 0 && n == o.frames;
         if (!viewer.frame(last && !o.screenshot.empty(), o.screenshot)) break;
@@ -317,6 +319,7 @@ int run_viewer(const ViewerOptions& o) {
         const PhysicsStatus st = viewer.physics().status();
         std::cout << "maille-viewer: " << o.frames << " frames, simulated " << st.time << " s in "
                   << st.step << " steps\n";
+        if (!st.notice.empty()) std::cout << "maille-viewer: notice: " << st.notice << '\n';
       }
     }
   }

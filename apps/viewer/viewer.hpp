@@ -2,7 +2,10 @@
 // around a PhysicsThread that runs the scene.
 #pragma once
 
+#include <array>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace maille::viewer {
 
@@ -13,6 +16,10 @@ struct ViewerOptions {
   int frames = 0;                    // > 0: draw this many frames, then exit (tests)
   std::filesystem::path screenshot;  // with frames: the last frame written here as PNG
   bool paused = false;               // start paused
+  // Stages' live settings sent once the scene runs, (stage, option, value), through the same
+  // path as the Stages panel; a refused one is shown there (and printed at the end of a
+  // --frames run).
+  std::vector<std::array<std::string, 3>> stage_options;
 };
 
 // Returns the process exit code: 0, or 1 when the scene or the window cannot be opened.

@@ -162,8 +162,12 @@ std::optional<Camera::Projected> Camera::project(const Vec3& p, int width, int h
 }
 
 void AutoFrame::update(Camera& camera, std::span<const Vec3> points, double aspect) {
+  update(camera, bounds_of(points), aspect);
+}
+
+void AutoFrame::update(Camera& camera, const Bounds& box, double aspect) {
   const bool first = box_.empty();
-  box_.add(bounds_of(points));
+  box_.add(box);
   if (box_.empty()) return;
   Camera fit = camera;
   fit.frame(box_, aspect);

@@ -63,7 +63,7 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
     report.simulate_seconds += seconds_since(t0);
     if (report.blow_up) break;
     sim.publish_now();
-    auto_frame.update(framed, renderer.positions(), aspect);
+    auto_frame.update(framed, renderer.bounds(), aspect);
     // A still has no motion to smooth: frame everything seen so far at once.
     if (s.last_frame_only && k == first_rendered) framed.frame(auto_frame.box(), aspect);
     if (k >= first_rendered) {

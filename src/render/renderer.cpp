@@ -1,8 +1,10 @@
 #include "maille/render/renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -14,7 +16,7 @@ namespace maille::render {
 // GPU objects. Buffers are created with OpenGL 4.5 direct state access; the positions buffer is
 // shared by every pass (storage buffer for links and points, vertex attribute for surfaces).
 struct Renderer::Gl {
-  GLuint background = 0, lines = 0, surface = 0, links = 0, points = 0;  // programs
+  GLuint background = 0, lines = 0, surface = 0, links = 0, points = 0, solid = 0;  // programs
   GLuint empty_vao = 0;    // passes that fetch everything from storage buffers
   GLuint surface_vao = 0;  // positions + normals + triangle indices
   GLuint lines_vao = 0;    // interleaved position, colour (grid, then overlay)
@@ -26,13 +28,36 @@ struct Renderer::Gl {
   GLsizei grid_vertices = 0, overlay_vertices = 0;
   std::vector<float> grid;  // interleaved x y z r g b
 
+  // One solid mesh on the GPU: solid_vertices() in a buffer of its own, with its VAO.
+  struct Solid {
+    // Held, not just compared: while uploaded, no other mesh can be allocated at its address
+    // and be mistaken for it.
+    std::shared_ptr<const TriMesh> mesh;
+    GLuint vao = 0, vertices = 0;
+    GLsizei count = 0;
+    Bounds box;  // in the mesh's frame
+    bool closed = false;
+  };
+  std::vector<Solid> solids;  // a handful: found by a linear search
+
   ~Gl() {
-    for (GLuint p : {background, lines, surface, links, points}) glDeleteProgram(p);
+    for (GLuint p : {background, lines, surface, links, points, solid}) glDeleteProgram(p);
     const GLuint vaos[] = {empty_vao, surface_vao, lines_vao};
     glDeleteVertexArrays(3, vaos);
     delete_buffers();
     glDeleteBuffers(1, &line_vertices);
     glDeleteBuffers(1, &contacts);
+    for (Solid& s : solids) free(s);
+  }
+  static void free(Solid& s) {
+    glDeleteVertexArrays(1, &s.vao);
+    glDeleteBuffers(1, &s.vertices);
+    s.vao = s.vertices = 0;
+  }
+  const Solid* find(const TriMesh* mesh) const {
+    for (const Solid& s : solids)
+      if (s.mesh.get() == mesh) return &s;
+    return nullptr;
   }
   void delete_buffers() {
     const GLuint b[] = {positions, normals, triangles, link_ends, link_rest, styles};
@@ -100,6 +125,26 @@ void set_uniform(GLuint program, const char* name, const Mat4& m) {
   glProgramUniformMatrix4fv(program, glGetUniformLocation(program, name), 1, GL_FALSE, m.m.data());
 }
 
+// The world box of a box placed by x -> direct x + translation: its 8 corners placed. Empty when
+// the placement is not finite (a blown-up driven motion): nothing to frame.
+Bounds placed_box(const Bounds& box, const SurfaceInstance& s) {
+  Bounds out;
+  if (box.empty()) return out;
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 corner{(c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
+                      (c & 4) ? box.hi.z : box.lo.z};
+    const Vec3 p = s.direct * corner + s.translation;
+    if (!is_finite(p)) return {};
+    out.add(p);
+  }
+  return out;
+}
+
+Real determinant(const Mat3& a) {
+  return dot(Vec3{a.m[0][0], a.m[0][1], a.m[0][2]},
+             cross(Vec3{a.m[1][0], a.m[1][1], a.m[1][2]}, Vec3{a.m[2][0], a.m[2][1], a.m[2][2]}));
+}
+
 }  // namespace
 
 Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
@@ -109,6 +154,7 @@ Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
   g.surface = link_program("surface", shaders::surface_vs, shaders::surface_fs);
   g.links = link_program("links", shaders::links_vs, shaders::links_fs);
   g.points = link_program("points", shaders::points_vs, shaders::points_fs);
+  g.solid = link_program("solid", shaders::solid_vs, shaders::solid_fs);
   glCreateVertexArrays(1, &g.empty_vao);
   glCreateVertexArrays(1, &g.surface_vao);
   glCreateVertexArrays(1, &g.lines_vao);
@@ -132,6 +178,9 @@ void Renderer::set_model(const Model& model) {
   positions_ = model.points.initial_position;
   info_ = Snapshot{};
   g.delete_buffers();
+  // The old scene's obstacles go with it; the new ones come with the first snapshot.
+  solids_.clear();
+  upload_solids();
 
   // Links not inside a cloth first, so that "links off the surface" is a prefix of the array.
   const std::size_t n_links = topology_.link_rest.size();
@@ -179,9 +228,14 @@ void Renderer::set_snapshot(const Snapshot& snapshot) {
   info_.step = snapshot.step;
   info_.time = snapshot.time;
   upload_positions();
+  solids_ = snapshot.surfaces;
+  upload_solids();
   // A chain swinging down or a net sagging goes below its initial box: the floor follows (by
-  // steps of 5% of the box, so that it does not creep every frame).
-  const Bounds now = bounds_of(positions_);
+  // steps of 5% of the box, so that it does not creep every frame). Solids count too (open ones
+  // as well: a ground plane puts the grid under it, not through it).
+  Bounds now = bounds_of(positions_);
+  for (const SurfaceInstance& s : solids_)
+    if (const Gl::Solid* solid = gl_->find(s.mesh.get())) now.add(placed_box(solid->box, s));
   if (!now.empty() && !grid_box_.empty() &&
       now.lo.y < grid_box_.lo.y - Real(0.01) * grid_box_.diagonal()) {
     grid_box_.lo.y = now.lo.y - Real(0.05) * grid_box_.diagonal();
@@ -212,6 +266,48 @@ void Renderer::upload_positions() {
   if (g.contact_count > 0)
     glNamedBufferData(g.contacts, GLsizeiptr(scratch_contacts_.size() * 4),
                       scratch_contacts_.data(), GL_STREAM_DRAW);
+}
+
+void Renderer::upload_solids() {
+  Gl& g = *gl_;
+  // Free the meshes this snapshot no longer holds (a stage removed, a method switched, a reload).
+  std::erase_if(g.solids, [&](Gl::Solid& solid) {
+    const bool held = std::any_of(solids_.begin(), solids_.end(),
+                                  [&](const SurfaceInstance& s) { return s.mesh == solid.mesh; });
+    if (!held) Gl::free(solid);
+    return !held;
+  });
+  // Upload the new ones, once per pointer: the mesh never changes while a stage holds it.
+  for (const SurfaceInstance& s : solids_) {
+    if (!s.mesh || g.find(s.mesh.get())) continue;
+    Gl::Solid solid;
+    solid.mesh = s.mesh;
+    solid.box = bounds_of(s.mesh->vertices);
+    solid.closed = s.mesh->closed();
+    const std::vector<float> vertices = solid_vertices(*s.mesh);
+    solid.count = static_cast<GLsizei>(vertices.size() / 6);
+    solid.vertices = make_buffer(vertices);
+    glCreateVertexArrays(1, &solid.vao);
+    for (GLuint attrib : {0u, 1u}) {
+      glEnableVertexArrayAttrib(solid.vao, attrib);
+      glVertexArrayAttribFormat(solid.vao, attrib, 3, GL_FLOAT, GL_FALSE, attrib * 3 * 4);
+      glVertexArrayAttribBinding(solid.vao, attrib, 0);
+    }
+    glVertexArrayVertexBuffer(solid.vao, 0, solid.vertices, 0, 24);
+    g.solids.push_back(std::move(solid));
+  }
+}
+
+std::size_t Renderer::solid_meshes() const {
+  return gl_->solids.size();
+}
+
+Bounds Renderer::bounds() const {
+  Bounds b = bounds_of(positions_);
+  for (const SurfaceInstance& s : solids_)
+    if (const Gl::Solid* solid = gl_->find(s.mesh.get()); solid && solid->closed)
+      b.add(placed_box(solid->box, s));
+  return b;
 }
 
 void Renderer::set_overlay(std::span<const OverlaySegment> segments) {
@@ -316,6 +412,8 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
     glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(positions_.size()));
   }
 
+  if (o.solids && !solids_.empty()) draw_solids(camera, view_proj, view);
+
   if (g.overlay_vertices > 0) {
     glDisable(GL_DEPTH_TEST);
     glUseProgram(g.lines);
@@ -326,6 +424,77 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
   }
   glBindVertexArray(0);
   glUseProgram(0);
+}
+
+// Translucent solids over the opaque scene. Blending depends on order, so the order is fixed:
+// solids far to near (by their centres along the view axis), and within each its back faces
+// (the inside, far wall) before its front faces. The depth test against the opaque scene stays
+// on; depth writes are off, so one translucent layer never hides another. Sorting by centre is
+// exact for solids apart and for one convex solid; interpenetrating ones may blend out of order.
+void Renderer::draw_solids(const Camera& camera, const Mat4& view_proj, const Mat4& view) {
+  Gl& g = *gl_;
+  struct Item {
+    const SurfaceInstance* instance;
+    const Gl::Solid* solid;
+    double depth;
+  };
+  std::vector<Item> items;
+  const Vec3 eye = camera.eye(), forward = camera.forward();
+  for (const SurfaceInstance& s : solids_) {
+    const Gl::Solid* solid = g.find(s.mesh.get());
+    if (!solid || solid->count == 0) continue;
+    const Vec3 centre = s.direct * solid->box.centre() + s.translation;
+    items.push_back({&s, solid, double(dot(centre - eye, forward))});
+  }
+  std::sort(items.begin(), items.end(),
+            [](const Item& a, const Item& b) { return a.depth > b.depth; });
+
+  glUseProgram(g.solid);
+  set_uniform(g.solid, "u_view_proj", view_proj);
+  set_uniform(g.solid, "u_view", view);
+  const GLint model_at = glGetUniformLocation(g.solid, "u_model");
+  const GLint normal_at = glGetUniformLocation(g.solid, "u_normal");
+  const GLint colour_at = glGetUniformLocation(g.solid, "u_colour");
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  glEnable(GL_CULL_FACE);
+  // Pushed back further than the cloth: a cloth lying on a solid stays in front of it.
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(2.0f, 2.0f);
+  for (const Item& item : items) {
+    const SurfaceInstance& s = *item.instance;
+    const Real det = determinant(s.direct);
+    if (!(std::abs(det) > 0) || !std::isfinite(det) || !is_finite(s.translation)) continue;
+    Mat4 model = Mat4::identity();
+    // Normals through the inverse transpose of `direct`: its cofactor matrix over det.
+    std::array<float, 9> normal{};  // column-major, like the shader's mat3
+    const auto& m = s.direct.m;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        model(r, c) = float(m[r][c]);
+        const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+        const Real cofactor = m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1];
+        normal[static_cast<std::size_t>(c * 3 + r)] = float(cofactor / det);
+      }
+      model(r, 3) = float(s.translation[r]);
+    }
+    glProgramUniformMatrix4fv(g.solid, model_at, 1, GL_FALSE, model.m.data());
+    glProgramUniformMatrix3fv(g.solid, normal_at, 1, GL_FALSE, normal.data());
+    glProgramUniform4f(g.solid, colour_at, s.colour[0], s.colour[1], s.colour[2], s.colour[3]);
+    // A mirroring placement (det < 0) turns counter-clockwise faces clockwise on screen.
+    glFrontFace(det > 0 ? GL_CCW : GL_CW);
+    glBindVertexArray(item.solid->vao);
+    glCullFace(GL_FRONT);
+    glDrawArrays(GL_TRIANGLES, 0, item.solid->count);
+    glCullFace(GL_BACK);
+    glDrawArrays(GL_TRIANGLES, 0, item.solid->count);
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glFrontFace(GL_CCW);
+  glDisable(GL_CULL_FACE);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
 }
 
 }  // namespace maille::render

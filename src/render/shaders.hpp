@@ -76,6 +76,45 @@ void main() {
 }
 )";
 
+// --- solids (obstacles): a mesh in its own frame, placed by a uniform, translucent -------------
+// x_world = u_model x; normals go through the inverse transpose of the placement's linear part
+// (u_normal), so a scaled sphere still shades as an ellipsoid.
+inline constexpr std::string_view solid_vs = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+uniform mat4 u_view_proj;
+uniform mat4 u_view;
+uniform mat4 u_model;
+uniform mat3 u_normal;
+out vec3 v_normal;  // view space
+out vec3 v_position;
+void main() {
+  vec4 world = u_model * vec4(position, 1.0);
+  v_normal = mat3(u_view) * (u_normal * normal);
+  v_position = (u_view * world).xyz;
+  gl_Position = u_view_proj * world;
+}
+)";
+inline constexpr std::string_view solid_fs = R"(#version 450 core
+in vec3 v_normal;
+in vec3 v_position;
+uniform vec4 u_colour;  // RGBA, alpha: opacity of one layer
+out vec4 colour;
+void main() {
+  vec3 eye = normalize(-v_position);
+  vec3 n = length(v_normal) > 0.0 ? normalize(v_normal) : eye;
+  // The inside (back faces, drawn first) is lit as seen and a little darker, so the far wall
+  // reads as the inside of the solid through the near one.
+  if (!gl_FrontFacing) n = -n;
+  vec3 base = gl_FrontFacing ? u_colour.rgb : u_colour.rgb * 0.75;
+  vec3 key = normalize(vec3(0.45, 0.65, 0.60));  // the cloth's lights
+  vec3 fill = normalize(vec3(-0.6, -0.2, 0.75));
+  float diffuse = max(dot(n, key), 0.0) * 0.65 + max(dot(n, fill), 0.0) * 0.2;
+  float specular = pow(max(dot(n, normalize(key + eye)), 0.0), 40.0) * 0.12;
+  colour = vec4(base * (0.32 + diffuse) + vec3(specular), u_colour.a);
+}
+)";
+
 // --- links: 6 vertices (two triangles) per link, a screen-space ribbon of fixed pixel width ------
 inline constexpr std::string_view links_vs = R"(#version 450 core
 layout(std430, binding = 0) readonly buffer Positions { float pos[]; };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 
@@ -113,6 +114,50 @@ void surface_normals(const RenderTopology& t, std::span<const Vec3> x,
     normals[3 * i + 1] = float(n.y);
     normals[3 * i + 2] = float(n.z);
   }
+}
+
+std::vector<float> solid_vertices(const TriMesh& mesh, double crease_degrees) {
+  const std::size_t n_faces = mesh.triangles.size(), n_vertices = mesh.vertices.size();
+  // Face normals: the cross product's length is twice the area, so sums weight faces by area.
+  std::vector<Vec3> area_normal(n_faces), unit_normal(n_faces);
+  for (std::size_t f = 0; f < n_faces; ++f) {
+    const auto& t = mesh.triangles[f];
+    const Vec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+    area_normal[f] = cross(b - a, c - a);
+    const Real len = norm(area_normal[f]);
+    unit_normal[f] = len > 0 && std::isfinite(len) ? area_normal[f] / len : Vec3{};
+  }
+  // The faces around each vertex (CSR: faces_of[first[v] .. first[v + 1]]).
+  std::vector<std::uint32_t> first(n_vertices + 1, 0), faces_of(3 * n_faces);
+  for (const auto& t : mesh.triangles)
+    for (std::uint32_t v : t) ++first[v + 1];
+  for (std::size_t v = 0; v < n_vertices; ++v) first[v + 1] += first[v];
+  std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+  for (std::size_t f = 0; f < n_faces; ++f)
+    for (std::uint32_t v : mesh.triangles[f]) faces_of[fill[v]++] = static_cast<std::uint32_t>(f);
+
+  // Each corner compares its face with every face around its vertex: quadratic in the fan's
+  // size, so a vertex shared by very many faces (a pole of a huge fan) stays flat instead.
+  constexpr std::uint32_t kMaxFan = 64;
+  const Real cos_crease = Real(std::cos(crease_degrees * std::numbers::pi / 180));
+  std::vector<float> out;
+  out.reserve(n_faces * 18);
+  for (std::size_t f = 0; f < n_faces; ++f)
+    for (std::uint32_t v : mesh.triangles[f]) {
+      Vec3 n = area_normal[f];
+      if (first[v + 1] - first[v] <= kMaxFan) {
+        n = Vec3{};
+        for (std::uint32_t k = first[v]; k < first[v + 1]; ++k)
+          if (dot(unit_normal[faces_of[k]], unit_normal[f]) >= cos_crease)
+            n += area_normal[faces_of[k]];
+      }
+      const Real len = norm(n);
+      n = len > 0 && std::isfinite(len) ? n / len : Vec3{};
+      const Vec3 p = mesh.vertices[v];
+      out.insert(out.end(),
+                 {float(p.x), float(p.y), float(p.z), float(n.x), float(n.y), float(n.z)});
+    }
+  return out;
 }
 
 }  // namespace maille::render

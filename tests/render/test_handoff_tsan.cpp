@@ -34,12 +34,20 @@ TEST(Handoff, ReaderNeverSeesATornSnapshot) {
   render::SnapshotExchange exchange;
   constexpr std::uint64_t kFrames = 20000;
   std::atomic<bool> done{false};
+  // Overlays and solids travel with the positions; a solid's mesh is shared, not copied.
+  const auto mesh =
+      std::make_shared<const TriMesh>(TriMesh{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}});
   std::thread writer([&] {
     Snapshot s;
     s.positions.resize(500);
+    s.overlay.resize(3);
+    s.surfaces.resize(2);
+    for (auto& solid : s.surfaces) solid.mesh = mesh;
     for (std::uint64_t f = 1; f <= kFrames; ++f) {
       s.frame = f;
       for (auto& p : s.positions) p = {Real(f), Real(f), Real(f)};
+      for (auto& seg : s.overlay) seg.a.x = Real(f);
+      for (auto& solid : s.surfaces) solid.translation.x = Real(f);
       exchange.publish(s);
     }
     done = true;
@@ -54,6 +62,13 @@ TEST(Handoff, ReaderNeverSeesATornSnapshot) {
       ASSERT_GT(s->frame, last);
     }
     for (const auto& p : s->positions) ASSERT_EQ(p.x, Real(s->frame));  // one frame, whole
+    ASSERT_EQ(s->overlay.size(), 3u);
+    for (const auto& seg : s->overlay) ASSERT_EQ(seg.a.x, Real(s->frame));
+    ASSERT_EQ(s->surfaces.size(), 2u);
+    for (const auto& solid : s->surfaces) {
+      ASSERT_EQ(solid.translation.x, Real(s->frame));
+      ASSERT_EQ(solid.mesh, mesh);
+    }
     last = s->frame;
     taken += fresh;
   }

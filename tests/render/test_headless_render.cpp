@@ -6,12 +6,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <numbers>
 
 #include "maille/links/conditional.hpp"
 #include "maille/links/damper.hpp"
 #include "maille/links/spring_damper.hpp"
+#include "maille/mesh.hpp"
 #include "maille/render/headless.hpp"
 #include "maille/render/image.hpp"
+#include "maille/render/movie.hpp"
 #include "maille/render/renderer.hpp"
 #include "maille/render/snapshot_exchange.hpp"
 #include "maille/scene.hpp"
@@ -198,6 +202,266 @@ TEST_F(HeadlessRender, LinksAreColouredByStrain) {
     } else {
       EXPECT_GT(blue, 6 * kWidth / 2);
       EXPECT_EQ(red, 0);
+    }
+  }
+}
+
+// --- Solids (obstacles): the snapshot's surfaces, placed, shaded, translucent ------------------
+
+// A model with nothing drawn in the middle: two fixed points far in the corners, points hidden.
+Model corners_model() {
+  Model m;
+  m.points.add(PointKind::fixed, 1, {-3, -3, -3});
+  m.points.add(PointKind::fixed, 1, {3, 3, 3});
+  return m;
+}
+
+RenderOptions solids_only() {
+  RenderOptions o;
+  o.surface = o.links = o.points = o.contacts = o.grid = false;
+  return o;
+}
+
+// A sphere of radius 0.3 centred at (0.5, 0.2, 0): an icosphere scaled and moved by the
+// instance's placement, reddish and half transparent.
+Snapshot sphere_snapshot(const Model& m, std::shared_ptr<const TriMesh> mesh, float alpha) {
+  Snapshot s;
+  s.positions = m.points.initial_position;
+  SurfaceInstance solid;
+  solid.name = "obstacle:ball";
+  solid.mesh = std::move(mesh);
+  solid.direct = Mat3::identity() * Real(0.3);
+  solid.translation = {0.5, 0.2, 0};
+  solid.colour = {0.85f, 0.15f, 0.10f, alpha};
+  s.surfaces.push_back(solid);
+  return s;
+}
+
+Camera front_camera() {
+  Camera c;
+  c.yaw = c.pitch = 0;  // looking along -z, the light's key from the upper right
+  c.distance = 4;
+  return c;
+}
+
+Image draw_snapshot(Renderer& renderer, const Snapshot& s, const Camera& camera,
+                    const RenderOptions& o) {
+  OffscreenTarget target(kWidth, kHeight, 1);
+  renderer.set_snapshot(s);
+  target.bind();
+  renderer.draw(camera, kWidth, kHeight, o);
+  return target.read();
+}
+
+bool is_reddish(Image::Pixel p) {
+  return int(p.r) - int(p.g) > 40;
+}
+
+TEST_F(HeadlessRender, SolidIsPlacedShadedAndTranslucent) {
+  const Model model = corners_model();
+  const auto mesh = std::make_shared<const TriMesh>(icosphere(4));
+  Renderer renderer;
+  renderer.set_model(model);
+  const Camera camera = front_camera();
+  const Image half =
+      draw_snapshot(renderer, sphere_snapshot(model, mesh, 0.5f), camera, solids_only());
+  const Image opaque =
+      draw_snapshot(renderer, sphere_snapshot(model, mesh, 1.0f), camera, solids_only());
+  Snapshot bare = sphere_snapshot(model, mesh, 0.5f);
+  bare.surfaces.clear();
+  const Image background = draw_snapshot(renderer, bare, camera, solids_only());
+
+  // Where the placement puts it: the tinted disc is centred on the projected centre and has
+  // the projected radius (perspective: the silhouette's half-angle is asin(r / d)).
+  const auto centre = camera.project({0.5, 0.2, 0}, kWidth, kHeight);
+  ASSERT_TRUE(centre);
+  const double d = std::hypot(0.5, 0.2, 4.0);
+  const double radius_px = std::tan(std::asin(0.3 / d)) * (kHeight / 2.0) /
+                           std::tan(camera.fov_y * std::numbers::pi / 360);
+  int count = 0;
+  double sx = 0, sy = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x)
+      if (is_reddish(half.at(x, y))) {
+        ++count;
+        sx += x + 0.5;
+        sy += y + 0.5;
+      }
+  const double disc = std::numbers::pi * radius_px * radius_px;
+  EXPECT_NEAR(count, disc, 0.05 * disc);
+  ASSERT_GT(count, 0);
+  EXPECT_NEAR(sx / count, centre->x, 1.0);
+  EXPECT_NEAR(sy / count, centre->y, 1.0);
+
+  // Blended: at the centre, half-transparent is neither the opaque colour nor the background,
+  // and the background shows through (it is greyer than the opaque solid).
+  const int cx = int(centre->x), cy = int(centre->y);
+  const auto h = half.at(cx, cy), o = opaque.at(cx, cy), b = background.at(cx, cy);
+  EXPECT_NEAR(b.r, b.b, 20) << "background grey";
+  EXPECT_TRUE(is_reddish(o));
+  EXPECT_GT(std::abs(int(h.g) - int(o.g)) + std::abs(int(h.b) - int(o.b)), 40);
+  EXPECT_LT(int(h.r) - int(h.g), int(o.r) - int(o.g));
+  EXPECT_GT(int(h.r) - int(h.g), int(b.r) - int(b.g) + 40);
+
+  // Shaded: lit from the upper right, the upper-right side is brighter than the lower-left.
+  const int off = int(radius_px * 0.6);
+  const auto lit = opaque.at(cx + off, cy - off), dark = opaque.at(cx - off, cy + off);
+  EXPECT_GT(int(lit.r), int(dark.r) + 30);
+
+  // A snapshot without surfaces draws none, and leaves no mesh on the GPU.
+  EXPECT_EQ(renderer.solid_meshes(), 0u);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) ASSERT_FALSE(is_reddish(background.at(x, y)));
+}
+
+// Meshes are uploaded once per pointer, however many instances and snapshots show them, and
+// freed with the first snapshot that no longer holds them.
+TEST_F(HeadlessRender, SolidMeshesAreUploadedOncePerPointer) {
+  const Model model = corners_model();
+  Renderer renderer;
+  renderer.set_model(model);
+  const auto ball = std::make_shared<const TriMesh>(icosphere(2));
+  const auto box = std::make_shared<const TriMesh>(tessellate(ShapeKind::cube, 4));
+  Snapshot s = sphere_snapshot(model, ball, 0.5f);
+  s.surfaces.push_back(s.surfaces[0]);  // a second instance of the same mesh
+  s.surfaces[1].translation = {-0.5, 0, 0};
+  for (int i = 0; i < 3; ++i) renderer.set_snapshot(s);
+  EXPECT_EQ(renderer.solid_meshes(), 1u);
+  s.surfaces[1].mesh = box;
+  renderer.set_snapshot(s);
+  EXPECT_EQ(renderer.solid_meshes(), 2u);
+  s.surfaces.erase(s.surfaces.begin());  // the ball's stage is gone
+  renderer.set_snapshot(s);
+  EXPECT_EQ(renderer.solid_meshes(), 1u);
+  // Framing keeps the closed solids in view: the box's placed corners are inside the bounds.
+  const Bounds b = renderer.bounds();
+  EXPECT_LE(b.lo.x, -0.5 - 0.3 + 1e-9);
+  renderer.set_model(model);  // a reload drops the old scene's solids
+  EXPECT_EQ(renderer.solid_meshes(), 0u);
+}
+
+// A scene with obstacles through the real path (simulator -> snapshot -> exchange -> renderer,
+// auto-framed): the ball shows its colour, blended, and is fully in view; without the
+// snapshot's surfaces its pixels are background again.
+TEST_F(HeadlessRender, SceneObstacleIsDrawnThroughSnapshots) {
+  auto loaded = load_scene(MAILLE_SOURCE_DIR "/examples/cloth_on_sphere.toml");
+  ASSERT_TRUE(loaded) << loaded.error().to_string();
+  const Scene& scene = loaded.value();
+  SimulationSettings settings = scene.settings;
+  settings.threads = 1;
+  Simulator sim(scene.model, settings);
+  SnapshotExchange exchange;
+  sim.on_publish([&](const Snapshot& s) { exchange.publish(s); });
+  sim.publish_now();
+  const Snapshot* s = exchange.take();
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->surfaces.size(), 2u);  // the ball and the ground
+
+  Renderer renderer;
+  renderer.set_model(scene.model);
+  renderer.set_snapshot(*s);
+  Camera camera;
+  AutoFrame frame;
+  frame.update(camera, renderer.bounds(), double(kWidth) / kHeight);
+  const Image with = draw_snapshot(renderer, *s, camera, RenderOptions{});
+  Snapshot without = *s;
+  without.surfaces.clear();
+  const Image bare = draw_snapshot(renderer, without, camera, RenderOptions{});
+
+  // The ball: centre (0, 0.2, 0), radius 0.3, in the geometric method's blue-grey.
+  const auto* ball = &s->surfaces[0];
+  if (ball->name != "obstacle:ball") ball = &s->surfaces[1];
+  ASSERT_EQ(ball->name, "obstacle:ball");
+  const auto c = camera.project(ball->translation, kWidth, kHeight);
+  ASSERT_TRUE(c);
+  for (const Vec3 edge : {Vec3{0.3, 0, 0}, Vec3{-0.3, 0, 0}, Vec3{0, 0.3, 0}, Vec3{0, -0.3, 0}}) {
+    const auto e = camera.project(ball->translation + edge, kWidth, kHeight);
+    ASSERT_TRUE(e);
+    EXPECT_GT(e->x, 0);
+    EXPECT_LT(e->x, kWidth);
+    EXPECT_GT(e->y, 0);
+    EXPECT_LT(e->y, kHeight);
+  }
+  const auto p = with.at(int(c->x), int(c->y)), q = bare.at(int(c->x), int(c->y));
+  // The background is a little bluish toward the bottom (b - r up to ~15): the ball is far more.
+  EXPECT_GT(int(p.b) - int(p.r), int(q.b) - int(q.r) + 20) << "the ball's blue tint";
+  EXPECT_LT(std::abs(int(q.b) - int(q.r)), 20) << "no ball: background grey";
+  // Translucent: the ground behind the ball's lower half shows through it (with an opaque
+  // ball, removing the ground would change nothing there). Grid off: only the ground differs.
+  RenderOptions no_grid;
+  no_grid.grid = false;
+  Snapshot ball_only = *s;
+  std::erase_if(ball_only.surfaces,
+                [](const SurfaceInstance& x) { return x.name != "obstacle:ball"; });
+  const Image both = draw_snapshot(renderer, *s, camera, no_grid);
+  const Image alone = draw_snapshot(renderer, ball_only, camera, no_grid);
+  const auto top = camera.project(ball->translation + Vec3{0, 0.3, 0}, kWidth, kHeight);
+  ASSERT_TRUE(top);
+  const int y = int(c->y + 0.6 * (c->y - top->y));
+  const auto u = both.at(int(c->x), y), v = alone.at(int(c->x), y);
+  EXPECT_GT(
+      std::abs(int(u.r) - int(v.r)) + std::abs(int(u.g) - int(v.g)) + std::abs(int(u.b) - int(v.b)),
+      10);
+  EXPECT_GT(int(v.b) - int(v.r), 20) << "still the ball's tint";
+}
+
+// `maille render`'s driver carries the snapshots' solids to the picture: the ball and the
+// ground change a good part of the frame, and nothing else does.
+class KeepFrames final : public FrameSink {
+ public:
+  void write(const Image& frame) override { frames.push_back(frame); }
+  void finish() override {}
+  std::string describe() const override { return "memory"; }
+  std::vector<Image> frames;
+};
+
+TEST(RenderMovie, DrawsTheScenesObstacles) {
+  auto loaded = load_scene(MAILLE_SOURCE_DIR "/examples/cloth_on_sphere.toml");
+  ASSERT_TRUE(loaded) << loaded.error().to_string();
+  MovieSettings m;
+  m.width = 160;
+  m.height = 100;
+  m.samples = 1;
+  m.duration = 0.01;  // the first frame only: the cloth still flat above the ball
+  m.threads = 1;
+  KeepFrames with, without;
+  render_movie(loaded.value(), m, with);
+  m.options.solids = false;
+  render_movie(loaded.value(), m, without);
+  ASSERT_EQ(with.frames.size(), 1u);
+  ASSERT_EQ(without.frames.size(), 1u);
+  const Image &a = with.frames[0], &b = without.frames[0];
+  int changed = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const auto p = a.at(x, y), q = b.at(x, y);
+      changed += std::abs(int(p.r) - int(q.r)) + std::abs(int(p.b) - int(q.b)) > 20;
+    }
+  EXPECT_GT(changed, a.width * a.height / 10);
+}
+
+TEST(RenderTopology, SolidNormalsAreSmoothOnSpheresAndSharpOnCubes) {
+  // An icosphere: every corner's normal is close to its radial direction.
+  const TriMesh sphere = icosphere(3);
+  const std::vector<float> v = solid_vertices(sphere);
+  ASSERT_EQ(v.size(), sphere.triangles.size() * 18);
+  double worst = 1;
+  for (std::size_t i = 0; i < v.size(); i += 6) {
+    const Vec3 p{v[i], v[i + 1], v[i + 2]}, n{v[i + 3], v[i + 4], v[i + 5]};
+    worst = std::min(worst, double(dot(p / norm(p), n)));
+  }
+  EXPECT_GT(worst, 0.999);
+  // A cube: every corner's normal is its face's (the edges stay sharp), pointing out.
+  const TriMesh cube = tessellate(ShapeKind::cube, 8);
+  const std::vector<float> w = solid_vertices(cube);
+  for (std::size_t f = 0; f < cube.triangles.size(); ++f) {
+    const auto& t = cube.triangles[f];
+    Vec3 face =
+        cross(cube.vertices[t[1]] - cube.vertices[t[0]], cube.vertices[t[2]] - cube.vertices[t[0]]);
+    face = face / norm(face);
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t i = (3 * f + std::size_t(k)) * 6;
+      EXPECT_GT(dot(face, Vec3{w[i + 3], w[i + 4], w[i + 5]}), 0.9999) << "face " << f;
     }
   }
 }

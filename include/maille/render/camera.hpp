@@ -87,8 +87,10 @@ class AutoFrame {
   // `easing` in (0, 1]: the fraction of the way to the new fit taken per update (1: jump).
   explicit AutoFrame(double easing = 0.15) : easing_(easing) {}
   void reset() { box_ = {}; }
-  // Grows the box with `points` and moves `camera` toward the framing of the box.
+  // Grows the box with `points` (or with `box`: points and solids, Renderer::bounds()) and
+  // moves `camera` toward the framing of the box.
   void update(Camera& camera, std::span<const Vec3> points, double aspect);
+  void update(Camera& camera, const Bounds& box, double aspect);
   const Bounds& box() const { return box_; }
 
  private:

@@ -13,6 +13,8 @@
 //                blue when compressed, saturated at +-strain_range
 //   contacts     conditional links while active (distance below their threshold), yellow
 //   points       masses not on a surface (grey-blue), fixed (dark) and driven (magenta) points
+//   solids       the snapshot's surfaces (obstacles), in their own colour, translucent: after
+//                everything opaque, far ones first, each inside then outside, not writing depth
 //   overlay      segments given by the caller (the viewer's drag spring), always on top
 #pragma once
 
@@ -35,6 +37,7 @@ struct RenderOptions {
   bool contacts = true;           // active conditional links
   bool points = true;             // masses off surfaces, fixed and driven points
   bool grid = true;               // floor grid
+  bool solids = true;             // the snapshot's surfaces (obstacles)
   float strain_range = 0.05f;     // |strain| drawn fully red or blue, dimensionless, > 0
   float link_width = 2.0f;        // pixels, > 0
   float point_scale = 1.0f;       // times the topology's point radius, > 0
@@ -54,8 +57,9 @@ class Renderer {
   // The model's topology and a floor grid under its initial positions. Call again after a
   // scene reload; the positions are reset to the initial ones.
   void set_model(const Model& model);
-  // Positions to draw. Throws std::invalid_argument when the snapshot's point count differs
-  // from the model's (a stale snapshot from before a reload).
+  // Positions and solids to draw. Throws std::invalid_argument when the snapshot's point count
+  // differs from the model's (a stale snapshot from before a reload). A solid's mesh is uploaded
+  // the first time its pointer is seen and freed with the first snapshot that no longer holds it.
   void set_snapshot(const Snapshot& snapshot);
   void set_overlay(std::span<const OverlaySegment> segments);
 
@@ -66,6 +70,11 @@ class Renderer {
   // The positions drawn (initial ones until the first snapshot), for picking and framing.
   std::span<const Vec3> positions() const { return positions_; }
   const Snapshot& snapshot_info() const { return info_; }  // frame, step, time; no positions
+  // What framing should keep in view: the finite positions and the boxes of the closed solids
+  // placed as in the last snapshot. Open ones (a ground plane's square) are left out: they
+  // stand for unbounded surfaces, and their drawn size is arbitrary.
+  Bounds bounds() const;
+  std::size_t solid_meshes() const;  // meshes on the GPU now (one per distinct pointer)
 
  private:
   struct Gl;
@@ -77,7 +86,10 @@ class Renderer {
   std::vector<std::uint32_t> scratch_contacts_;
   Bounds grid_box_;  // the grid lies under it, at its lowest height
   std::vector<OverlaySegment> overlay_;
+  std::vector<SurfaceInstance> solids_;  // the last snapshot's surfaces
   void upload_positions();
+  void upload_solids();  // meshes not seen before; frees those no longer held
+  void draw_solids(const Camera& camera, const Mat4& view_proj, const Mat4& view);
   void upload_lines();  // grid and overlay
 };
 

@@ -1,7 +1,8 @@
 // The hand-off between the physics thread and the render thread: a lock-free triple buffer of
 // snapshots. The physics publishes at its own rate and never waits; the renderer takes the latest
-// complete snapshot when it draws and never sees one being written. Positions are all the two
-// threads share (requirement S5).
+// complete snapshot when it draws and never sees one being written. Snapshots (positions,
+// overlays, placed solids) are all the two threads share (requirement S5); solids' meshes are
+// shared read-only through their shared_ptr, whose count is atomic.
 //
 //   physics thread                 latest_ (atomic)              render thread
 //   writes slots_[back_]  --swap-->  index | fresh  <--swap--   reads slots_[front_]
@@ -21,14 +22,17 @@ namespace maille::render {
 
 class SnapshotExchange {
  public:
-  // Physics thread only. Copies `s` (reusing the slot's memory: no allocation once the slots
-  // have grown to the model's size) and makes it the latest. Never blocks.
+  // Physics thread only. Copies `s` whole (reusing the slot's memory: no allocation once the
+  // slots have grown to the model's size, the overlay's and the solids' counts) and makes it the
+  // latest. Never blocks.
   void publish(const Snapshot& s) {
     Snapshot& slot = slots_[back_];
     slot.frame = s.frame;
     slot.step = s.step;
     slot.time = s.time;
     slot.positions.assign(s.positions.begin(), s.positions.end());
+    slot.overlay.assign(s.overlay.begin(), s.overlay.end());
+    slot.surfaces.assign(s.surfaces.begin(), s.surfaces.end());
     const unsigned previous = latest_.exchange(back_ | kFresh, std::memory_order_acq_rel);
     back_ = previous & kIndex;
   }

@@ -6,6 +6,7 @@
 #include <span>
 #include <vector>
 
+#include "maille/mesh.hpp"
 #include "maille/model.hpp"
 
 namespace maille::render {
@@ -45,5 +46,12 @@ void active_contacts(const RenderTopology& topology, std::span<const Vec3> posit
 // on the surface), written to `normals` as 3 floats per point.
 void surface_normals(const RenderTopology& topology, std::span<const Vec3> positions,
                      std::vector<float>& normals);
+
+// A solid's mesh (an obstacle's) as the solid pass draws it: three vertices per triangle, 6
+// floats each (position, then unit normal), in the mesh's own frame. A corner's normal is the
+// area-weighted sum of the faces around its vertex that turn by less than `crease_degrees` from
+// its own face: a sphere looks round and a cube keeps its edges. Zero-area faces get a zero
+// normal (the shader falls back to facing the eye).
+std::vector<float> solid_vertices(const TriMesh& mesh, double crease_degrees = 40);
 
 }  // namespace maille::render
