@@ -108,4 +108,33 @@ TEST(GeometricObstacle, SceneTableChecksKeysAgainstTheMethod) {
   ASSERT_TRUE(conditional) << conditional.error().to_string();
 }
 
+// The bricks: a [[geometric_point]] (a cube turned 45 degrees about y, scaled 0.2) and
+// geometric_contact links to a bead and to a group. Resting on the top face, each bead sinks
+// m g / k below it, like the obstacle (the same law), and the stage counts its contacts.
+TEST(GeometricObstacle, GeometricPointAndContactBricks) {
+  const std::string text =
+      "[simulation]\nstep = 2e-4\n"
+      "[[mass]]\nname = \"bead\"\nmass = 0.01\nposition = [0.0, 1.21, 0.0]\n"
+      "[[mass]]\nname = \"other\"\nmass = 0.02\nposition = [0.05, 1.21, 0.0]\n"
+      "[[geometric_point]]\nname = \"box\"\nshape = \"cube\"\nposition = [0.0, 1.0, 0.0]\n"
+      "rotation = [0.0, 45.0, 0.0]\nscale = [0.2, 0.2, 0.2]\n"
+      "[[link]]\nkind = \"geometric_contact\"\na = \"box\"\nb = \"bead\"\n"
+      "stiffness = 400.0\ndamping = 0.3\n"
+      "[[link]]\nkind = \"geometric_contact\"\na = \"box\"\nb = \"other\"\n"
+      "stiffness = 400.0\ndamping = 0.3\n";
+  auto scene = parse_scene(text, "bricks.toml", LinkKindRegistry::with_builtins(),
+                           StageRegistry::with_builtins());
+  ASSERT_TRUE(scene) << scene.error().to_string();
+  ASSERT_EQ(scene->model.geometric_points.size(), 1u);
+  scene->settings.threads = 1;
+  Simulator sim(std::move(scene->model), scene->settings);
+  ASSERT_TRUE(sim.run_steps(40000));
+  EXPECT_NEAR(sim.state().x()[0].y, 1.2 - 0.01 * 9.81 / 400, 1e-6);
+  EXPECT_NEAR(sim.state().x()[1].y, 1.2 - 0.02 * 9.81 / 400, 1e-6);
+  std::uint64_t active = 0;
+  for (const auto& c : sim.profile().counters())
+    if (c.name == "geometric_contacts_active") active = c.last;
+  EXPECT_EQ(active, 2u);
+}
+
 }  // namespace
