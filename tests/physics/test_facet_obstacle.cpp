@@ -211,6 +211,18 @@ TEST(FacetObstacle, ThrownParticlesNeverEndInsideTheExampleRock) {
   throw_at(*o.mesh, o, 10000, 3);
 }
 
+// Every tessellated canonical shape (under a non-uniform scale and a rotation), particles
+// thrown from all sides at up to several facets per step: none ends inside.
+TEST(FacetObstacle, ThrownParticlesNeverEndInsideAnyTessellatedShape) {
+  for (ShapeKind shape : {ShapeKind::sphere, ShapeKind::cube, ShapeKind::cylinder, ShapeKind::cone,
+                          ShapeKind::torus, ShapeKind::capsule}) {
+    const Obstacle o = facet_obstacle(
+        shape, shapes::Affine::from({0, 0.1, 0}, {10, 20, 30}, {0.3, 0.2, 0.25}), 0.5, 0.3, 24);
+    SCOPED_TRACE(std::string(to_string(shape)));
+    throw_at(obstacle_mesh(o), o, 5000, 10 + static_cast<int>(shape));
+  }
+}
+
 // A cube turning at 2 turns per second sweeps through particles at rest around it: met by the
 // relative motion, none ends inside.
 TEST(FacetObstacle, ARotatingCubeSweepsParticlesOut) {
