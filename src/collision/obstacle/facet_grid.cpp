@@ -11,10 +11,6 @@ namespace maille::facets {
 
 namespace {
 
-// Barycentric tolerance: a point this close (relative to the facet) to a shared edge counts as
-// inside both facets, so a crossing exactly on a joint is never lost to rounding (the hit then
-// goes to the earliest, or the first, of them: either one stops the particle).
-constexpr Real kInsideTolerance = Real(1e-9);
 // Beyond this many cells a query tests every facet (a particle crossing the whole obstacle in
 // one step): slower, never wrong.
 constexpr std::uint64_t kMaxQueryCells = 4096;
@@ -151,9 +147,18 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
     const Vec3 b = f.a + f.e1, c = f.a + f.e2;
     const auto c0 = cell_of(component_min(component_min(f.a, b), c));
     const auto c1 = cell_of(component_max(component_max(f.a, b), c));
+    // Of the cells its box overlaps, those its plane crosses (the plane-box axis of the
+    // triangle-box separation test; cells grown by the rounding margin): on a curved surface
+    // that halves the facets a query meets, and a facet through a cell is never left out.
+    const Real half = cell_ / 2 + margin_;
+    const Real reach = half * (std::abs(f.n.x) + std::abs(f.n.y) + std::abs(f.n.z));
     for (int k = c0[2]; k <= c1[2]; ++k)
       for (int j = c0[1]; j <= c1[1]; ++j)
-        for (int i = c0[0]; i <= c1[0]; ++i) visit(cell_index(i, j, k));
+        for (int i = c0[0]; i <= c1[0]; ++i) {
+          const Vec3 centre =
+              lo_ + Vec3{Real(i) + Real(0.5), Real(j) + Real(0.5), Real(k) + Real(0.5)} * cell_;
+          if (std::abs(dot(f.n, centre - f.a)) <= reach) visit(cell_index(i, j, k));
+        }
   };
   for (std::size_t f = 0; f < facets_.size(); ++f)
     each_cell(f, [&](std::uint64_t cell) { ++starts_[cell + 1]; });
@@ -164,32 +169,9 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
     each_cell(f, [&](std::uint64_t cell) { entries_[fill[cell]++] = std::uint32_t(f); });
 }
 
-std::array<int, 3> FacetGrid::cell_of(const Vec3& x) const {
-  std::array<int, 3> c{};
-  // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
-  c[0] = static_cast<int>(std::clamp<Real>((x.x - lo_.x) * inv_cell_, 0, top_.x));
-  c[1] = static_cast<int>(std::clamp<Real>((x.y - lo_.y) * inv_cell_, 0, top_.y));
-  c[2] = static_cast<int>(std::clamp<Real>((x.z - lo_.z) * inv_cell_, 0, top_.z));
-  return c;
-}
-
-std::span<const std::uint32_t> FacetGrid::candidates(const Vec3& lo, const Vec3& hi,
-                                                     std::vector<std::uint32_t>& scratch,
-                                                     Row& row) const {
-  if (facets_.empty()) return {};
-  for (int d = 0; d < 3; ++d)
-    if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return {};  // NaN misses too
-  const auto c0 = cell_of(lo), c1 = cell_of(hi);
-  if (c0 == c1) {
-    const std::uint64_t c = cell_index(c0[0], c0[1], c0[2]);
-    if (c != row.cell) {
-      row.cell = c, row.begin = starts_[c], row.end = starts_[c + 1];
-      if (row.end - row.begin <= row.ids.size())
-        std::copy(entries_.begin() + row.begin, entries_.begin() + row.end, row.ids.begin());
-    }
-    if (row.end - row.begin <= row.ids.size()) return {row.ids.data(), row.end - row.begin};
-    return {entries_.data() + row.begin, entries_.data() + row.end};
-  }
+std::span<const std::uint32_t> FacetGrid::candidates_in_cells(
+    const std::array<int, 3>& c0, const std::array<int, 3>& c1,
+    std::vector<std::uint32_t>& scratch) const {
   scratch.clear();
   const std::uint64_t n =
       std::uint64_t(c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * std::uint64_t(c1[2] - c0[2] + 1);
@@ -205,28 +187,6 @@ std::span<const std::uint32_t> FacetGrid::candidates(const Vec3& lo, const Vec3&
                        entries_.begin() + starts_[c + 1]);
       }
   return scratch;
-}
-
-bool FacetGrid::crosses(std::uint32_t fi, const Vec3& p, const Vec3& q, Real eps, Real& u) const {
-  const Facet& f = facets_[fi];
-  const Real above = dot(f.n, p - f.a);  // (a) N.AP > eps: above the facet's plane
-  if (!(above > eps)) return false;
-  const Real toward = dot(f.n, q - p);  // (b) N.PQ < 0: heading for it
-  if (!(toward < 0)) return false;
-  u = -above / toward;
-  if (u > 1) return false;  // Q is still above: no collision in this step
-  return projects_inside(fi, p + (q - p) * u);
-}
-
-bool FacetGrid::projects_inside(std::uint32_t fi, const Vec3& p) const {
-  // Barycentric coordinates of p's projection (n is orthogonal to both edges, so p - a can be
-  // used as is); the brief's three same-orientation cross products are the same test.
-  const Facet& f = facets_[fi];
-  const Vec3 w = p - f.a;
-  const Real d20 = dot(w, f.e1), d21 = dot(w, f.e2);
-  const Real s = (f.d11 * d20 - f.d01 * d21) * f.inv_det;
-  const Real t = (f.d00 * d21 - f.d01 * d20) * f.inv_det;
-  return s >= -kInsideTolerance && t >= -kInsideTolerance && s + t <= 1 + kInsideTolerance;
 }
 
 // Ericson, Real-Time Collision Detection, 5.1.5, keeping which feature is closest.

@@ -6,6 +6,7 @@
 // this frame, never by refitting.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -14,6 +15,11 @@
 #include "maille/mesh.hpp"
 
 namespace maille::facets {
+
+// Barycentric tolerance: a point this close (relative to the facet) to a shared edge counts as
+// inside both facets, so a crossing exactly on a joint is never lost to rounding (the hit then
+// goes to the earliest, or the first, of them: either one stops the particle).
+inline constexpr Real kInsideTolerance = Real(1e-9);
 
 // What every query reads (128 bytes): kept apart from the pseudo-normals, which only the rare
 // inside check reads, so the facets near a cloth stay in cache.
@@ -60,16 +66,53 @@ class FacetGrid {
     std::array<std::uint32_t, 6> ids{};  // a copy of it when it is that short
   };
   std::span<const std::uint32_t> candidates(const Vec3& lo, const Vec3& hi,
-                                            std::vector<std::uint32_t>& scratch, Row& row) const;
+                                            std::vector<std::uint32_t>& scratch, Row& row) const {
+    if (facets_.empty()) return {};
+    for (int d = 0; d < 3; ++d)
+      if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return {};  // NaN misses too
+    const auto c0 = cell_of(lo), c1 = cell_of(hi);
+    if (c0 != c1) return candidates_in_cells(c0, c1, scratch);
+    const std::uint64_t c = cell_index(c0[0], c0[1], c0[2]);
+    if (c != row.cell) {
+      row.cell = c, row.begin = starts_[c], row.end = starts_[c + 1];
+      if (row.end - row.begin <= row.ids.size())
+        std::copy(entries_.begin() + row.begin, entries_.begin() + row.end, row.ids.begin());
+    }
+    if (row.end - row.begin <= row.ids.size()) return {row.ids.data(), row.end - row.begin};
+    return {entries_.data() + row.begin, entries_.data() + row.end};
+  }
   // A box grown by this much always finds the facets within that distance (the grid's margin).
   Real margin() const { return margin_; }
 
   // The brief's test of the segment p -> q against facet f, with `eps` the "above" threshold
   // in this frame: N.AP > eps, N.PQ < 0, u <= 1 and M inside the facet (closed edges, with a
   // relative tolerance so that a crossing on a shared edge is found by both facets).
-  bool crosses(std::uint32_t f, const Vec3& p, const Vec3& q, Real eps, Real& u) const;
+  // Inlined (as are the two below): the stage calls them a few times per particle.
+  bool crosses(std::uint32_t f, const Vec3& p, const Vec3& q, Real eps, Real& u) const {
+    return crosses_above(f, dot(facets_[f].n, p - facets_[f].a), p, q, eps, u);
+  }
+  // The same, `above` = N.AP given (the caller computed it to sort the facet).
+  bool crosses_above(std::uint32_t fi, Real above, const Vec3& p, const Vec3& q, Real eps,
+                     Real& u) const {
+    const Facet& f = facets_[fi];
+    if (!(above > eps)) return false;     // (a) N.AP > eps: above the facet's plane
+    const Real toward = dot(f.n, q - p);  // (b) N.PQ < 0: heading for it
+    if (!(toward < 0)) return false;
+    u = -above / toward;
+    if (u > 1) return false;  // Q is still above: no collision in this step
+    return projects_inside(fi, p + (q - p) * u);
+  }
   // Whether the projection of p on facet f's plane lies inside it (closed edges).
-  bool projects_inside(std::uint32_t f, const Vec3& p) const;
+  bool projects_inside(std::uint32_t fi, const Vec3& p) const {
+    // Barycentric coordinates of p's projection (n is orthogonal to both edges, so p - a can
+    // be used as is); the brief's three same-orientation cross products are the same test.
+    const Facet& f = facets_[fi];
+    const Vec3 w = p - f.a;
+    const Real d20 = dot(w, f.e1), d21 = dot(w, f.e2);
+    const Real s = (f.d11 * d20 - f.d01 * d21) * f.inv_det;
+    const Real t = (f.d00 * d21 - f.d01 * d20) * f.inv_det;
+    return s >= -kInsideTolerance && t >= -kInsideTolerance && s + t <= 1 + kInsideTolerance;
+  }
   // The closest point of facet f to p, and the sign of p against the surface there.
   Closest closest(std::uint32_t f, const Vec3& p) const;
   // The closest point of the whole mesh to p, a point in the grid's box (see inside_box),
@@ -84,7 +127,17 @@ class FacetGrid {
   std::uint64_t cell_index(int i, int j, int k) const {
     return (std::uint64_t(k) * dims_[1] + std::uint64_t(j)) * dims_[0] + std::uint64_t(i);
   }
-  std::array<int, 3> cell_of(const Vec3& x) const;
+  std::array<int, 3> cell_of(const Vec3& x) const {
+    // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
+    return {static_cast<int>(std::clamp<Real>((x.x - lo_.x) * inv_cell_, 0, top_.x)),
+            static_cast<int>(std::clamp<Real>((x.y - lo_.y) * inv_cell_, 0, top_.y)),
+            static_cast<int>(std::clamp<Real>((x.z - lo_.z) * inv_cell_, 0, top_.z))};
+  }
+  // A query over several cells: their facets gathered into scratch (or every facet, beyond
+  // kMaxQueryCells cells).
+  std::span<const std::uint32_t> candidates_in_cells(const std::array<int, 3>& c0,
+                                                     const std::array<int, 3>& c1,
+                                                     std::vector<std::uint32_t>& scratch) const;
 
   std::vector<Facet> facets_;
   std::vector<PseudoNormals> pseudo_;

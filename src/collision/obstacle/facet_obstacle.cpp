@@ -34,6 +34,8 @@ namespace maille {
 namespace {
 
 constexpr int kPasses = 4;
+// Nearby facets whose N.AP the first pass keeps for the next ones (more: recomputed).
+constexpr std::size_t kKeptAbove = 16;
 
 struct Counts {
   std::uint64_t contacts = 0, hits = 0, sticks = 0, slides = 0, leaks = 0;
@@ -52,6 +54,13 @@ Vec3 upper(const Vec3& a, const Vec3& b) {
   return {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
 }
 
+// A static obstacle's mesh placed in the world once: its particles then need no transform.
+TriMesh placed(const TriMesh& mesh, const shapes::Affine& a) {
+  TriMesh out = mesh;
+  for (Vec3& v : out.vertices) v = a.to_world(v);
+  return out;
+}
+
 // Largest stretch of a matrix (its Frobenius norm bounds the largest singular value).
 Real stretch_bound(const Mat3& m) {
   Real s = 0;
@@ -67,7 +76,8 @@ class FacetObstacleStage final : public Stage {
         set_(colliding_points(m, o_)),
         row_(set_.size()),
         surface_(o_, std::make_shared<const TriMesh>(obstacle_mesh(o_))),
-        grid_(*surface_.mesh()) {
+        world_(!o_.motion.moves()),
+        grid_(world_ ? placed(*surface_.mesh(), o_.place) : *surface_.mesh()) {
     if (grid_.facets().empty())
       throw std::invalid_argument("obstacle '" + o_.name + "': the mesh has no facet");
     // The brief's eps in each facet's own units: a world distance d along the facet's world
@@ -75,7 +85,7 @@ class FacetObstacleStage final : public Stage {
     eps_.reserve(grid_.facets().size());
     normals_.reserve(grid_.facets().size());
     for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi) {
-      const auto [n, stretch] = world_normal(o_.place, fi);
+      const auto [n, stretch] = world_normal(world_ ? shapes::Affine{} : o_.place, fi);
       eps_.push_back(o_.epsilon * stretch);
       normals_.push_back(n);
     }
@@ -86,8 +96,8 @@ class FacetObstacleStage final : public Stage {
 
   void apply(const Model& m, State& s, const StageContext& ctx) override {
     const Real h = Real(ctx.h);
-    const shapes::Affine now = o_.motion.at(o_.place, ctx.t);
-    const shapes::Affine next = o_.motion.at(o_.place, ctx.t + ctx.h);
+    const shapes::Affine now = frame_at(ctx.t);
+    const shapes::Affine next = frame_at(ctx.t + ctx.h);
     // Distances in the mesh frame are world distances times |M_i^T n| (per facet); the query
     // box is grown by eps times the largest stretch so it holds every facet within eps.
     const Real band = 2 * o_.epsilon * stretch_bound(now.inverse);
@@ -104,7 +114,7 @@ class FacetObstacleStage final : public Stage {
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
     for (std::int64_t i = 0; i < n; ++i) {
       const std::uint32_t p = set_[i];
-      const int t = thread_index();
+      const int t = threads > 1 ? thread_index() : 0;
       particle(x[p], v[p], f[p], inv_mass[p], h, ctx, now, next, band, scratch_[t], row_[i],
                counts[t]);
     }
@@ -120,6 +130,15 @@ class FacetObstacleStage final : public Stage {
   }
 
  private:
+  // Where the grid's frame is at time t: the world itself for a static obstacle (its mesh was
+  // placed once), else the placement moved by the motion (particles go into the mesh's frame).
+  shapes::Affine frame_at(double t) const {
+    return world_ ? shapes::Affine{} : o_.motion.at(o_.place, t);
+  }
+  Vec3 to_frame(const shapes::Affine& a, const Vec3& x) const {
+    return world_ ? x : a.to_canonical(x);
+  }
+
   static int thread_index() {
 #ifdef _OPENMP
     return omp_get_thread_num();
@@ -146,10 +165,10 @@ class FacetObstacleStage final : public Stage {
   void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, Real h, const StageContext& ctx,
                 const shapes::Affine& now, const shapes::Affine& next, Real band,
                 std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Counts& c) const {
-    const Vec3 p = now.to_canonical(x);
+    const Vec3 p = to_frame(now, x);
     auto end_point = [&] {
       const Vec3 kicked = ctx.drift_after_kick ? v + f * (h * inv_mass) : v;
-      return next.to_canonical(x + kicked * h);
+      return to_frame(next, x + kicked * h);
     };
     Vec3 q = end_point();
     const std::span<const std::uint32_t> near = grid_.candidates(
@@ -157,8 +176,13 @@ class FacetObstacleStage final : public Stage {
     if (near.empty()) return;  // far from the obstacle: one box test
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
     bool touched = false, stuck = false, behind = false;
+    // N.AP per nearby facet, kept from the first pass for the next ones (p does not move).
+    std::array<Real, kKeptAbove> above;
+    const std::span<Real> kept = near.size() <= above.size()
+                                     ? std::span<Real>(above.data(), near.size())
+                                     : std::span<Real>();
     for (int pass = 0; pass < kPasses; ++pass) {
-      const Contact hit = first_contact(p, q, near, pass == 0);
+      const Contact hit = first_contact(p, q, near, pass == 0, kept);
       behind |= hit.behind;
       if (!hit.found) break;
       c.hits += pass == 0 && hit.swept;
@@ -168,7 +192,7 @@ class FacetObstacleStage final : public Stage {
                   .stuck;
       q = end_point();
       if (q == p) break;  // held still (a resting, sticking particle): nothing left to cross
-      if (pass == kPasses - 1 && first_contact(p, q, near, false).found) {
+      if (pass == kPasses - 1 && first_contact(p, q, near, false, kept).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
         f = {};
       }
@@ -193,20 +217,35 @@ class FacetObstacleStage final : public Stage {
   // The first pass also notes whether p lies behind a facet it projects onto, the only way a
   // particle can be inside a closed mesh near its surface (most are not: no closest-point
   // search for them).
+  // `kept`: N.AP per facet of `near` (written by the first pass, read by the next), or empty.
   Contact first_contact(const Vec3& p, const Vec3& q, std::span<const std::uint32_t> near,
-                        bool first_pass) const {
+                        bool first_pass, std::span<Real> kept) const {
     Contact hit, rest;
     Real first = 2;
+    if (!first_pass && !kept.empty()) {
+      // Later passes: only a facet p is above can be crossed (resting ones are the first's).
+      for (std::size_t k = 0; k < near.size(); ++k) {
+        const std::uint32_t fi = near[k];
+        Real u;
+        if (kept[k] > eps_[fi] && grid_.crosses_above(fi, kept[k], p, q, eps_[fi], u) &&
+            (u < first || (u == first && fi < hit.facet)))
+          first = u, hit = {true, true, false, fi};
+      }
+      return hit;
+    }
     // The facet whose plane is nearest p: a particle inside a closed mesh, near its surface,
     // lies behind it and over it (one inside test per particle, not one per facet).
     Real nearest = std::numeric_limits<Real>::max(), nearest_above = 0;
     std::uint32_t nearest_facet = 0;
-    for (std::uint32_t fi : near) {
+    for (std::size_t k = 0; k < near.size(); ++k) {
+      const std::uint32_t fi = near[k];
       const facets::Facet& fa = grid_.facets()[fi];
       const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      if (first_pass && !kept.empty()) kept[k] = above;
       Real u;
       if (above > eps) {
-        if (grid_.crosses(fi, p, q, eps, u) && (u < first || (u == first && fi < hit.facet)))
+        if (grid_.crosses_above(fi, above, p, q, eps, u) &&
+            (u < first || (u == first && fi < hit.facet)))
           first = u, hit = {true, true, false, fi};
       } else if (first_pass && above >= -eps) {
         if ((!rest.found || fi < rest.facet) && dot(fa.n, q - p) < 0 &&
@@ -235,7 +274,7 @@ class FacetObstacleStage final : public Stage {
     swept_inside_ = true;
     if (!grid_.closed()) return;
     for (std::uint32_t p : set_) {
-      const Vec3 local = now.to_canonical(s.x()[p]);
+      const Vec3 local = to_frame(now, s.x()[p]);
       if (!grid_.inside_box(local)) continue;
       const facets::Closest cl = grid_.nearest(local);
       if (cl.sign < 0) put_out(cl, s.x()[p], s.v()[p], s.f()[p], {}, now, c);
@@ -260,7 +299,7 @@ class FacetObstacleStage final : public Stage {
   void put_out(const facets::Closest& best, Vec3& x, Vec3& v, Vec3& f, const Vec3& surface_v,
                const shapes::Affine& now, Counts& c) const {
     const Vec3 n = normal_at(now, best.facet);
-    const Vec3 surface = now.to_world(best.point);
+    const Vec3 surface = world_ ? best.point : now.to_world(best.point);
     c.deepest = std::max(c.deepest, norm(surface - x));
     x = surface + n * (2 * o_.epsilon);
     const Real vn = dot(v - surface_v, n);
@@ -292,6 +331,7 @@ class FacetObstacleStage final : public Stage {
   // Per colliding point: the grid cell of its last query and its facets (FacetGrid::Row).
   std::vector<facets::FacetGrid::Row> row_;
   ObstacleSurface surface_;
+  bool world_;  // static: the grid holds the placed mesh, in the world's frame
   facets::FacetGrid grid_;
   std::vector<Real> eps_;      // per facet, in the mesh frame
   std::vector<Vec3> normals_;  // per facet, in the world at rest (placement `place`)
