@@ -195,6 +195,10 @@ int run(const RunOptions& o) {
     std::cerr << "unknown format '" << o.format << "'\n";
     return usage;
   }
+  if (o.smooth && *format != FrameFormat::obj) {
+    std::cerr << "--smooth writes OBJ frames: add --format obj\n";
+    return usage;
+  }
   const std::optional<std::uint64_t> steps =
       o.steps ? o.steps
               : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
@@ -227,7 +231,7 @@ int run(const RunOptions& o) {
       kept = kept_stats(std::filesystem::path(o.resume) / "stats.csv", c->stats_rows);
       sim.restore(std::move(c->state), c->frames_published);
     }
-    FrameWriter frames(out, *format, sim.model());
+    FrameWriter frames(out, *format, sim.model(), o.smooth ? o.lod : 0);
     StatsWriter stats(out / "stats.csv", kept);
     if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
     sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
@@ -420,6 +424,8 @@ int render(const RenderCommandOptions& o) {
   m.duration = o.duration ? *o.duration : scene->settings.duration;
   m.samples = o.samples;
   m.options.links_on_surface = o.mesh;
+  m.options.smooth = o.smooth;
+  m.options.smooth_lod = o.lod;
   if (o.threads) m.threads = *o.threads;
   if (!parse_camera(o.camera, m)) {
     std::cerr << "--camera: expected yaw,pitch[,zoom] (yaw within +-3600 degrees, pitch within "

@@ -25,6 +25,8 @@ struct RunOptions {
   std::string out;  // empty: out/<scene name>
   std::optional<int> every;
   std::string format = "ply";
+  bool smooth = false;  // obj frames: the smooth surface through the particles
+  int lod = 4;          // its sub-segments per physical edge, 1 to 16
   std::optional<int> threads;
   bool no_frames = false;
   std::optional<std::uint64_t> checkpoint_every;  // steps between checkpoints (DIR/checkpoint.bin)
@@ -59,6 +61,8 @@ struct RenderCommandOptions {
   std::string camera = "25,15,1";  // "yaw,pitch[,zoom]": degrees, degrees, distance factor
   int samples = 4;                 // antialiasing samples per pixel
   bool mesh = false;               // draw the links inside cloth surfaces too
+  bool smooth = false;             // cloth faces as a smooth surface (smooth_surface.hpp)
+  int lod = 4;                     // its sub-segments per physical edge, 1 to 16
   std::optional<int> threads;
   bool no_self_collision = false;
   std::vector<std::string>

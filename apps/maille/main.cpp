@@ -57,6 +57,10 @@ int main(int argc, char** argv) {
       ->check(number_in(1, 1 << 30));
   run_cmd->add_option("--format", ro.format, "Frame format")
       ->check(CLI::IsMember({"ply", "obj", "vtk"}));
+  run_cmd->add_flag("--smooth", ro.smooth,
+                    "OBJ frames of the smooth surface through the particles (with --format obj)");
+  run_cmd->add_option("--lod", ro.lod, "Smooth surface: sub-segments per physical edge")
+      ->check(CLI::Range(1, 16));
   run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
       ->check(kThreads);
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
@@ -143,6 +147,10 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--samples", rn.samples, "Antialiasing samples per pixel (1-8)")
       ->check(CLI::Range(1, 8));
   render_cmd->add_flag("--mesh", rn.mesh, "Also draw the links inside cloth surfaces");
+  render_cmd->add_flag("--smooth", rn.smooth,
+                       "Draw cloth as a smooth surface through the particles (GPU-evaluated)");
+  render_cmd->add_option("--lod", rn.lod, "Smooth surface: sub-segments per physical edge")
+      ->check(CLI::Range(1, 16));
   render_cmd->add_flag("--no-self-collision", rn.no_self_collision,
                        "Ignore the scene's [self_collision] table");
   render_cmd->add_option("--set", rn.sets, set_help);

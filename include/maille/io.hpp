@@ -13,6 +13,7 @@
 #include "maille/model.hpp"
 #include "maille/profile.hpp"
 #include "maille/simulator.hpp"
+#include "maille/smooth_surface.hpp"
 #include "maille/snapshot.hpp"
 
 namespace maille {
@@ -48,7 +49,9 @@ void write_frame(const std::filesystem::path& path, FrameFormat format, const Mo
 // Writes dir/frame_000000.<ext>, dir/frame_000001.<ext>, ... as snapshots arrive.
 class FrameWriter {
  public:
-  FrameWriter(std::filesystem::path dir, FrameFormat format, const Model& m);
+  // smooth_lod > 0 (OBJ only): each frame is the smooth surface through the particles
+  // (smooth_surface.hpp) at that level of detail, with its normals, for Blender and the like.
+  FrameWriter(std::filesystem::path dir, FrameFormat format, const Model& m, int smooth_lod = 0);
   void operator()(const Snapshot& s);
   std::uint64_t written() const { return written_; }
 
@@ -57,7 +60,13 @@ class FrameWriter {
   FrameFormat format_;
   const Model& model_;
   std::uint64_t written_ = 0;
+  int smooth_lod_ = 0;
+  SmoothSurface smooth_;
+  SmoothMesh smooth_mesh_;
 };
+
+// The smooth surface of a frame as an OBJ file: v, vn and f a//a lines.
+void write_smooth_obj(const std::filesystem::path& path, const SmoothMesh& mesh, const Snapshot& s);
 
 // stats.csv: one row per energy sample: time, step, energies, ns per stage during that step,
 // counters. The header is written with the first row (stages plugged in before then appear),

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <stdexcept>
 #include <vector>
 
 #include "maille/io.hpp"
@@ -97,14 +98,45 @@ void write_frame(const std::filesystem::path& path, FrameFormat format, const Mo
   file.commit();
 }
 
-FrameWriter::FrameWriter(std::filesystem::path dir, FrameFormat format, const Model& m)
-    : dir_(std::move(dir)), format_(format), model_(m) {}
+FrameWriter::FrameWriter(std::filesystem::path dir, FrameFormat format, const Model& m,
+                         int smooth_lod)
+    : dir_(std::move(dir)), format_(format), model_(m), smooth_lod_(smooth_lod) {
+  if (smooth_lod_ > 0) {
+    if (format_ != FrameFormat::obj)
+      throw std::invalid_argument("smooth frames are written as OBJ only");
+    smooth_ = SmoothSurface(m);
+    if (smooth_.empty()) throw std::invalid_argument("the scene has no surface to smooth");
+  }
+}
+
+void write_smooth_obj(const std::filesystem::path& path, const SmoothMesh& mesh,
+                      const Snapshot& s) {
+  AtomicFile file(path);
+  std::ostream& o = file.stream();
+  o << "# maille frame " << s.frame << " step " << s.step << " time " << s.time
+    << " (smooth surface)\n";
+  const std::vector<float>& v = mesh.vertices;
+  for (std::size_t i = 0; i + 5 < v.size(); i += 6)
+    o << "v " << v[i] << ' ' << v[i + 1] << ' ' << v[i + 2] << '\n';
+  for (std::size_t i = 0; i + 5 < v.size(); i += 6)
+    o << "vn " << v[i + 3] << ' ' << v[i + 4] << ' ' << v[i + 5] << '\n';
+  const std::vector<std::uint32_t>& t = mesh.triangles;
+  for (std::size_t i = 0; i + 2 < t.size(); i += 3)  // OBJ indices are 1-based
+    o << "f " << t[i] + 1 << "//" << t[i] + 1 << ' ' << t[i + 1] + 1 << "//" << t[i + 1] + 1 << ' '
+      << t[i + 2] + 1 << "//" << t[i + 2] + 1 << '\n';
+  file.commit();
+}
 
 void FrameWriter::operator()(const Snapshot& s) {
   char name[64];
   std::snprintf(name, sizeof name, "frame_%06llu.%s", static_cast<unsigned long long>(s.frame),
                 extension(format_).data());
-  write_frame(dir_ / name, format_, model_, s);
+  if (smooth_lod_ > 0) {
+    smooth_.evaluate(s.positions, smooth_lod_, smooth_mesh_);
+    write_smooth_obj(dir_ / name, smooth_mesh_, s);
+  } else {
+    write_frame(dir_ / name, format_, model_, s);
+  }
   ++written_;
 }
 

@@ -1,5 +1,6 @@
 #include "gl_program.hpp"
 
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 
@@ -27,11 +28,15 @@ GLuint compile(std::string_view pass, GLenum type, std::string_view source) {
     const std::string log = shader_log(shader);
     glDeleteShader(shader);
     throw std::runtime_error("renderer: " + std::string(pass) +
-                             (type == GL_VERTEX_SHADER ? " vertex" : " fragment") +
+                             (type == GL_VERTEX_SHADER    ? " vertex"
+                              : type == GL_COMPUTE_SHADER ? " compute"
+                                                          : " fragment") +
                              " shader: " + log);
   }
   return shader;
 }
+
+GLuint link(std::string_view pass, std::initializer_list<GLuint> shaders);
 
 }  // namespace
 
@@ -39,12 +44,20 @@ GLuint link_program(std::string_view pass, std::string_view vertex_source,
                     std::string_view fragment_source) {
   const GLuint vs = compile(pass, GL_VERTEX_SHADER, vertex_source);
   const GLuint fs = compile(pass, GL_FRAGMENT_SHADER, fragment_source);
+  return link(pass, {vs, fs});
+}
+
+GLuint link_compute_program(std::string_view pass, std::string_view compute_source) {
+  return link(pass, {compile(pass, GL_COMPUTE_SHADER, compute_source)});
+}
+
+namespace {
+
+GLuint link(std::string_view pass, std::initializer_list<GLuint> shaders) {
   const GLuint program = glCreateProgram();
-  glAttachShader(program, vs);
-  glAttachShader(program, fs);
+  for (GLuint sh : shaders) glAttachShader(program, sh);
   glLinkProgram(program);
-  glDeleteShader(vs);
-  glDeleteShader(fs);
+  for (GLuint sh : shaders) glDeleteShader(sh);
   GLint ok = GL_FALSE;
   glGetProgramiv(program, GL_LINK_STATUS, &ok);
   if (!ok) {
@@ -57,5 +70,7 @@ GLuint link_program(std::string_view pass, std::string_view vertex_source,
   }
   return program;
 }
+
+}  // namespace
 
 }  // namespace maille::render

@@ -12,5 +12,7 @@ namespace maille::render {
 // pass name and the driver's log when either fails.
 GLuint link_program(std::string_view pass, std::string_view vertex_source,
                     std::string_view fragment_source);
+// Compiles and links a compute shader (the same errors).
+GLuint link_compute_program(std::string_view pass, std::string_view compute_source);
 
 }  // namespace maille::render

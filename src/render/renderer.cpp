@@ -10,6 +10,7 @@
 
 #include "gl_program.hpp"
 #include "shaders.hpp"
+#include "smooth_shader.hpp"
 
 namespace maille::render {
 
@@ -40,10 +41,27 @@ struct Renderer::Gl {
   };
   std::vector<Solid> solids;  // a handful: found by a linear search
 
+  // Smooth surfaces: the compute program and what it reads and writes (grids and PN triangles
+  // per model; vertices and triangles per level of detail).
+  GLuint smooth = 0, smooth_vao = 0;
+  GLuint smooth_grids = 0, smooth_tris = 0, smooth_vertices = 0, smooth_indices = 0;
+  int smooth_lod = 0;  // the level of detail the buffers are sized for; 0: none yet
+  GLuint smooth_vertex_count = 0, smooth_grid_vertices = 0;
+  GLsizei smooth_index_count = 0;
+  void delete_smooth() {
+    const GLuint b[] = {smooth_grids, smooth_tris, smooth_vertices, smooth_indices};
+    glDeleteBuffers(4, b);
+    smooth_grids = smooth_tris = smooth_vertices = smooth_indices = 0;
+    smooth_lod = 0;
+    smooth_vertex_count = smooth_grid_vertices = 0;
+    smooth_index_count = 0;
+  }
+
   ~Gl() {
-    for (GLuint p : {background, lines, surface, links, points, solid}) glDeleteProgram(p);
-    const GLuint vaos[] = {empty_vao, surface_vao, lines_vao};
-    glDeleteVertexArrays(3, vaos);
+    for (GLuint p : {background, lines, surface, links, points, solid, smooth}) glDeleteProgram(p);
+    const GLuint vaos[] = {empty_vao, surface_vao, lines_vao, smooth_vao};
+    glDeleteVertexArrays(4, vaos);
+    delete_smooth();
     delete_buffers();
     glDeleteBuffers(1, &line_vertices);
     glDeleteBuffers(1, &contacts);
@@ -155,6 +173,13 @@ Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
   g.links = link_program("links", shaders::links_vs, shaders::links_fs);
   g.points = link_program("points", shaders::points_vs, shaders::points_fs);
   g.solid = link_program("solid", shaders::solid_vs, shaders::solid_fs);
+  g.smooth = link_compute_program("smooth surface", shaders::smooth_cs());
+  glCreateVertexArrays(1, &g.smooth_vao);
+  for (GLuint attrib : {0u, 1u}) {  // interleaved position, normal (6 floats)
+    glEnableVertexArrayAttrib(g.smooth_vao, attrib);
+    glVertexArrayAttribFormat(g.smooth_vao, attrib, 3, GL_FLOAT, GL_FALSE, attrib * 12);
+    glVertexArrayAttribBinding(g.smooth_vao, attrib, 0);
+  }
   glCreateVertexArrays(1, &g.empty_vao);
   glCreateVertexArrays(1, &g.surface_vao);
   glCreateVertexArrays(1, &g.lines_vao);
@@ -178,6 +203,8 @@ void Renderer::set_model(const Model& model) {
   positions_ = model.points.initial_position;
   info_ = Snapshot{};
   g.delete_buffers();
+  g.delete_smooth();
+  smooth_ = SmoothSurface(model);
   // The old scene's obstacles go with it; the new ones come with the first snapshot.
   solids_.clear();
   upload_solids();
@@ -357,7 +384,10 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
     glDrawArrays(GL_LINES, 0, g.grid_vertices);
   }
 
-  if (o.surface && g.triangle_indices > 0) {
+  const int lod = std::clamp(o.smooth_lod, 1, kMaxSmoothLod);
+  if (o.surface && o.smooth && !smooth_.empty()) {
+    draw_smooth(view_proj, view, lod);
+  } else if (o.surface && g.triangle_indices > 0) {
     glUseProgram(g.surface);
     set_uniform(g.surface, "u_view_proj", view_proj);
     set_uniform(g.surface, "u_view", view);
@@ -495,6 +525,68 @@ void Renderer::draw_solids(const Camera& camera, const Mat4& view_proj, const Ma
   glDisable(GL_CULL_FACE);
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
+}
+
+void Renderer::prepare_smooth(int lod) {
+  Gl& g = *gl_;
+  if (g.smooth_lod == lod) return;
+  g.delete_smooth();
+  std::vector<std::uint32_t> grids;  // Gl's Grid: 8 words each
+  for (const SmoothSurface::Grid& gr : smooth_.grids_at(lod)) {
+    std::uint32_t orientation = 0;
+    std::memcpy(&orientation, &gr.orientation, 4);
+    grids.insert(grids.end(), {gr.first, gr.nx, gr.ny, gr.vertex_offset, orientation, 0, 0, 0});
+  }
+  g.smooth_grids = make_buffer(grids);
+  g.smooth_tris = make_buffer(smooth_.other_triangles());
+  g.smooth_vertex_count = smooth_.vertex_count(lod);
+  g.smooth_grid_vertices = smooth_.grid_vertices(lod);
+  g.smooth_vertices = make_buffer(std::vector<float>(std::size_t(g.smooth_vertex_count) * 6));
+  const std::vector<std::uint32_t> triangles = smooth_.triangles(lod);
+  g.smooth_indices = make_buffer(triangles);
+  g.smooth_index_count = static_cast<GLsizei>(triangles.size());
+  glVertexArrayVertexBuffer(g.smooth_vao, 0, g.smooth_vertices, 0, 24);
+  glVertexArrayElementBuffer(g.smooth_vao, g.smooth_indices);
+  g.smooth_lod = lod;
+}
+
+void Renderer::draw_smooth(const Mat4& view_proj, const Mat4& view, int lod) {
+  Gl& g = *gl_;
+  prepare_smooth(lod);
+  // Evaluate: one invocation per smooth vertex, from the buffers the flat pass draws from.
+  glUseProgram(g.smooth);
+  glProgramUniform1i(g.smooth, glGetUniformLocation(g.smooth, "u_lod"), lod);
+  glProgramUniform1i(g.smooth, glGetUniformLocation(g.smooth, "u_grid_count"),
+                     static_cast<GLint>(smooth_.grids().size()));
+  glProgramUniform1ui(g.smooth, glGetUniformLocation(g.smooth, "u_grid_vertices"),
+                      g.smooth_grid_vertices);
+  glProgramUniform1ui(g.smooth, glGetUniformLocation(g.smooth, "u_total"), g.smooth_vertex_count);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.normals);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.smooth_grids);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.smooth_tris);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.smooth_vertices);
+  glDispatchCompute((g.smooth_vertex_count + 63) / 64, 1, 1);
+  glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  // Draw as the flat surface is drawn (same program and lighting).
+  glUseProgram(g.surface);
+  set_uniform(g.surface, "u_view_proj", view_proj);
+  set_uniform(g.surface, "u_view", view);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
+  glBindVertexArray(g.smooth_vao);
+  glDrawElements(GL_TRIANGLES, g.smooth_index_count, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+std::vector<float> Renderer::smooth_vertices() const {
+  const Gl& g = *gl_;
+  std::vector<float> out;
+  if (g.smooth_lod == 0) return out;
+  out.resize(std::size_t(g.smooth_vertex_count) * 6);
+  if (!out.empty())
+    glGetNamedBufferSubData(g.smooth_vertices, 0, GLsizeiptr(out.size() * 4), out.data());
+  return out;
 }
 
 }  // namespace maille::render

@@ -1,5 +1,7 @@
 #include "maille/render/topology.hpp"
 
+#include "maille/smooth_surface.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -97,23 +99,7 @@ void active_contacts(const RenderTopology& t, std::span<const Vec3> x,
 
 void surface_normals(const RenderTopology& t, std::span<const Vec3> x,
                      std::vector<float>& normals) {
-  std::vector<Vec3> sum(x.size(), Vec3{});
-  // The cross product's length is twice the face area: summing it weights faces by area.
-  for (std::size_t f = 0; f + 2 < t.triangles.size(); f += 3) {
-    const std::uint32_t a = t.triangles[f], b = t.triangles[f + 1], c = t.triangles[f + 2];
-    const Vec3 n = cross(x[b] - x[a], x[c] - x[a]);
-    sum[a] += n;
-    sum[b] += n;
-    sum[c] += n;
-  }
-  normals.resize(x.size() * 3);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const Real len = norm(sum[i]);
-    const Vec3 n = len > 0 && std::isfinite(len) ? sum[i] / len : Vec3{};
-    normals[3 * i] = float(n.x);
-    normals[3 * i + 1] = float(n.y);
-    normals[3 * i + 2] = float(n.z);
-  }
+  vertex_normals(t.triangles, x, normals);
 }
 
 std::vector<float> solid_vertices(const TriMesh& mesh, double crease_degrees) {

@@ -19,6 +19,8 @@
 #include "maille/render/renderer.hpp"
 #include "maille/render/snapshot_exchange.hpp"
 #include "maille/scene.hpp"
+#include "maille/simulator.hpp"
+#include "maille/smooth_surface.hpp"
 
 namespace maille::render {
 namespace {
@@ -531,6 +533,85 @@ TEST(RenderCamera, ProjectAndRayAgree) {
   EXPECT_LT(norm(cross(to_p, r.direction)), 1e-9);
   EXPECT_NEAR(camera.project(camera.target, 640, 480)->x, 320, 1e-9);
   EXPECT_NEAR(camera.project(camera.target, 640, 480)->y, 240, 1e-9);
+}
+
+// --- smooth surfaces (T3.1) ----------------------------------------------------------------------
+
+// The cloth of `name` after `steps` steps, in the renderer.
+Snapshot curved_snapshot(const char* name, std::uint64_t steps, Scene& scene) {
+  auto loaded = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
+  EXPECT_TRUE(loaded) << (loaded ? "" : loaded.error().to_string());
+  scene = std::move(loaded.value());
+  SimulationSettings settings = scene.settings;
+  settings.threads = 1;
+  Simulator sim(scene.model, settings);
+  sim.run_steps(steps);
+  Snapshot s;
+  s.positions.assign(sim.state().x().begin(), sim.state().x().end());
+  return s;
+}
+
+// The compute shader evaluates the same math as the CPU (smooth_math.glsl, compiled twice): the
+// vertices it writes agree with SmoothSurface::evaluate to float rounding. Both evaluate in
+// float with the same operations; a GPU may contract or reorder them, so allow 1e-5 of the
+// cloth's size on positions (a few hundred float ulps) and 1e-4 on unit normals.
+TEST_F(HeadlessRender, SmoothSurfaceOnTheGpuMatchesTheCpu) {
+  for (const char* name : {"flag_in_wind", "drum_membrane"}) {
+    Scene scene;
+    const Snapshot s = curved_snapshot(name, 1500, scene);
+    OffscreenTarget target(kWidth, kHeight, 1);
+    Renderer renderer;
+    renderer.set_model(scene.model);
+    renderer.set_snapshot(s);
+    Camera camera;
+    camera.frame(bounds_of(renderer.positions()), double(kWidth) / kHeight);
+    RenderOptions o = surface_only();
+    o.smooth = true;
+    o.smooth_lod = 3;
+    target.bind();
+    renderer.draw(camera, kWidth, kHeight, o);
+    const std::vector<float> gpu = renderer.smooth_vertices();
+    SmoothMesh cpu;
+    renderer.smooth_surface().evaluate(s.positions, 3, cpu);
+    ASSERT_EQ(gpu.size(), cpu.vertices.size()) << name;
+    const double size = bounds_of(renderer.positions()).diagonal();
+    double worst_position = 0, worst_normal = 0;
+    for (std::size_t k = 0; k < gpu.size(); ++k) {
+      const double e = std::abs(double(gpu[k]) - double(cpu.vertices[k]));
+      if (k % 6 < 3)
+        worst_position = std::max(worst_position, e / size);
+      else
+        worst_normal = std::max(worst_normal, e);
+    }
+    EXPECT_LT(worst_position, 1e-5) << name;
+    EXPECT_LT(worst_normal, 1e-4) << name;
+  }
+}
+
+// Smoothing rounds the cloth between particles; it must not change what it covers much: the
+// silhouette of a waving flag drawn smooth covers the flat drawing's area within 3 % (the
+// patches bulge by a fraction of a cell's sag, the extrapolated border by less).
+TEST_F(HeadlessRender, SmoothSilhouetteKeepsTheFlatArea) {
+  Scene scene;
+  const Snapshot s = curved_snapshot("flag_in_wind", 3000, scene);
+  OffscreenTarget target(kWidth, kHeight, 1);
+  Renderer renderer;
+  renderer.set_model(scene.model);
+  renderer.set_snapshot(s);
+  Camera camera;
+  camera.yaw = 0, camera.pitch = 10;  // facing the flag's plane (x, y)
+  camera.frame(bounds_of(renderer.positions()), double(kWidth) / kHeight);
+  RenderOptions o = surface_only();
+  target.bind();
+  renderer.draw(camera, kWidth, kHeight, o);
+  const int flat = cloth_pixels(target.read()).count;
+  o.smooth = true;
+  o.smooth_lod = 6;
+  target.bind();
+  renderer.draw(camera, kWidth, kHeight, o);
+  const int smooth = cloth_pixels(target.read()).count;
+  ASSERT_GT(flat, kWidth * kHeight / 20);
+  EXPECT_NEAR(smooth, flat, 0.03 * flat);
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include "maille/model.hpp"
 #include "maille/render/camera.hpp"
 #include "maille/render/topology.hpp"
+#include "maille/smooth_surface.hpp"
 #include "maille/snapshot.hpp"
 
 namespace maille::render {
@@ -41,6 +42,10 @@ struct RenderOptions {
   float strain_range = 0.05f;     // |strain| drawn fully red or blue, dimensionless, > 0
   float link_width = 2.0f;        // pixels, > 0
   float point_scale = 1.0f;       // times the topology's point radius, > 0
+  // Draw cloth faces as a smooth surface through the particles (smooth_surface.hpp), evaluated
+  // on the GPU by a compute shader: `smooth_lod` sub-segments per physical edge, 1 to 16.
+  bool smooth = false;
+  int smooth_lod = 4;
 };
 
 // A segment drawn on top of everything (overlays): see snapshot.hpp.
@@ -75,6 +80,11 @@ class Renderer {
   // stand for unbounded surfaces, and their drawn size is arbitrary.
   Bounds bounds() const;
   std::size_t solid_meshes() const;  // meshes on the GPU now (one per distinct pointer)
+  // The smooth surface's vertices as the GPU last evaluated them (6 floats each: position,
+  // normal; SmoothSurface's layout), read back: for tests against the CPU evaluation. Empty
+  // before the first smooth draw.
+  std::vector<float> smooth_vertices() const;
+  const SmoothSurface& smooth_surface() const { return smooth_; }
 
  private:
   struct Gl;
@@ -87,10 +97,13 @@ class Renderer {
   Bounds grid_box_;  // the grid lies under it, at its lowest height
   std::vector<OverlaySegment> overlay_;
   std::vector<SurfaceInstance> solids_;  // the last snapshot's surfaces
+  SmoothSurface smooth_;                 // the model's faces as smooth patches
   void upload_positions();
   void upload_solids();  // meshes not seen before; frees those no longer held
   void draw_solids(const Camera& camera, const Mat4& view_proj, const Mat4& view);
-  void upload_lines();  // grid and overlay
+  void upload_lines();           // grid and overlay
+  void prepare_smooth(int lod);  // buffers for this level of detail (once per change)
+  void draw_smooth(const Mat4& view_proj, const Mat4& view, int lod);
 };
 
 }  // namespace maille::render
