@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--screenshot", screenshot, "With --frames: write the last frame here (PNG)");
   app.add_flag("--paused", o.paused, "Start paused");
+  app.add_flag("--smooth", o.smooth, "Draw cloth as a smooth surface through the particles");
+  app.add_option("--lod", o.lod, "Smooth surface: sub-segments per physical edge")
+      ->check(CLI::Range(1, 16));
   app.add_option("--stage-option", stage_options,
                  "STAGE.OPTION=VALUE, repeatable: set as from the Stages panel, e.g. "
                  "obstacle:ball.method=facets");

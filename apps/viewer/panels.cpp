@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "maille/integrator.hpp"
+#include "maille/smooth_surface.hpp"
 
 namespace maille::viewer {
 
@@ -147,6 +148,10 @@ void drawing_controls(render::RenderOptions& o, Tuning& t, PanelRequests& r) {
   ImGui::Checkbox("grid", &o.grid);
   ImGui::SameLine();
   ImGui::Checkbox("obstacles", &o.solids);
+  // Smooth surface through the particles, evaluated on the GPU (smooth_surface.hpp).
+  ImGui::Checkbox("smooth", &o.smooth);
+  ImGui::SameLine();
+  ImGui::SliderInt("level of detail", &o.smooth_lod, 1, kMaxSmoothLod);
   ImGui::SliderFloat("strain range", &o.strain_range, 0.001f, 0.5f, "%.3f",
                      ImGuiSliderFlags_Logarithmic);
   ImGui::SliderFloat("link width (px)", &o.link_width, 0.5f, 8.0f);

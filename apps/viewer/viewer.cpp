@@ -57,7 +57,10 @@ std::filesystem::path timestamped_png() {
 class Viewer {
  public:
   Viewer(GLFWwindow* window, const ViewerOptions& o)
-      : window_(window), options_(o), examples_(list_scenes(o.examples)) {}
+      : window_(window), options_(o), examples_(list_scenes(o.examples)) {
+    options_render_.smooth = o.smooth;
+    options_render_.smooth_lod = o.lod;
+  }
 
   bool open(const std::filesystem::path& path) {
     Result<Scene> loaded = load_scene(path);

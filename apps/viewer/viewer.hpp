@@ -16,6 +16,8 @@ struct ViewerOptions {
   int frames = 0;                    // > 0: draw this many frames, then exit (tests)
   std::filesystem::path screenshot;  // with frames: the last frame written here as PNG
   bool paused = false;               // start paused
+  bool smooth = false;               // cloth drawn as a smooth surface
+  int lod = 4;                       // its sub-segments per physical edge, 1 to 16
   // Stages' live settings sent once the scene runs, (stage, option, value), through the same
   // path as the Stages panel; a refused one is shown there (and printed at the end of a
   // --frames run).

@@ -1,7 +1,7 @@
-# maille-viewer under Xvfb: draws N frames, writes the screenshot, exits 0.
+# maille-viewer under Xvfb: draws N frames, writes the screenshot, exits 0. EXTRA: more flags.
 file(REMOVE ${OUT})
 execute_process(COMMAND ${XVFB_RUN} -a -s "-screen 0 1024x768x24"
-                ${VIEWER} ${SCENE} --width 800 --height 600 --frames 20 --screenshot ${OUT}
+                ${VIEWER} ${SCENE} ${EXTRA} --width 800 --height 600 --frames 20 --screenshot ${OUT}
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "maille-viewer failed (${rc}): ${out} ${err}")
