@@ -1,7 +1,5 @@
 #include "maille/render/topology.hpp"
 
-#include "maille/smooth_surface.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -9,6 +7,7 @@
 #include <string>
 
 #include "maille/render/camera.hpp"
+#include "maille/smooth_surface.hpp"
 
 namespace maille::render {
 
