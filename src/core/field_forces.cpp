@@ -85,9 +85,9 @@ constexpr std::int64_t cell_cap = padded_cells(grid_tile);
 // no force, so every row of a tile runs the same cells with no test.
 struct GridRow {
   alignas(64) Real x[3][cell_cap + 1];
-  alignas(64) Real v[3][cell_cap + 1];
-  // With gusts: each point's coordinates along and across the wind (gust::arguments), so that
-  // a face's are the mean of its corners'.
+  alignas(64) Real v[3][cell_cap + 1];  // a third of each velocity: a face's mean is their sum
+  // With gusts: a third of each point's coordinates along and across the wind (gust::arguments),
+  // so that a face's are the sum of its corners'.
   alignas(64) double s[cell_cap + 1];
   alignas(64) double q[cell_cap + 1];
 };
@@ -106,10 +106,11 @@ static_assert(face_cap >= wind_block);
 
 void load_row(const Vec3* x, const Vec3* v, std::int64_t base, std::int64_t k0, std::int64_t k1,
               GridRow& r) {
+  constexpr Real third = Real(1) / Real(3);
   for (std::int64_t k = k0; k < k1; ++k) {
     const Vec3 p = x[base + k], u = v[base + k];
     r.x[0][k] = p.x, r.x[1][k] = p.y, r.x[2][k] = p.z;
-    r.v[0][k] = u.x, r.v[1][k] = u.y, r.v[2][k] = u.z;
+    r.v[0][k] = u.x * third, r.v[1][k] = u.y * third, r.v[2][k] = u.z * third;
   }
 }
 
@@ -156,7 +157,6 @@ inline Vec3 air(const gust::Basis& b, const GustBuffers& gb, std::int64_t j) {
 template <bool Gusty>
 std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
                        const GridRow* __restrict hi, std::int64_t cells, CellRow* __restrict out) {
-  constexpr Real third = Real(1) / Real(3);
   GustBuffers gb;
   if (Gusty) {
     // Arguments of F0 then F1, from the corners' s and q (double to float), then the sines.
@@ -177,9 +177,9 @@ std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
     for (std::int64_t k = 0; k < cells; ++k) {
       const double s_ac = ls[k] + hs[k + 1], q_ac = lq[k] + hq[k + 1];
       float r[4];
-      gust::arguments(law.basis, (s_ac + ls[k + 1]) * third, (q_ac + lq[k + 1]) * third, r);
+      gust::arguments(law.basis, s_ac + ls[k + 1], q_ac + lq[k + 1], r);
       r0[k] = r[0], r1[k] = r[1], r2[k] = r[2], r3[k] = r[3];
-      gust::arguments(law.basis, (s_ac + hs[k]) * third, (q_ac + hq[k]) * third, r);
+      gust::arguments(law.basis, s_ac + hs[k], q_ac + hq[k], r);
       t0[k] = r[0], t1[k] = r[1], t2[k] = r[2], t3[k] = r[3];
     }
     gust_sines(law.basis, 2 * cells, gb);
@@ -216,8 +216,13 @@ std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
     const Vec3 f1 = gust::face_force(air<Gusty>(law.basis, gb, cells + k), law.coef, n1, vac + vd);
     f0x[k] = f0.x, f0y[k] = f0.y, f0z[k] = f0.z;
     f1x[k] = f1.x, f1y[k] = f1.y, f1z[k] = f1.z;
-    pushed += std::uint64_t(k > 0 && norm2(n0) != 0) + std::uint64_t(k > 0 && norm2(n1) != 0);
+    pushed += std::uint64_t(norm2(n0) != 0) + std::uint64_t(norm2(n1) != 0);
   }
+  // Cell 0 is not this tile's to count.
+  const Vec3 a{lx[0], ly[0], lz[0]}, b{lx[1], ly[1], lz[1]}, c{hx[1], hy[1], hz[1]},
+      d{hx[0], hy[0], hz[0]};
+  pushed -= std::uint64_t(norm2(cross(b - a, c - a)) != 0) +
+            std::uint64_t(norm2(cross(c - a, d - a)) != 0);
   return pushed;
 }
 
@@ -258,7 +263,8 @@ std::uint64_t wind_grid_tile(const WindLaw& law, const FaceGrid& g, std::int64_t
         r.x[axis][k] = r.x[axis][p1 - 1], r.v[axis][k] = r.v[axis][p1 - 1];
     }
     if (Gusty) {
-      const Vec3 ka = law.basis.k_along, kc = law.basis.k_across;
+      constexpr Real third = Real(1) / Real(3);
+      const Vec3 ka = law.basis.k_along * third, kc = law.basis.k_across * third;
       for (std::int64_t k = 0; k <= cells; ++k) {
         const Vec3 p{r.x[0][k], r.x[1][k], r.x[2][k]};
         r.s[k] = dot(ka, p), r.q[k] = dot(kc, p);
@@ -336,7 +342,7 @@ std::uint64_t wind_loose(const WindLaw& law, const Model& m, State& s) {
     for (std::int64_t blk = 0; blk < blocks; ++blk) {
       const std::int64_t first = begin + blk * wind_block;
       const std::int64_t count = std::min(wind_block, end - first);
-      // [count] each: area vector 2 A n (m^2), centre (m), sum of the corners' velocities
+      // [count] each: area vector 2 A n (m^2), centre (m), mean of the corners' velocities
       // (m/s), then the force on each corner (N).
       alignas(64) Real ax[wind_block], ay[wind_block], az[wind_block];
       alignas(64) Real px[wind_block], py[wind_block], pz[wind_block];
@@ -349,10 +355,10 @@ std::uint64_t wind_loose(const WindLaw& law, const Model& m, State& s) {
       for (std::int64_t j = 0; j < count; ++j) {
         const auto [a, b, c] = tris[loose[first + j]];
         const Vec3 area2 = cross(x[b] - x[a], x[c] - x[a]);
-        const Vec3 centre = (x[a] + x[b] + x[c]) * third, vs = v[a] + v[b] + v[c];
+        const Vec3 centre = (x[a] + x[b] + x[c]) * third, vc = (v[a] + v[b] + v[c]) * third;
         ax[j] = area2.x, ay[j] = area2.y, az[j] = area2.z;
         px[j] = centre.x, py[j] = centre.y, pz[j] = centre.z;
-        vx[j] = vs.x, vy[j] = vs.y, vz[j] = vs.z;
+        vx[j] = vc.x, vy[j] = vc.y, vz[j] = vc.z;
         pushed += norm2(area2) != 0;
       }
       if (Gusty) {

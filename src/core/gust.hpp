@@ -6,7 +6,7 @@
 // a cross product, a square root and four divisions) and ran four scalar sines with a branchy
 // range reduction for every face: 80 % of the default scene's step. Here everything that does
 // not depend on the point is computed once per evaluation of the forces (Basis: the wave vectors,
-// each sine's phase at time t and its amplitude as a vector), and the per-point part is
+// each sine's phase at time t, the gust's amplitudes as vectors), and the per-point part is
 // branch-free, division-free and inlined, so face loops vectorise, in two halves of one width
 // each: arguments (double: the phases grow with time and positions need their digits), reduced
 // to half a turn and rounded to float; then gust_from (float: the four sines' polynomial and
@@ -22,19 +22,20 @@
 
 namespace maille::gust {
 
-// sin(2 pi y), y in turns (|y| < 2^51), to 6e-8 plus float rounding (the test bounds the error
-// by 2.5e-7 and measures it), in two halves so that a loop can run each with one width:
-// reduce (double in, float out) and sin_half (float only). Branch-free so that loops vectorise:
-// - the nearest integer k by the magic-number trick (y + 1.5 2^52) - 1.5 2^52, which rounds to
-//   nearest-even exactly as std::nearbyint does for |y| < 2^51; r = y - k in [-1/2, 1/2] is
-//   exact in double, then rounded once to float;
+// sin(2 pi y), y in turns (|y| < 2^51), to float rounding (the unit test bounds the field's
+// error and measures it), in two halves so that a loop can run each with one width: reduce
+// (double in, float out) and sin_half (float only). Branch-free so that loops vectorise:
+// - the nearest integer k: std::nearbyint where it is one instruction (SSE4.1 roundpd), else the
+//   magic-number trick (y + 1.5 2^52) - 1.5 2^52, which rounds to nearest-even exactly as
+//   nearbyint does for |y| < 2^51; r = y - k in [-1/2, 1/2] is exact in double, then rounded
+//   once to float;
 // - the two folds as compare-selects: r > 1/4 becomes 1/2 - r, r < -1/4 becomes -1/2 - r (exact
 //   in float), so 2 pi r lies in [-pi/2, pi/2];
-// - the odd Taylor polynomial of sin(2 pi r) to the 11th power (remainder (pi/2)^13 / 13! <
-//   6e-8: the same polynomial as the first version of the field, which used radians), in float
-//   (the field needs smoothness, not the last bits, and float halves the cost), by Estrin's
-//   scheme: three short chains instead of Horner's one long one, so that the processor overlaps
-//   them (the loop was bound by that latency).
+// - an odd polynomial of degree 9 in r, fitted to sin(2 pi r) on [-1/4, 1/4] (near-minimax:
+//   error 3.3e-9, against 5.7e-8 for the Taylor polynomial of degree 11 of the first version of
+//   the field), in float (the field needs smoothness, not the last bits, and float halves the
+//   cost), by Estrin's scheme: short chains instead of Horner's long one, so that the processor
+//   overlaps them (the loop was bound by that latency).
 inline float reduce(double y) {
 #ifdef __SSE4_1__
   const double k = std::nearbyint(y);  // one instruction (roundpd), the same integer
@@ -50,17 +51,12 @@ inline float sin_half(float r) {
   r = folded_high < r ? folded_high : r;
   const float folded_low = -0.5f - r;
   r = folded_low > r ? folded_low : r;
-  // (2 pi)^(2n+1) / (2n+1)!, alternating signs.
-  constexpr double tau = 2 * std::numbers::pi;
-  constexpr float c1 = float(tau), c3 = float(-tau * tau * tau / 6),
-                  c5 = float(tau * tau * tau * tau * tau / 120),
-                  c7 = float(-tau * tau * tau * tau * tau * tau * tau / 5040),
-                  c9 = float(tau * tau * tau * tau * tau * tau * tau * tau * tau / 362880),
-                  c11 = float(-tau * tau * tau * tau * tau * tau * tau * tau * tau * tau * tau /
-                              39916800);
-  // r (c1 + c3 z + c5 z^2 + c7 z^3 + c9 z^4 + c11 z^5), z = r^2
-  const float z = r * r, z2 = z * z, z4 = z2 * z2;
-  return r * (((c1 + c3 * z) + z2 * (c5 + c7 * z)) + z4 * (c9 + c11 * z));
+  // Near (2 pi)^(2n+1) / (2n+1)! with alternating signs, fitted (weighted least squares).
+  constexpr float c1 = 6.283185160f, c3 = -41.34165504f, c5 = 81.60100468f, c7 = -76.54979454f,
+                  c9 = 39.53678991f;
+  // r (c1 + c3 z + c5 z^2 + c7 z^3 + c9 z^4), z = r^2
+  const float z = r * r, z2 = z * z;
+  return r * (((c1 + c3 * z) + z2 * (c5 + c7 * z)) + (z2 * z2) * c9);
 }
 
 inline float sin_turns(double y) {
@@ -68,16 +64,19 @@ inline float sin_turns(double y) {
 }
 
 // The point-independent part of the field at time t.
-//   w(p, t) = U + sum_k amplitude_k sin(2 pi (phase_k - a_k s + b_k q)),
-//   s = u.p / lambda, q = e2.p / lambda (u along U, e1 across it and horizontal, e2 the third),
-// which is the formula of WindField (fields.hpp) with its products expanded:
-//   U (1 + T (0.6 S0 + 0.4 S1)) + T |U| (0.5 S2 e1 + 0.3 S3 e2).
+//   w(p, t) = U + T U (0.6 S0 + 0.4 S1) + 0.5 T |U| e1 S2 + 0.3 T |U| e2 S3,
+//   S_k = sin(2 pi (phase_k - a_k s + b_k q)), s = u.p / lambda, q = e2.p / lambda
+// (u along U, e1 across it and horizontal, e2 the third), which is the formula of WindField
+// (fields.hpp) with its products expanded: U (1 + T g) + T |U| (c1 e1 + c2 e2).
 struct Basis {
   bool steady = true;          // no gusts (no wind or no turbulence): w = mean everywhere
   Vec3 mean{};                 // U, m/s
   Vec3 k_along{}, k_across{};  // u / lambda and e2 / lambda, 1/m
   double phase[4] = {};        // f t times each sine's frequency factor, plus its phase, turns
-  float amplitude[3][4] = {};  // [axis][sine], m/s: 0.6 T U, 0.4 T U, 0.5 T |U| e1, 0.3 T |U| e2
+  // The gust is along * (0.6 S0 + 0.4 S1) + across1 * S2 + across2 * S3, by axis:
+  float along[3] = {};    // T U, m/s
+  float across1[3] = {};  // 0.5 T |U| e1, m/s
+  float across2[3] = {};  // 0.3 T |U| e2, m/s
 };
 
 // Each sine's frequency factor and phase (rad); its wave numbers along and across the wind (in
@@ -103,13 +102,12 @@ inline Basis basis(const WindField& w, double t) {
   for (int k = 0; k < 4; ++k)
     b.phase[k] = frequency_factor[k] * ft + phase_rad[k] / (2 * std::numbers::pi);
   const Real cross_amplitude = w.turbulence * speed;
-  const Vec3 amplitude[4] = {w.velocity * Real(0.6 * w.turbulence),
-                             w.velocity * Real(0.4 * w.turbulence),
-                             e1 * Real(0.5 * cross_amplitude), e2 * Real(0.3 * cross_amplitude)};
-  for (int k = 0; k < 4; ++k) {
-    b.amplitude[0][k] = float(amplitude[k].x);
-    b.amplitude[1][k] = float(amplitude[k].y);
-    b.amplitude[2][k] = float(amplitude[k].z);
+  const Vec3 along = w.velocity * w.turbulence, across1 = e1 * Real(0.5 * cross_amplitude),
+             across2 = e2 * Real(0.3 * cross_amplitude);
+  for (int axis = 0; axis < 3; ++axis) {
+    b.along[axis] = float(along[axis]);
+    b.across1[axis] = float(across1[axis]);
+    b.across2[axis] = float(across2[axis]);
   }
   return b;
 }
@@ -136,10 +134,9 @@ inline void arguments(const Basis& b, const Vec3& p, float r[4]) {
 // The gust w - U (m/s, by axis) from the four reduced arguments.
 inline void gust_from(const Basis& b, const float r[4], float gust[3]) {
   const float s0 = sin_half(r[0]), s1 = sin_half(r[1]), s2 = sin_half(r[2]), s3 = sin_half(r[3]);
-  for (int axis = 0; axis < 3; ++axis) {
-    const float* a = b.amplitude[axis];
-    gust[axis] = ((a[0] * s0 + a[1] * s1) + a[2] * s2) + a[3] * s3;
-  }
+  const float g = 0.6f * s0 + 0.4f * s1;
+  for (int axis = 0; axis < 3; ++axis)
+    gust[axis] = (b.along[axis] * g + b.across1[axis] * s2) + b.across2[axis] * s3;
 }
 
 inline Vec3 at(const Basis& b, const Vec3& p) {
@@ -150,16 +147,14 @@ inline Vec3 at(const Basis& b, const Vec3& p) {
 }
 
 // The wind's force on each corner of one face (N), from its doubled area vector
-// a2 = (x_b - x_a) x (x_c - x_a) = 2 A n, the sums of its corners' positions xs and velocities vs
-// and the air velocity w at its centre xs / 3:
-//   F = 1/2 rho C_d A |v_rel . n| (v_rel . n) n / 3,  v_rel = w - vs / 3
+// a2 = (x_b - x_a) x (x_c - x_a) = 2 A n, the mean of its corners' velocities vc and the air
+// velocity w at its centre:
+//   F = 1/2 rho C_d A |v_rel . n| (v_rel . n) n / 3,  v_rel = w - vc
 //     = coef |d| d / |a2|^2 a2,  d = v_rel . a2,  coef = rho C_d / 12
 // (no square root: A = |a2| / 2 and n = a2 / |a2|). A degenerate face (a2 = 0) gets no force:
 // the division is by |a2|^2 + (|a2|^2 == 0), written so that loops vectorise without masks.
-inline Vec3 face_force(const Vec3& w, Real coef, const Vec3& a2, const Vec3& vs) {
-  constexpr Real third = Real(1) / Real(3);
-  const Vec3 rel = w - vs * third;
-  const Real d = dot(rel, a2);
+inline Vec3 face_force(const Vec3& w, Real coef, const Vec3& a2, const Vec3& vc) {
+  const Real d = dot(w - vc, a2);
   const Real l2 = norm2(a2);
   return a2 * (coef * std::abs(d) * d / (l2 + Real(l2 == 0)));
 }
