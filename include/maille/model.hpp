@@ -16,10 +16,23 @@
 
 namespace maille {
 
+// A regular grid of faces, as the flag builder lays them out: points first + j nx + i for
+// i < nx, j < ny, and in each cell (i, j) < (nx - 1, ny - 1), with p = first + j nx + i, the two
+// faces (p, p + 1, p + nx + 1) and (p, p + nx + 1, p + nx). The wind stage runs such faces row by
+// row with contiguous loads, each point summing the forces of its six faces (field_forces.cpp).
+struct FaceGrid {
+  std::uint32_t first = 0;       // point index of (0, 0)
+  std::uint32_t nx = 0, ny = 0;  // points per row, rows (>= 2 each)
+};
+
 // Cloth faces: wind acts on them; renderers and frame writers draw them.
 struct Surface {
   std::vector<std::array<std::uint32_t, 3>> triangles;  // point indices, counter-clockwise
-  std::vector<std::uint32_t> colour_offsets;            // filled by Model::prepare()
+  // Filled by Model::prepare():
+  std::vector<std::uint32_t> colour_offsets;  // triangles by colour (no shared corner in one)
+  std::vector<FaceGrid> grids;                // grid groups whose faces are all in triangles
+  std::vector<std::uint32_t> loose;           // the other faces (indices into triangles), by colour
+  std::vector<std::uint32_t> loose_offsets;   // colour c spans loose[loose_offsets[c] .. [c+1])
 };
 
 // A named range of points made by one builder or one explicit declaration.

@@ -1,8 +1,69 @@
 #include "maille/model.hpp"
 
+#include <array>
+#include <cstdint>
 #include <vector>
 
 namespace maille {
+
+namespace {
+
+// Grid groups (Group::grid_nx, grid_ny) whose cells carry exactly the flag builder's two faces
+// become FaceGrids; each face is claimed by at most one grid, and a group missing any face keeps
+// all its faces in the coloured list. A subset of a colour group shares no corner either, so the
+// loose faces keep the colouring.
+void find_face_grids(Model& m) {
+  Surface& surface = m.surface;
+  const auto& tris = surface.triangles;
+  surface.grids.clear();
+  surface.loose.clear();
+  surface.loose_offsets.assign(1, 0);
+  // Faces by first corner (counting sort).
+  std::vector<std::uint32_t> start(m.points.size() + 1, 0), by_first(tris.size());
+  const std::size_t n = m.points.size();
+  for (const auto& t : tris)
+    if (t[0] < n) ++start[t[0] + 1];
+  for (std::size_t p = 0; p < n; ++p) start[p + 1] += start[p];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t f = 0; f < tris.size(); ++f)
+      if (tris[f][0] < n) by_first[fill[tris[f][0]]++] = f;
+  }
+  std::vector<char> in_grid(tris.size(), 0);  // 0 loose, 1 a grid's, 2 claimed by this group
+  std::vector<std::uint32_t> claimed;
+  auto claim = [&](std::array<std::uint32_t, 3> want) {
+    for (std::uint32_t k = start[want[0]]; k < start[want[0] + 1]; ++k) {
+      const std::uint32_t f = by_first[k];
+      if (in_grid[f] == 0 && tris[f] == want) {
+        in_grid[f] = 2;
+        claimed.push_back(f);
+        return true;
+      }
+    }
+    return false;
+  };
+  for (const Group& g : m.groups) {
+    const std::uint32_t nx = g.grid_nx, ny = g.grid_ny;
+    if (nx < 2 || ny < 2 || std::uint64_t(nx) * ny != g.count || g.first + g.count > n) continue;
+    claimed.clear();
+    bool whole = true;
+    for (std::uint32_t j = 0; whole && j + 1 < ny; ++j)
+      for (std::uint32_t i = 0; whole && i + 1 < nx; ++i) {
+        const std::uint32_t p = g.first + j * nx + i;
+        whole = claim({p, p + 1, p + nx + 1}) && claim({p, p + nx + 1, p + nx});
+      }
+    for (const std::uint32_t f : claimed) in_grid[f] = whole ? 1 : 0;
+    if (whole) surface.grids.push_back({g.first, nx, ny});
+  }
+  for (std::size_t c = 0; c + 1 < surface.colour_offsets.size(); ++c) {
+    for (std::uint32_t f = surface.colour_offsets[c]; f < surface.colour_offsets[c + 1]; ++f)
+      if (in_grid[f] == 0) surface.loose.push_back(f);
+    if (surface.loose.size() > surface.loose_offsets.back())
+      surface.loose_offsets.push_back(static_cast<std::uint32_t>(surface.loose.size()));
+  }
+}
+
+}  // namespace
 
 const Group* Model::group(const std::string& name) const {
   for (const auto& g : groups)
@@ -21,6 +82,7 @@ void Model::prepare() {
   for (std::size_t i = 0; i < c.order.size(); ++i) sorted[i] = surface.triangles[c.order[i]];
   surface.triangles = std::move(sorted);
   surface.colour_offsets = std::move(c.offsets);
+  find_face_grids(*this);
 }
 
 }  // namespace maille
