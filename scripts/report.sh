@@ -56,9 +56,14 @@ study_s=$(since "$t")
 
 t=$(now)
 peer=build/$preset/bench/peer_bullet
-peer_s=0
+peer_s=0 peer_status=absent
 if [ -x "$peer" ]; then
-  "$peer" --out "$data.new" "${quick[@]}"
+  # A failing peer harness costs the report its peer section, not the whole report.
+  if "$peer" --out "$data.new" "${quick[@]}"; then peer_status=ran; else
+    echo "report: $peer failed (exit $?): the report says so in its peer section" >&2
+    peer_status=failed
+    rm -f "$data.new/peer.csv"
+  fi
   peer_s=$(since "$t")
 else
   echo "report: $peer not built (Bullet not found): no peer comparison"
@@ -85,6 +90,7 @@ fi
   echo "build_s,$build_s"
   echo "study_s,$study_s"
   echo "peer_s,$peer_s"
+  echo "peer,$peer_status"
   echo "gallery_s,$gallery_s"
   echo "total_s,$(since "$start")"
 } >"$data/run.csv"

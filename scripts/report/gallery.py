@@ -5,7 +5,8 @@
 
 Each scene is rendered by `maille render SCENE --out DIR/NAME.png --duration T --width W
 --height H` (headless EGL), T from GALLERY_TIME below (a moment that shows what the scene is
-about) or the smaller of the scene's duration and 2 s. The page (FILE) is a table: thumbnail,
+about) or the smaller of the scene's duration and 2 s, with GALLERY_CAMERA's view where the
+automatic framing is not the best. The page (FILE) is a table: thumbnail,
 name, the scene's `description`, and the exact command that reproduces the thumbnail.
 --quick renders 160 x 90 thumbnails at t = 0.1 s (a check that every scene renders; for CI).
 Exit 1 if any scene fails to render (the others are still rendered and listed).
@@ -25,6 +26,13 @@ GALLERY_TIME = {
     "drum_membrane": 0.3, "lattice_balls_collide": 0.8, "pendulum_chain": 0.53,
     "cloth_heap": 2.5, "flag_storm": 3.0, "cloth_wringing": 2.5, "cloth_down_stairs": 3.0,
     "rope_coil": 3.0, "net_and_rotating_cube": 2.0, "shaken_flag": 2.0,
+}
+
+# Camera (yaw, pitch[, zoom]) where the automatic framing is not the best view; these are the
+# views of the README's pictures.
+GALLERY_CAMERA = {
+    "cloth_heap": "35,25,0.7", "cloth_wringing": "20,20,0.9", "two_cloths": "30,30,0.7",
+    "flag_storm": "40,10",
 }
 
 
@@ -54,6 +62,8 @@ def main():
         png = os.path.join(a.out, name + ".png")
         cmd = [a.maille, "render", path, "--out", png, "--duration", f"{t:g}",
                "--width", str(width), "--height", str(height)]
+        if name in GALLERY_CAMERA:
+            cmd += ["--camera", GALLERY_CAMERA[name]]
         t0 = time.monotonic()
         r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         wall = time.monotonic() - t0

@@ -64,6 +64,8 @@ def read(path):
         rows = list(csv.DictReader(f))
     for r in rows:
         for k, v in r.items():
+            if k in ("version", "commit"):  # "3.10" is not 3.1
+                continue
             if v is None or v == "":
                 r[k] = None
                 continue
@@ -115,6 +117,9 @@ def grouped(n):
 
 
 def pct(x, digits=2):
+    """A relative error as a percentage; below 1e-4 as a plain relative number."""
+    if x is not None and abs(x) < 1e-4:
+        return g(x, digits) + " (relative)"
     return g(100 * x, digits) + " %"
 
 
@@ -158,7 +163,7 @@ def validity(d, figures, v):
     v["validity_cases"] = str(len(rows))
     v["validity_passed"] = str(sum(r["relative_error"] <= r["tolerance"] for r in rows))
     by = {r["case"]: r for r in rows}
-    v["validity_order"] = g(by["convergence_order"]["measured"], 4)
+    v["validity_order"] = g(by["convergence_order"]["measured"], 5)
     v["validity_worst_margin"] = g(min(r["tolerance"] / max(r["relative_error"], 1e-300)
                                        for r in rows), 2)
     for r in rows:
@@ -184,21 +189,28 @@ def integrators(d, figures, v):
     fig, ax = plt.subplots(figsize=(7, 4))
     notes = []
     for s in SCHEMES:
+        labelled = False
         for z, style in ((0.0, "-"), (0.01, ":")):
             pts = [(r["stiffness_N_per_m"], r["max_stable_step_s"]) for r in rows
                    if r["scheme"] == s and r["damping_Ns_per_m"] == z]
             finite = [(k, h) for k, h in pts if h and math.isfinite(h)]
             if finite:
-                ax.plot(*zip(*finite), style, color=COLOURS[s],
-                        label=s.replace("_", " ") if z == 0 else None)
-            if z == 0 and pts and not finite:
-                notes.append(s)
+                label = None
+                if not labelled:
+                    label = s.replace("_", " ") + ("" if z == 0 else " (damped only)")
+                    labelled = True
+                ax.plot(*zip(*finite), style, color=COLOURS[s], label=label)
+            if pts and not finite:
+                notes.append(f"{s.replace('_', ' ')}, {g(z)} N·s/m: "
+                             + ("every step stable" if all(math.isinf(h) for _, h in pts)
+                                else "no stable step"))
+    ax.text(0.02, 0.03, "\n".join(notes), transform=ax.transAxes, fontsize=7, va="bottom")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("stiffness k (N/m), mass 1 g")
     ax.set_ylabel("largest stable step h* (s)")
     ax.set_title("Stability limit (solid: undamped; dotted: 0.01 N·s/m)")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper right")
     save(fig, figures, "stability.png")
     m = rows[0]["mass_kg"]
 
@@ -213,7 +225,8 @@ def integrators(d, figures, v):
     ee = [r for r in rows if r["scheme"] == "explicit_euler" and r["damping_Ns_per_m"] == 0]
     v["stab_explicit_undamped"] = g(max(r["max_stable_step_s"] for r in ee))
     ie = [r["max_stable_step_s"] for r in rows if r["scheme"] == "implicit_euler"]
-    v["stab_implicit"] = "∞ (every step)" if all(math.isinf(h) for h in ie) else g(min(ie))
+    v["stab_implicit"] = ("stable at every step (∞ in the CSV)" if all(math.isinf(h) for h in ie)
+                          else f"stable up to {g(min(ie))} s")
     k1e4 = [r for r in rows if r["scheme"] == "leapfrog" and r["damping_Ns_per_m"] == 0
             and abs(r["stiffness_N_per_m"] - 1e4) < 1]
     v["stab_leapfrog_1e4"] = g(k1e4[0]["max_stable_step_s"]) if k1e4 else "n/a"
@@ -230,8 +243,8 @@ def integrators(d, figures, v):
         # Above the rounding floor (1e-11 m on a 0.1 m amplitude) the slope is the order.
         usable = [(h, e) for h, e in pts if e and e > 1e-11 and math.isfinite(e)]
         order = fit_slope(*zip(*usable)) if len(usable) >= 2 else float("nan")
-        v[f"order_{s}"] = g(order, 3)
-        order_rows.append([s.replace("_", " "), THEORY_ORDER[s], g(order, 3), len(usable),
+        v[f"order_{s}"] = f"{order:.2f}"
+        order_rows.append([s.replace("_", " "), THEORY_ORDER[s], f"{order:.2f}", len(usable),
                            g(min(e for _, e in pts)), g(max(e for _, e in pts))])
         ax.plot(*zip(*pts), "o-", ms=3, color=COLOURS[s],
                 label=f"{s.replace('_', ' ')}: {order:.2f}")
@@ -242,6 +255,15 @@ def integrators(d, figures, v):
     ax.set_title("Global error at t = 1 s (ω = 5 rad/s); legend: fitted order")
     ax.legend(fontsize=8)
     save(fig, figures, "accuracy.png")
+    off = [r[0] for r in order_rows if abs(float(r[2]) - r[1]) > 0.1 * r[1]]
+    v["order_claim"] = ("Every scheme shows its theoretical order (within 10 %)." if not off else
+                        "Off their theoretical order by more than 10 %: " + ", ".join(off) + ".")
+    lf = {r["step_s"]: r["error_at_1s_m"] for r in rows if r["scheme"] == "leapfrog"}
+    ratios = [r["error_at_1s_m"] / lf[r["step_s"]] for r in rows
+              if THEORY_ORDER[r["scheme"]] == 1 and lf.get(r["step_s"])]
+    v["first_order_over_leapfrog"] = f"{g(min(ratios), 2)} to {g(max(ratios), 2)}"
+    rk4 = sorted((r["step_s"], r["error_at_1s_m"]) for r in rows if r["scheme"] == "rk4")
+    v["rk4_smallest_error"] = g(rk4[0][1], 2)
     v["order_table"] = table(["scheme", "theory", "measured order", "points fitted",
                               "smallest error (m)", "largest error (m)"], order_rows)
 
@@ -252,6 +274,10 @@ def integrators(d, figures, v):
     ratios = [r["energy_ratio"] for r in rows]
     ax.barh(names, ratios, color=[COLOURS[r["scheme"]] for r in rows])
     ax.axvline(1, color="black", lw=0.8)
+    for i, r in enumerate(rows):
+        ax.text(r["energy_ratio"], i, " " + g(r["energy_ratio"], 4), va="center", fontsize=8,
+                ha="right" if r["energy_ratio"] > 1e6 else "left",
+                color="white" if r["energy_ratio"] > 1e6 else "black")
     ax.set_xscale("log")
     ax.set_xlabel(f"E(after {int(rows[0]['periods'])} periods) / E(0), "
                   f"{int(rows[0]['steps_per_period'])} steps a period, undamped")
@@ -271,13 +297,16 @@ def integrators(d, figures, v):
             color=[COLOURS[r["scheme"]] for r in rows])
     for i, r in enumerate(rows):
         extra = f", {int(r['cg_iterations'])} CG its" if r["cg_iterations"] else ""
-        ax.text(r["ns_per_particle_step"], i, f" {int(r['force_passes'])} force pass(es){extra}",
+        passes = int(r["force_passes"])
+        ax.text(r["ns_per_particle_step"],
+                i, f" {g(r['ns_per_particle_step'])} ns: {passes} force pass"
+                f"{'es' if passes > 1 else ''}{extra}",
                 va="center", fontsize=8)
-    ax.set_xscale("log")
-    ax.set_xlim(right=max(r["ns_per_particle_step"] for r in rows) * 8)
+    ax.set_xlim(right=max(r["ns_per_particle_step"] for r in rows) * 1.6)
     ax.invert_yaxis()
+    threads = int(rows[0]["threads"])
     ax.set_xlabel(f"ns per particle-step ({int(rows[0]['points'])} points, "
-                  f"{int(rows[0]['threads'])} thread)")
+                  f"{threads} thread{'s' if threads > 1 else ''})")
     ax.set_title("Cost of one step, flag in wind")
     save(fig, figures, "cost.png")
     by = {r["scheme"]: r for r in rows}
@@ -336,6 +365,18 @@ def integrators(d, figures, v):
                                 f"{g(first_win, 2)} N/m; below, leapfrog is cheaper.")
     best = max((o for o in out if o[4] != "n/a"), key=lambda o: float(o[4][:-1]), default=None)
     v["crossover_best"] = f"{best[4]} at {best[0]} N/m" if best else "n/a"
+    beats = []
+    for s in ["symplectic_euler", "velocity_verlet", "rk4"]:
+        for k in ks:
+            lf = [r for r in rows if r["stiffness_N_per_m"] == k and r["scheme"] == "leapfrog"][0]
+            o = [r for r in rows if r["stiffness_N_per_m"] == k and r["scheme"] == s][0]
+            if o["wall_s_per_simulated_s"] and o["comparable"] and \
+                    o["wall_s_per_simulated_s"] < lf["wall_s_per_simulated_s"]:
+                beats.append(f"{s.replace('_', ' ')} at {g(k, 2)} N/m")
+    hi = [s for s in beats if not s.startswith("symplectic")]
+    v["crossover_higher_order"] = (
+        "on the hanging flag neither beats leapfrog's wall time" if not hi else
+        "on the hanging flag they beat leapfrog's wall time only in " + ", ".join(hi))
     v["crossover_stiffnesses"] = ", ".join(g(k, 2) for k in ks)
     worst = min((o for o in out if o[4] != "n/a"), key=lambda o: float(o[4][:-1]), default=None)
     v["crossover_worst"] = f"{worst[4]} at {worst[0]} N/m" if worst else "n/a"
@@ -377,6 +418,12 @@ def self_collision(d, figures, v):
     v["sc_brute_over_uniform_n"] = grouped(common)
     v["sc_uniform_growth"] = g(uni[max(uni)] / uni[min(uni)], 3)
     v["sc_uniform_n_min"], v["sc_uniform_n_max"] = grouped(min(uni)), grouped(max(uni))
+    hashed = {r["particles"]: r["ns_per_particle_pass"] for r in one
+              if r["broad_phase"] == "hashed"}
+    slower = [n for n in hashed if n in uni and hashed[n] > uni[n]]
+    v["sc_hashed_claim"] = (
+        "is slower than the uniform grid at every size measured here" if len(slower) == len(hashed)
+        else f"is slower than the uniform grid at {len(slower)} of {len(hashed)} sizes measured")
     fastest = {}
     big = max(sizes)
     for r in one:
@@ -391,9 +438,15 @@ def self_collision(d, figures, v):
             r1 = [q for q in one if q["particles"] == r["particles"] and
                   q["broad_phase"] == r["broad_phase"]][0]
             speedups.append(r1["ns_per_particle_pass"] / r["ns_per_particle_pass"])
-        v["sc_two_thread_speedup"] = f"{g(min(speedups), 2)}x to {g(max(speedups), 2)}x"
+        v["sc_two_threads"] = (
+            f"- **The second thread** gains little in self-collision: {g(min(speedups), 2)}x to "
+            f"{g(max(speedups), 2)}x (the pass is memory-bound, and on a shared machine the "
+            "second core is rarely free).")
     else:
-        v["sc_two_thread_speedup"] = "not measured (one thread)"
+        v["sc_two_threads"] = (
+            "- **A second thread** was not measured in this run (`MAILLE_STUDY_THREADS=1`: on a "
+            "shared 2-core machine it mostly measures the neighbours); docs/benchmarks.md has a "
+            "two-thread run, where it gains little because the pass is memory-bound.")
 
     # Cell size against the P n^2 model, the tuner's choice marked.
     rows = d("self-collision", "cell_size.csv")
@@ -439,6 +492,13 @@ def self_collision(d, figures, v):
         v[f"sc_{b}_auto_over_best"] = g(auto["measured_ns"] / best["measured_ns"], 3)
         model_best = min(fixed, key=lambda r: r["model_P_n2"])
         v[f"sc_{b}_model_best_factor"] = g(model_best["cell_factor"], 3)
+        pairs = agree = 0
+        for i, p in enumerate(fixed):
+            for q in fixed[i + 1:]:
+                pairs += 1
+                agree += (p["model_P_n2"] - q["model_P_n2"]) * \
+                    (p["measured_ns"] - q["measured_ns"]) > 0
+        v[f"sc_{b}_model_agrees"] = f"{agree} of {pairs}"
 
     # Exclusions and memory.
     rows = d("self-collision", "exclusion.csv")
@@ -503,15 +563,16 @@ def obstacles(d, figures, v):
     width = 0.27
     for i, m in enumerate(methods):
         xs = [j + (i - 1) * width for j in range(len(shapes))]
-        pen = [max([r for r in rows if r["shape"] == s and r["method"] == m][0]
-                   ["max_penetration_m"], 1e-9) * 1e3 for s in shapes]
+        pen = [[r for r in rows if r["shape"] == s and r["method"] == m][0]
+               ["max_penetration_m"] * 1e3 for s in shapes]
         cost = [[r for r in rows if r["shape"] == s and r["method"] == m][0]["obstacle_ns_pps"]
                 for s in shapes]
         ax1.bar(xs, pen, width, color=COLOURS[m], label=m)
         ax2.bar(xs, cost, width, color=COLOURS[m], label=m)
+        for x, p_ in zip(xs, pen):
+            ax1.text(x, p_, g(p_, 2), ha="center", va="bottom", fontsize=7)
     for ax in (ax1, ax2):
         ax.set_xticks(range(len(shapes)), [s.replace("_", " ") for s in shapes])
-    ax1.set_yscale("log")
     ax1.set_ylabel("deepest penetration (mm)")
     ax1.set_title("Penetration into the true shape")
     ax2.set_ylabel("obstacle stage, ns per particle-step")
@@ -530,6 +591,9 @@ def obstacles(d, figures, v):
         v[f"obs_{m}_max_pen_mm"] = g(max(r["max_penetration_m"] for r in mr) * 1e3)
         v[f"obs_{m}_cost"] = (f"{g(min(r['obstacle_ns_pps'] for r in mr))}–"
                               f"{g(max(r['obstacle_ns_pps'] for r in mr))}")
+    facets_cubes = [r["max_penetration_m"] for r in rows
+                    if r["method"] == "facets" and r["shape"] != "sphere"]
+    v["obs_facets_cubes_mm"] = g(max(facets_cubes) * 1e3)
     cheapest = min(methods, key=lambda m: sum(r["obstacle_ns_pps"] for r in rows
                                               if r["method"] == m))
     shallowest = min(methods, key=lambda m: max(r["max_penetration_m"] for r in rows
@@ -556,6 +620,10 @@ def obstacles(d, figures, v):
         ["method", "μ", "slid (m)", "analytic (m)", "relative error"],
         [[r["method"], g(r["mu"], 2), g(r["distance_m"], 4), g(r["analytic_m"], 4),
           pct(r["relative_error"])] for r in rows])
+    v["incline_facets_worst"] = pct(max(r["relative_error"] for r in rows
+                                        if r["method"] == "facets"))
+    v["incline_geometric"] = pct(max(r["relative_error"] for r in rows
+                                     if r["method"] == "geometric"))
     v["incline_theta"] = g(rows[0]["theta_deg"], 2)
     v["incline_seconds"] = g(rows[0]["seconds"], 2)
     v["incline_worst"] = pct(max(r["relative_error"] for r in rows))
@@ -571,6 +639,15 @@ def obstacles(d, figures, v):
 
 
 def peer(d, figures, v):
+    v["peer_losses"] = ""
+    status = {r["key"]: r["value"] for r in d(None, "run.csv")}.get("peer") \
+        if d.has("run.csv") else None
+    if status == "failed":
+        v["peer_section"] = (
+            "The Bullet harness (`bench/peer_bullet`) was built but failed in this run (its "
+            "error is in the output of `scripts/report.sh`), so there is no peer comparison "
+            "here.")
+        return False
     if not d.has("peer.csv"):
         v["peer_section"] = (
             "The Bullet harness (`bench/peer_bullet`) was not built for this run, so there is "
@@ -611,6 +688,26 @@ def peer(d, figures, v):
         if lines:
             text.append("\n".join(lines))
     v["peer_section"] = "\n\n".join(text)
+    # Losses: where another engine is faster than Maille at the same size and setting, and
+    # any Maille run that was not stable.
+    ours = [r for r in rows if str(r["engine"]).lower() == "maille"]
+    losses = []
+    for r in ours:
+        if not r["stable"]:
+            losses.append(f"- **Maille was not stable** at {grouped(r['particles'])} particles "
+                          f"({r['setting']}, step {g(r['step_s'])} s).")
+        for o in rows:
+            if o in ours or o["particles"] != r["particles"] or o["setting"] != r["setting"]:
+                continue
+            if o["stable"] and o["wall_s_per_sim_s"] and r["wall_s_per_sim_s"] and \
+                    o["wall_s_per_sim_s"] < r["wall_s_per_sim_s"]:
+                losses.append(
+                    f"- **{o['engine']} is faster** at {grouped(r['particles'])} particles "
+                    f"({r['setting']}): {g(o['wall_s_per_sim_s'])} against "
+                    f"{g(r['wall_s_per_sim_s'])} wall s per simulated s (largest stretch "
+                    f"{pct(o['max_stretch']) if o['max_stretch'] is not None else 'n/a'} "
+                    f"against {pct(r['max_stretch']) if r['max_stretch'] is not None else 'n/a'}).")
+    v["peer_losses"] = "\n".join(losses)
     fig, ax = plt.subplots(figsize=(7, 3.6))
     for e in engines:
         for s, style in (("default", "o-"), ("tuned", "s--")):
@@ -667,11 +764,15 @@ def main():
     if a.template and a.md:
         fig_dir = os.path.relpath(a.figures, os.path.dirname(os.path.abspath(a.md)))
         v["figures"] = fig_dir
+        v["data"] = os.path.relpath(a.data, os.path.dirname(os.path.abspath(a.md)))
         v["peer_figure"] = (f"![peer engine]({fig_dir}/peer.png)" if has_peer else "")
         text = open(a.template).read()
         unknown = sorted(set(re.findall(r"\{\{(\w+)\}\}", text)) - set(v))
         if unknown:
             sys.exit(f"report.py: the template uses unknown keys: {unknown}")
+        # A placeholder alone on its line whose value is empty takes its line with it.
+        text = re.sub(r"^\{\{(\w+)\}\}\n", lambda m: v[m.group(1)] + "\n" if v[m.group(1)]
+                      else "", text, flags=re.M)
         text = re.sub(r"\{\{(\w+)\}\}", lambda m: v[m.group(1)], text)
         with open(a.md + ".tmp", "w") as f:
             f.write(text)
