@@ -510,8 +510,12 @@ def self_collision(d, figures, v):
           g(r["ns_per_particle_pass"])] for r in rows])
     v["sc_exclusion_side"] = str(int(rows[0]["side"]))
     ex = {r["exclusion"]: r for r in rows}
-    v["sc_same_contacts"] = ("the same" if ex["matrix"]["contacts"] == ex["signature"]["contacts"]
-                             else "different")
+    same = ex["matrix"]["contacts"] == ex["signature"]["contacts"]
+    v["sc_same_contacts"] = (
+        f"the same {grouped(ex['matrix']['contacts'])} contacts (of "
+        f"{grouped(ex['none']['contacts'])} without exclusion)" if same else
+        f"different contacts ({grouped(ex['matrix']['contacts'])} against "
+        f"{grouped(ex['signature']['contacts'])})")
     v["sc_matrix_over_signature_memory"] = g(ex["matrix"]["exclusion_bytes"] /
                                              ex["signature"]["exclusion_bytes"], 3)
     rows = d("self-collision", "memory.csv")
