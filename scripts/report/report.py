@@ -147,7 +147,7 @@ def fit_slope(xs, ys):
 
 def save(fig, figures, name):
     fig.tight_layout()
-    fig.savefig(os.path.join(figures, name), dpi=DPI)
+    fig.savefig(os.path.join(figures, name), dpi=DPI, bbox_inches="tight")
     plt.close(fig)
 
 
@@ -178,7 +178,7 @@ def validity(d, figures, v):
     ax.set_xscale("log")
     ax.set_xlabel("relative error against the closed form")
     ax.invert_yaxis()
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.22), ncol=2, fontsize=8)
     ax.set_title("Physical validity: leapfrog against analytic solutions")
     save(fig, figures, "validity.png")
 
@@ -613,12 +613,13 @@ def obstacles(d, figures, v):
     ax.bar([x + 0.2 for x in xs], [r["analytic_m"] for r in rows], 0.4,
            label="analytic ½ g (sin θ − μ cos θ) T²", color="tab:grey")
     for x, r in zip(xs, rows):
-        ax.text(x, max(r["distance_m"], r["analytic_m"]), pct(r["relative_error"]),
+        ax.text(x, max(r["distance_m"], r["analytic_m"]), "error " + g(r["relative_error"], 2),
                 ha="center", va="bottom", fontsize=7)
     ax.set_xticks(list(xs), labels, fontsize=8)
     ax.set_ylabel(f"distance slid in {g(rows[0]['seconds'], 2)} s (m)")
-    ax.set_title(f"A bead on a {g(rows[0]['theta_deg'], 2)}° incline")
-    ax.legend(fontsize=8)
+    ax.set_title(f"A bead on a {g(rows[0]['theta_deg'], 2)}° incline (labels: relative error)")
+    ax.set_ylim(top=max(max(r["distance_m"], r["analytic_m"]) for r in rows) * 1.35)
+    ax.legend(fontsize=8, loc="upper right")
     save(fig, figures, "incline.png")
     v["incline_table"] = table(
         ["method", "μ", "slid (m)", "analytic (m)", "relative error"],
