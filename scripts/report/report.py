@@ -516,6 +516,15 @@ def self_collision(d, figures, v):
         f"{grouped(ex['none']['contacts'])} without exclusion)" if same else
         f"different contacts ({grouped(ex['matrix']['contacts'])} against "
         f"{grouped(ex['signature']['contacts'])})")
+    m_, s_ = ex["matrix"], ex["signature"]
+    if s_["ns_per_particle_pass"] > m_["ns_per_particle_pass"]:
+        v["sc_signature_time"] = (
+            f"- **The signature exclusion's pass is slower** than the matrix's in this run: "
+            f"{g(s_['ns_per_particle_pass'])} against {g(m_['ns_per_particle_pass'])} ns per "
+            f"particle ({grouped(s_['candidate_pairs'])} distance tests against "
+            f"{grouped(m_['candidate_pairs'])}): it pays for its memory with time.")
+    else:
+        v["sc_signature_time"] = ""
     v["sc_matrix_over_signature_memory"] = g(ex["matrix"]["exclusion_bytes"] /
                                              ex["signature"]["exclusion_bytes"], 3)
     rows = d("self-collision", "memory.csv")
