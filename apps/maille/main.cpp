@@ -115,9 +115,11 @@ int main(int argc, char** argv) {
       "Comparative studies written as CSV (integrators: stability, accuracy, energy, "
       "cost, and the implicit/explicit crossover)");
   study_cmd->add_option("topic", so.topic, "What to study")
-      ->check(CLI::IsMember({"integrators", "self-collision", "validity", "obstacles"}))
+      ->check(CLI::IsMember({"integrators", "self-collision", "validity", "obstacles", "all"}))
       ->required();
-  study_cmd->add_option("--out", so.out, "Directory for the CSV files (default out/study)");
+  study_cmd->add_option("--out", so.out,
+                        "Directory for the CSV files (default out/study; `all`: one "
+                        "subdirectory per study and durations.csv)");
   study_cmd->add_option("--threads", so.threads, "Threads for the cost table")->check(kThreads);
   study_cmd->add_flag("--quick", so.quick,
                       "Shorter runs (integrators: two stiffnesses in the crossover; obstacles: "

@@ -1,5 +1,5 @@
-// `maille study integrators | self-collision | validity | obstacles`: see study.cpp and
-// study_*.cpp for the files they write.
+// `maille study integrators | self-collision | validity | obstacles | all`: see study.cpp and
+// study_*.cpp for the files they write (`all`: each study into OUT/<study>/).
 #pragma once
 
 #include <filesystem>
@@ -13,7 +13,7 @@ struct StudyOptions {
   std::string topic = "integrators";
   std::filesystem::path out = "out/study";
   int threads = 1;     // for the cost table
-  bool quick = false;  // two stiffnesses instead of five in the crossover sweep
+  bool quick = false;  // shorter sweeps and runs in every study (for CI)
 };
 int study(const StudyOptions& o);
 

@@ -2,6 +2,7 @@
 // of what the example is meant to show.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -36,15 +37,23 @@ double mean_y(const Simulator& sim, const std::string& group) {
 class Example : public ::testing::TestWithParam<std::filesystem::path> {};
 
 // One simulated second of each (or its whole duration if shorter), at the scene's own step,
-// which must be inside the stability estimate.
+// which must be inside the stability estimate; every position and velocity is finite at the
+// end. Every file in examples/ is a case (the list is read from the directory), so a new
+// example is covered by adding it, and the gallery (scripts/gallery.sh) renders the same list.
 TEST_P(Example, RunsStablyForOneSecond) {
   auto scene = load_scene(GetParam());
   ASSERT_TRUE(scene.ok()) << scene.error().to_string();
   Simulator sim(std::move(scene->model), scene->settings);
   EXPECT_LE(sim.settings().step, sim.stability().max_step) << "scene step beyond stability";
   const double t = std::min(1.0, sim.settings().duration);
-  EXPECT_TRUE(sim.run_steps(static_cast<std::uint64_t>(t / sim.settings().step)))
+  ASSERT_TRUE(sim.run_steps(static_cast<std::uint64_t>(t / sim.settings().step)))
       << sim.blow_up()->message;
+  for (std::size_t i = 0; i < sim.state().size(); ++i) {
+    const Vec3 x = sim.state().x()[i], v = sim.state().v()[i];
+    ASSERT_TRUE(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z) &&
+                std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z))
+        << "point " << i << " not finite at t = " << sim.state().time;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, Example, ::testing::ValuesIn(examples()),
