@@ -80,7 +80,7 @@ void write_csv(const std::filesystem::path& dir, const std::vector<Row>& rows) {
         << w.r.step << ',' << w.r.wall_per_sim() << ',' << w.r.max_penetration << ','
         << w.r.max_stretch << ',' << (w.r.stable ? 1 : 0) << ',' << w.r.sim_s << ",1,"
         << w.r.final_clearance << ',' << w.rungs << ','
-        << clean(w.notes + (w.r.why.empty() ? "" : " (" + w.r.why + ")")) << '\n';
+        << clean(w.notes + w.r.detail + (w.r.why.empty() ? "" : " (" + w.r.why + ")")) << '\n';
     f.flush();
     if (!f) throw std::runtime_error("cannot write " + tmp.string());
   }

@@ -1,6 +1,7 @@
 // Maille's side of the peer comparison: the scene as scene text, read by the scene reader (the
 // path a user's scene takes), stepped on one thread.
 #include <chrono>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -94,7 +95,17 @@ RunResult run_maille(const PeerScene& s, const MailleSetting& m, double step) {
     if (!meter.sample(get)) break;
   }
   if (done == steps && !sim.check_energy()) meter.fail("Maille energy runaway");
-  return meter.finish(step, double(done) * step, std::chrono::duration<double>(wall).count());
+  RunResult r =
+      meter.finish(step, double(done) * step, std::chrono::duration<double>(wall).count());
+  // Where the step's time went: the link forces and the obstacle, in ns per particle-step.
+  const double pps = double(done) * double(s.particles());
+  for (const auto& st : sim.profile().stages())
+    if (pps > 0 && (st.name == "link_forces" || st.name == "obstacle:sphere")) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, " %s=%.0fns/pps", st.name.c_str(), st.total_ns / pps);
+      r.detail += buf;
+    }
+  return r;
 }
 
 }  // namespace peer

@@ -43,6 +43,7 @@ struct RunResult {
   double final_centre_y = 0;   // m, the cloth's middle particle at the end
   bool stable = false;         // finite, bounded, within the setting's Bounds, moved
   std::string why;             // why it is not stable ("" when it is)
+  std::string detail;          // engine-specific notes (Maille: the stages' cost per particle-step)
   bool frozen() const { return why.rfind("frozen", 0) == 0; }
   double wall_per_sim() const { return sim_s > 0 ? wall_s / sim_s : 0; }
 };
