@@ -13,6 +13,9 @@ packages=(
   # stb_image_write for PNG, ffmpeg for MP4, Xvfb for the viewer test with no display.
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglfw3-dev libimgui-dev
   libstb-dev ffmpeg xvfb xauth
+  # The report pipeline (cli.report_quick: figures with Debian's matplotlib) and the peer engine
+  # of its comparison (bench/peer_bullet: Bullet's soft-body cloth; built only when present).
+  python3-matplotlib libbullet-dev
   "$@"
 )
 
