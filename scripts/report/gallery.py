@@ -32,8 +32,17 @@ GALLERY_TIME = {
 # views of the README's pictures.
 GALLERY_CAMERA = {
     "cloth_heap": "35,25,0.7", "cloth_wringing": "20,20,0.9", "two_cloths": "30,30,0.7",
-    "flag_storm": "40,10",
+    "flag_storm": "40,10", "tablecloth_on_table": "30,25,0.9", "cloth_down_stairs": "50,20,0.9",
+    "cloth_in_bowl": "20,35,0.9", "cloth_on_torus": "30,30,0.9", "cloth_over_rock": "30,25,0.9",
+    "cloth_on_cylinder": "40,20,0.9", "smooth_flag_16": "35,15,0.8", "flag_64": "35,15,0.8",
 }
+
+# More `maille render` flags for a scene: the 16 x 16 flag is there to be drawn smooth.
+GALLERY_FLAGS = {"smooth_flag_16": ["--smooth", "--lod", "4"]}
+
+# The binary the page's commands name: the README's build (the thumbnails may come from another
+# preset's identical build).
+SHOWN_MAILLE = "build/release/apps/maille/maille"
 
 
 def main():
@@ -64,6 +73,7 @@ def main():
                "--width", str(width), "--height", str(height)]
         if name in GALLERY_CAMERA:
             cmd += ["--camera", GALLERY_CAMERA[name]]
+        cmd += GALLERY_FLAGS.get(name, [])
         t0 = time.monotonic()
         r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         wall = time.monotonic() - t0
@@ -75,7 +85,7 @@ def main():
         size = os.path.getsize(png)
         print(f"gallery: {name:24s} t = {t:5.2f} s  {wall:6.1f} s wall  {size / 1e3:5.1f} kB")
         rel = os.path.relpath(png, md_dir)
-        shown = " ".join(shlex.quote(c) for c in cmd)
+        shown = " ".join(shlex.quote(c) for c in [SHOWN_MAILLE] + cmd[1:])
         rows.append(f"| ![{name}]({rel}) | `{name}` | {description} (t = {t:g} s) | "
                     f"`{shown}` |")
     total = time.monotonic() - started
