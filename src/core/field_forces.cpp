@@ -202,21 +202,46 @@ std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
   Real* __restrict f1x = out->f[0] + cells;
   Real* __restrict f1y = out->f[1] + cells;
   Real* __restrict f1z = out->f[2] + cells;
+  // The pressure law in float, like the gust: a face's force to 6e-8 of itself, far below what
+  // the drag law knows, at twice the vector width. Edges and velocity sums are differences and
+  // sums of doubles taken in double first (positions are metres from the origin), then rounded.
+  const float coef = float(law.coef);
+  const float mx = float(law.basis.mean.x), my = float(law.basis.mean.y),
+              mz = float(law.basis.mean.z);
+  const float* __restrict g0x = gb.gust[0];
+  const float* __restrict g0y = gb.gust[1];
+  const float* __restrict g0z = gb.gust[2];
   std::uint64_t pushed = 0;
   MAILLE_NO_OVERLAP
   for (std::int64_t k = 0; k < cells; ++k) {
-    const Vec3 a{lx[k], ly[k], lz[k]}, b{lx[k + 1], ly[k + 1], lz[k + 1]};
-    const Vec3 c{hx[k + 1], hy[k + 1], hz[k + 1]}, d{hx[k], hy[k], hz[k]};
-    const Vec3 va{lvx[k], lvy[k], lvz[k]}, vb{lvx[k + 1], lvy[k + 1], lvz[k + 1]};
-    const Vec3 vc{hvx[k + 1], hvy[k + 1], hvz[k + 1]}, vd{hvx[k], hvy[k], hvz[k]};
-    const Vec3 ac = c - a;
-    const Vec3 n0 = cross(b - a, ac), n1 = cross(ac, d - a);
-    const Vec3 vac = va + vc;
-    const Vec3 f0 = gust::face_force(air<Gusty>(law.basis, gb, k), law.coef, n0, vac + vb);
-    const Vec3 f1 = gust::face_force(air<Gusty>(law.basis, gb, cells + k), law.coef, n1, vac + vd);
-    f0x[k] = f0.x, f0y[k] = f0.y, f0z[k] = f0.z;
-    f1x[k] = f1.x, f1y[k] = f1.y, f1z[k] = f1.z;
-    pushed += std::uint64_t(norm2(n0) != 0) + std::uint64_t(norm2(n1) != 0);
+    // Cell corners a = lo[k], b = lo[k + 1], c = hi[k + 1], d = hi[k]; faces abc and acd.
+    const float abx = float(lx[k + 1] - lx[k]), aby = float(ly[k + 1] - ly[k]),
+                abz = float(lz[k + 1] - lz[k]);
+    const float acx = float(hx[k + 1] - lx[k]), acy = float(hy[k + 1] - ly[k]),
+                acz = float(hz[k + 1] - lz[k]);
+    const float adx = float(hx[k] - lx[k]), ady = float(hy[k] - ly[k]), adz = float(hz[k] - lz[k]);
+    const float n0x = aby * acz - abz * acy, n0y = abz * acx - abx * acz,
+                n0z = abx * acy - aby * acx;
+    const float n1x = acy * adz - acz * ady, n1y = acz * adx - acx * adz,
+                n1z = acx * ady - acy * adx;
+    const double vacx = lvx[k] + hvx[k + 1], vacy = lvy[k] + hvy[k + 1], vacz = lvz[k] + hvz[k + 1];
+    const float s0x = float(vacx + lvx[k + 1]), s0y = float(vacy + lvy[k + 1]),
+                s0z = float(vacz + lvz[k + 1]);
+    const float s1x = float(vacx + hvx[k]), s1y = float(vacy + hvy[k]), s1z = float(vacz + hvz[k]);
+    const float w0x = Gusty ? mx + g0x[k] : mx, w0y = Gusty ? my + g0y[k] : my,
+                w0z = Gusty ? mz + g0z[k] : mz;
+    const float w1x = Gusty ? mx + g0x[cells + k] : mx, w1y = Gusty ? my + g0y[cells + k] : my,
+                w1z = Gusty ? mz + g0z[cells + k] : mz;
+    // gust::face_force in float: coef |d| d / |a2|^2 a2, d = (w - v) . a2.
+    const float d0 = (w0x - s0x) * n0x + (w0y - s0y) * n0y + (w0z - s0z) * n0z;
+    const float d1 = (w1x - s1x) * n1x + (w1y - s1y) * n1y + (w1z - s1z) * n1z;
+    const float l0 = n0x * n0x + n0y * n0y + n0z * n0z;
+    const float l1 = n1x * n1x + n1y * n1y + n1z * n1z;
+    const float c0 = coef * std::abs(d0) * d0 / (l0 + float(l0 == 0));
+    const float c1 = coef * std::abs(d1) * d1 / (l1 + float(l1 == 0));
+    f0x[k] = Real(n0x * c0), f0y[k] = Real(n0y * c0), f0z[k] = Real(n0z * c0);
+    f1x[k] = Real(n1x * c1), f1y[k] = Real(n1y * c1), f1z[k] = Real(n1z * c1);
+    pushed += std::uint64_t(l0 != 0) + std::uint64_t(l1 != 0);
   }
   // Cell 0 is not this tile's to count.
   const Vec3 a{lx[0], ly[0], lz[0]}, b{lx[1], ly[1], lz[1]}, c{hx[1], hy[1], hz[1]},

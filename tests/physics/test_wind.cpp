@@ -109,6 +109,10 @@ double relative_error(const std::vector<Vec3>& got, const std::vector<Vec3>& wan
 // centre's, which can move each sine's argument by one float rounding (3e-8 turn, 2e-7 on the
 // sine), so the air velocity by ~1e-6 m/s out of 7: 1e-5 leaves a wide margin.
 constexpr double steady_tolerance = 1e-12, gusty_tolerance = 1e-5;
+// The grid path evaluates the law in float (edges and velocity sums rounded once from double,
+// then about ten float operations, each within 2^-24 = 6e-8): 1e-6 of the largest force, where
+// 1.5e-7 is measured.
+constexpr double grid_steady_tolerance = 1e-6;
 
 TEST(WindStage, SingleFaceMatchesTheLaw) {
   for (const bool gusty : {false, true}) {
@@ -148,9 +152,9 @@ TEST(WindStage, GridFacesMatchTheLawAndTheGeneralPath) {
     std::uint64_t grid_faces = 0, loose_faces = 0;
     const std::vector<Vec3> by_grid = stage(grid, 1, &grid_faces);
     const std::vector<Vec3> by_faces = stage(loose, 1, &loose_faces);
-    const double tolerance = gusty ? gusty_tolerance : steady_tolerance;
+    const double tolerance = gusty ? gusty_tolerance : grid_steady_tolerance;
     EXPECT_LT(relative_error(by_grid, want), tolerance) << gusty;
-    EXPECT_LT(relative_error(by_faces, want), tolerance) << gusty;
+    EXPECT_LT(relative_error(by_faces, want), gusty ? gusty_tolerance : steady_tolerance) << gusty;
     EXPECT_LT(relative_error(by_grid, by_faces), tolerance) << gusty;
     EXPECT_EQ(grid_faces, 2u * 149 * 5);
     EXPECT_EQ(loose_faces, grid_faces);
