@@ -31,3 +31,10 @@ foreach(bad "--smooth" "--format;obj;--smooth;--lod;0" "--format;obj;--smooth;--
     message(FATAL_ERROR "maille run ${bad} should be a usage error (2), got ${rc}")
   endif()
 endforeach()
+# A scene with no surface (a chain of beads) has nothing to smooth: bad input (1), said so.
+execute_process(COMMAND ${MAILLE} run ${SOURCE}/examples/pendulum_chain.toml --steps 1
+                --format obj --smooth --out ${OUT}/chain RESULT_VARIABLE rc OUTPUT_QUIET
+                ERROR_VARIABLE err)
+if(NOT rc EQUAL 1 OR NOT err MATCHES "no surface to smooth")
+  message(FATAL_ERROR "smoothing a scene without surface: expected exit 1, got ${rc}: ${err}")
+endif()
