@@ -158,6 +158,20 @@ Bounds placed_box(const Bounds& box, const SurfaceInstance& s) {
   return out;
 }
 
+// Cloth faces (flat or smooth: a VAO of positions and normals, indexed triangles), lit on both
+// sides, pushed back a little so that links lying on the cloth win the depth test.
+void draw_cloth(GLuint program, const Mat4& view_proj, const Mat4& view, GLuint vao,
+                GLsizei indices) {
+  glUseProgram(program);
+  set_uniform(program, "u_view_proj", view_proj);
+  set_uniform(program, "u_view", view);
+  glEnable(GL_POLYGON_OFFSET_FILL);
+  glPolygonOffset(1.0f, 1.0f);
+  glBindVertexArray(vao);
+  glDrawElements(GL_TRIANGLES, indices, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
 Real determinant(const Mat3& a) {
   return dot(Vec3{a.m[0][0], a.m[0][1], a.m[0][2]},
              cross(Vec3{a.m[1][0], a.m[1][1], a.m[1][2]}, Vec3{a.m[2][0], a.m[2][1], a.m[2][2]}));
@@ -388,15 +402,7 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
   if (o.surface && o.smooth && !smooth_.empty()) {
     draw_smooth(view_proj, view, lod);
   } else if (o.surface && g.triangle_indices > 0) {
-    glUseProgram(g.surface);
-    set_uniform(g.surface, "u_view_proj", view_proj);
-    set_uniform(g.surface, "u_view", view);
-    // Pushed back a little so that links lying on the cloth win the depth test.
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(1.0f, 1.0f);
-    glBindVertexArray(g.surface_vao);
-    glDrawElements(GL_TRIANGLES, g.triangle_indices, GL_UNSIGNED_INT, nullptr);
-    glDisable(GL_POLYGON_OFFSET_FILL);
+    draw_cloth(g.surface, view_proj, view, g.surface_vao, g.triangle_indices);
   }
 
   glBindVertexArray(g.empty_vao);
@@ -568,15 +574,8 @@ void Renderer::draw_smooth(const Mat4& view_proj, const Mat4& view, int lod) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.smooth_vertices);
   glDispatchCompute((g.smooth_vertex_count + 63) / 64, 1, 1);
   glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
-  // Draw as the flat surface is drawn (same program and lighting).
-  glUseProgram(g.surface);
-  set_uniform(g.surface, "u_view_proj", view_proj);
-  set_uniform(g.surface, "u_view", view);
-  glEnable(GL_POLYGON_OFFSET_FILL);
-  glPolygonOffset(1.0f, 1.0f);
-  glBindVertexArray(g.smooth_vao);
-  glDrawElements(GL_TRIANGLES, g.smooth_index_count, GL_UNSIGNED_INT, nullptr);
-  glDisable(GL_POLYGON_OFFSET_FILL);
+  // Drawn as the flat surface is (same program and lighting).
+  draw_cloth(g.surface, view_proj, view, g.smooth_vao, g.smooth_index_count);
 }
 
 std::vector<float> Renderer::smooth_vertices() const {
