@@ -39,7 +39,7 @@ columns = {
         "broad_phase,side,cell_size_m,occupied_cells,model_P_n2,measured_ns,chosen",
     "self-collision/exclusion.csv":
         "exclusion,side,particles,candidate_pairs,excluded_pairs,skipped_cells,contacts,"
-        "exclusion_bytes,ns_per_particle_pass",
+        "exclusion_bytes,ns_per_particle_pass,cell_size_m",
     "self-collision/memory.csv":
         "particles,exclusion,bytes,bytes_per_particle,dense_bit_matrix_bytes",
     "self-collision/flag_wind.csv": "scene,particles,self_collision,steps,ns_per_particle_step",
@@ -105,6 +105,8 @@ for r in tables.get("integrators/cost.csv", []):
 ex = {r["exclusion"]: r for r in tables.get("self-collision/exclusion.csv", [])}
 check("matrix and signature leave the same contacts",
       ex and ex["matrix"]["contacts"] == ex["signature"]["contacts"])
+check("the three exclusions share one cell size",
+      ex and ex["none"]["cell_size_m"] == ex["matrix"]["cell_size_m"] == ex["signature"]["cell_size_m"])
 check("signature uses less memory than the matrix",
       ex and int(ex["signature"]["exclusion_bytes"]) < int(ex["matrix"]["exclusion_bytes"]))
 chosen = [r for r in tables.get("self-collision/cell_size.csv", []) if r["tuner_choice"] == "1"]
