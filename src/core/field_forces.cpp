@@ -202,8 +202,9 @@ std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
   Real* __restrict f1x = out->f[0] + cells;
   Real* __restrict f1y = out->f[1] + cells;
   Real* __restrict f1z = out->f[2] + cells;
-  // The pressure law in float, like the gust: a face's force to 6e-8 of itself, far below what
-  // the drag law knows, at twice the vector width. Edges and velocity sums are differences and
+  // The pressure law in float, like the gust: a face's force to about 1e-7 of the largest one
+  // (1.5e-7 measured by physics.WindStage), far below what the drag law knows, at twice the
+  // vector width. Edges and velocity sums are differences and
   // sums of doubles taken in double first (positions are metres from the origin), then rounded.
   const float coef = float(law.coef);
   const float mx = float(law.basis.mean.x), my = float(law.basis.mean.y),
@@ -232,13 +233,13 @@ std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
                 w0z = Gusty ? mz + g0z[k] : mz;
     const float w1x = Gusty ? mx + g0x[cells + k] : mx, w1y = Gusty ? my + g0y[cells + k] : my,
                 w1z = Gusty ? mz + g0z[cells + k] : mz;
-    // gust::face_force in float: coef |d| d / |a2|^2 a2, d = (w - v) . a2.
+    // gust::face_force by component, in float: coef |d| d / |a2|^2 a2, d = (w - v) . a2.
     const float d0 = (w0x - s0x) * n0x + (w0y - s0y) * n0y + (w0z - s0z) * n0z;
     const float d1 = (w1x - s1x) * n1x + (w1y - s1y) * n1y + (w1z - s1z) * n1z;
     const float l0 = n0x * n0x + n0y * n0y + n0z * n0z;
     const float l1 = n1x * n1x + n1y * n1y + n1z * n1z;
-    const float c0 = coef * std::abs(d0) * d0 / (l0 + float(l0 == 0));
-    const float c1 = coef * std::abs(d1) * d1 / (l1 + float(l1 == 0));
+    const float c0 = gust::face_force_scale(coef, d0, l0);
+    const float c1 = gust::face_force_scale(coef, d1, l1);
     f0x[k] = Real(n0x * c0), f0y[k] = Real(n0y * c0), f0z[k] = Real(n0z * c0);
     f1x[k] = Real(n1x * c1), f1y[k] = Real(n1y * c1), f1z[k] = Real(n1z * c1);
     pushed += std::uint64_t(l0 != 0) + std::uint64_t(l1 != 0);

@@ -153,10 +153,14 @@ inline Vec3 at(const Basis& b, const Vec3& p) {
 //     = coef |d| d / |a2|^2 a2,  d = v_rel . a2,  coef = rho C_d / 12
 // (no square root: A = |a2| / 2 and n = a2 / |a2|). A degenerate face (a2 = 0) gets no force:
 // the division is by |a2|^2 + (|a2|^2 == 0), written so that loops vectorise without masks.
+// The factor of a2 in it, from d and |a2|^2: shared by the double path below and the grid path's
+// float loop (field_forces.cpp), which writes the vectors out by component.
+template <class T>
+inline T face_force_scale(T coef, T d, T l2) {
+  return coef * std::abs(d) * d / (l2 + T(l2 == 0));
+}
 inline Vec3 face_force(const Vec3& w, Real coef, const Vec3& a2, const Vec3& vc) {
-  const Real d = dot(w - vc, a2);
-  const Real l2 = norm2(a2);
-  return a2 * (coef * std::abs(d) * d / (l2 + Real(l2 == 0)));
+  return a2 * face_force_scale(coef, dot(w - vc, a2), norm2(a2));
 }
 
 }  // namespace maille::gust
