@@ -66,4 +66,9 @@ struct Model {
   void prepare();
 };
 
+// The face grids of m's surface (see FaceGrid) whatever the triangles' order; in_grid[f] is 1
+// for the triangles they hold, 0 for the others. Model::prepare keeps them in Surface::grids;
+// the smooth surface (smooth_surface.hpp) asks for them of models not prepared.
+std::vector<FaceGrid> find_face_grids(const Model& m, std::vector<char>& in_grid);
+
 }  // namespace maille

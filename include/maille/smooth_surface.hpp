@@ -35,15 +35,15 @@ inline constexpr int kMaxSmoothLod = 16;
 
 class SmoothSurface {
  public:
-  // One grid cloth: points first + j nx + i, i < nx, j < ny (Group::grid_nx / grid_ny).
+  // One grid cloth (a FaceGrid of the model): points first + j nx + i, i < nx, j < ny.
   struct Grid {
     std::uint32_t first = 0, nx = 0, ny = 0;
     std::uint32_t vertex_offset = 0;  // its first vertex in the smooth mesh (set per lod)
-    float orientation = 1;            // +1 when the model's faces turn counter-clockwise in (i, j)
   };
 
   SmoothSurface() = default;
-  // Finds the grid cloths (groups with a grid layout and faces) and the other faces.
+  // The grid cloths (find_face_grids, model.hpp) and the other faces; the model need not be
+  // prepared.
   explicit SmoothSurface(const Model& model);
 
   bool empty() const { return grids_.empty() && others_.empty(); }

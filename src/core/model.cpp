@@ -6,18 +6,12 @@
 
 namespace maille {
 
-namespace {
-
 // Grid groups (Group::grid_nx, grid_ny) whose cells carry exactly the flag builder's two faces
 // become FaceGrids; each face is claimed by at most one grid, and a group missing any face keeps
-// all its faces in the coloured list. A subset of a colour group shares no corner either, so the
-// loose faces keep the colouring.
-void find_face_grids(Model& m) {
-  Surface& surface = m.surface;
-  const auto& tris = surface.triangles;
-  surface.grids.clear();
-  surface.loose.clear();
-  surface.loose_offsets.assign(1, 0);
+// all its faces out of the grids.
+std::vector<FaceGrid> find_face_grids(const Model& m, std::vector<char>& in_grid) {
+  const auto& tris = m.surface.triangles;
+  std::vector<FaceGrid> grids;
   // Faces by first corner (counting sort).
   std::vector<std::uint32_t> start(m.points.size() + 1, 0), by_first(tris.size());
   const std::size_t n = m.points.size();
@@ -29,7 +23,7 @@ void find_face_grids(Model& m) {
     for (std::uint32_t f = 0; f < tris.size(); ++f)
       if (tris[f][0] < n) by_first[fill[tris[f][0]]++] = f;
   }
-  std::vector<char> in_grid(tris.size(), 0);  // 0 loose, 1 a grid's, 2 claimed by this group
+  in_grid.assign(tris.size(), 0);  // 0 loose, 1 a grid's, 2 claimed by this group
   std::vector<std::uint32_t> claimed;
   auto claim = [&](std::array<std::uint32_t, 3> want) {
     for (std::uint32_t k = start[want[0]]; k < start[want[0] + 1]; ++k) {
@@ -53,8 +47,21 @@ void find_face_grids(Model& m) {
         whole = claim({p, p + 1, p + nx + 1}) && claim({p, p + nx + 1, p + nx});
       }
     for (const std::uint32_t f : claimed) in_grid[f] = whole ? 1 : 0;
-    if (whole) surface.grids.push_back({g.first, nx, ny});
+    if (whole) grids.push_back({g.first, nx, ny});
   }
+  return grids;
+}
+
+namespace {
+
+// The face grids, and the other faces by colour: a subset of a colour group shares no corner
+// either, so the loose faces keep the colouring.
+void find_face_grids(Model& m) {
+  Surface& surface = m.surface;
+  std::vector<char> in_grid;
+  surface.grids = find_face_grids(m, in_grid);
+  surface.loose.clear();
+  surface.loose_offsets.assign(1, 0);
   for (std::size_t c = 0; c + 1 < surface.colour_offsets.size(); ++c) {
     for (std::uint32_t f = surface.colour_offsets[c]; f < surface.colour_offsets[c + 1]; ++f)
       if (in_grid[f] == 0) surface.loose.push_back(f);

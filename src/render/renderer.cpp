@@ -537,12 +537,9 @@ void Renderer::prepare_smooth(int lod) {
   Gl& g = *gl_;
   if (g.smooth_lod == lod) return;
   g.delete_smooth();
-  std::vector<std::uint32_t> grids;  // Gl's Grid: 8 words each
-  for (const SmoothSurface::Grid& gr : smooth_.grids_at(lod)) {
-    std::uint32_t orientation = 0;
-    std::memcpy(&orientation, &gr.orientation, 4);
-    grids.insert(grids.end(), {gr.first, gr.nx, gr.ny, gr.vertex_offset, orientation, 0, 0, 0});
-  }
+  std::vector<std::uint32_t> grids;  // the shader's Grid: 4 words each
+  for (const SmoothSurface::Grid& gr : smooth_.grids_at(lod))
+    grids.insert(grids.end(), {gr.first, gr.nx, gr.ny, gr.vertex_offset});
   g.smooth_grids = make_buffer(grids);
   g.smooth_tris = make_buffer(smooth_.other_triangles());
   g.smooth_vertex_count = smooth_.vertex_count(lod);

@@ -16,9 +16,7 @@ inline constexpr std::string_view smooth_head = R"(#version 450 core
 layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Positions { float xyz[]; };      // 3 per point
 layout(std430, binding = 1) readonly buffer Normals { float normal_xyz[]; };  // 3 per point
-struct Grid {  // SmoothSurface::Grid, padded to 32 bytes
-  uint first; uint nx; uint ny; uint offset; float orientation; uint pad0; uint pad1; uint pad2;
-};
+struct Grid { uint first; uint nx; uint ny; uint offset; };  // SmoothSurface::Grid, 16 bytes
 layout(std430, binding = 2) readonly buffer Grids { Grid grids[]; };
 layout(std430, binding = 3) readonly buffer Triangles { uint tri[]; };  // 3 per PN triangle
 layout(std430, binding = 4) writeonly buffer Vertices { float vout[]; };  // 6 per vertex
@@ -53,7 +51,6 @@ void main() {
   uint id = gl_GlobalInvocationID.x;
   if (id >= u_total) return;
   vec3 s, t1, t2;
-  float orientation = 1.0f;
   float step = 1.0f / float(u_lod);
   uint lod = uint(u_lod);
   if (id < u_grid_vertices) {
@@ -69,7 +66,6 @@ void main() {
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c) p[4 * r + c] = control(g, int(i) - 1 + c, int(j) - 1 + r);
     cr_patch(p, u, v, s, t1, t2);
-    orientation = g.orientation;
   } else {
     uint per = uint((u_lod + 1) * (u_lod + 2) / 2);
     uint k = id - u_grid_vertices;
@@ -80,7 +76,7 @@ void main() {
     pn_triangle(point_at(a), point_at(b), point_at(c), normal_at(a), normal_at(b), normal_at(c),
                 float(local) * step, float(j) * step, s, t1, t2);
   }
-  vec3 n = unit_normal(t1, t2, orientation);
+  vec3 n = unit_normal(t1, t2);
   vout[6u * id] = s.x; vout[6u * id + 1u] = s.y; vout[6u * id + 2u] = s.z;
   vout[6u * id + 3u] = n.x; vout[6u * id + 4u] = n.y; vout[6u * id + 5u] = n.z;
 }

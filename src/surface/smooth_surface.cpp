@@ -71,41 +71,14 @@ std::uint32_t lattice_index(int i, int j, int lod) {
 }  // namespace
 
 SmoothSurface::SmoothSurface(const Model& model) : point_count_(model.points.size()) {
-  // Grid cloths: groups laid out in (i, j) whose points carry faces (a net has the layout but
-  // no face: it stays links).
-  std::vector<std::int32_t> grid_of(model.points.size(), -1);
-  for (const Group& g : model.groups) {
-    if (g.grid_nx < 2 || g.grid_ny < 2 || std::uint64_t(g.grid_nx) * g.grid_ny != g.count) continue;
-    for (std::uint32_t k = 0; k < g.count; ++k) grid_of[g.first + k] = std::int32_t(grids_.size());
-    grids_.push_back({g.first, g.grid_nx, g.grid_ny, 0, 0});
-  }
-  std::vector<bool> has_faces(grids_.size(), false);
-  for (const auto& t : model.surface.triangles) {
-    const std::int32_t g = grid_of[t[0]];
-    if (g >= 0 && grid_of[t[1]] == g && grid_of[t[2]] == g) {
-      Grid& grid = grids_[std::size_t(g)];
-      if (!has_faces[std::size_t(g)]) {
-        // The orientation of the model's faces in parameter space: the sign of the first
-        // face's area there (the builders turn all faces of a grid alike).
-        auto ij = [&](std::uint32_t p) {
-          const std::uint32_t k = p - grid.first;
-          return std::pair<double, double>{double(k % grid.nx), double(k / grid.nx)};
-        };
-        const auto [ai, aj] = ij(t[0]);
-        const auto [bi, bj] = ij(t[1]);
-        const auto [ci, cj] = ij(t[2]);
-        grid.orientation = (bi - ai) * (cj - aj) - (bj - aj) * (ci - ai) >= 0 ? 1.0f : -1.0f;
-      }
-      has_faces[std::size_t(g)] = true;
-    } else {
-      others_.insert(others_.end(), {t[0], t[1], t[2]});
-    }
-  }
-  // A grid group without faces is not a surface; its faces (none) drop out, nothing else.
-  std::vector<Grid> kept;
-  for (std::size_t g = 0; g < grids_.size(); ++g)
-    if (has_faces[g]) kept.push_back(grids_[g]);
-  grids_ = std::move(kept);
+  // Grid cloths: the model's face grids (flags: the faces (p, p + 1, p + nx + 1) and
+  // (p, p + nx + 1, p + nx) of every cell, counter-clockwise in (i, j), so the normal is
+  // dS/du x dS/dv). Every other face is a PN triangle.
+  std::vector<char> in_grid;
+  for (const FaceGrid& g : find_face_grids(model, in_grid)) grids_.push_back({g.first, g.nx, g.ny});
+  const auto& tris = model.surface.triangles;
+  for (std::size_t f = 0; f < tris.size(); ++f)
+    if (!in_grid[f]) others_.insert(others_.end(), {tris[f][0], tris[f][1], tris[f][2]});
 }
 
 std::uint32_t SmoothSurface::grid_vertices(int lod) const {
@@ -139,10 +112,7 @@ std::vector<std::uint32_t> SmoothSurface::triangles(int lod) const {
       for (std::uint32_t a = 0; a + 1 < cols; ++a) {
         const std::uint32_t v00 = g.vertex_offset + b * cols + a, v10 = v00 + 1;
         const std::uint32_t v01 = v00 + cols, v11 = v01 + 1;
-        if (g.orientation > 0)
-          out.insert(out.end(), {v00, v10, v11, v00, v11, v01});
-        else
-          out.insert(out.end(), {v00, v11, v10, v00, v01, v11});
+        out.insert(out.end(), {v00, v10, v11, v00, v11, v01});
       }
   }
   const std::uint32_t per = vertices_per_triangle(lod);
@@ -204,8 +174,7 @@ void SmoothSurface::evaluate(std::span<const Vec3> x, int lod, SmoothMesh& out) 
         const float v = float(b - j * std::uint32_t(lod)) * step;
         Vec3 s, su, sv;
         grid_point(x, g, i, j, u, v, s, su, sv);
-        push_vertex(out.vertices, to_glsl(s),
-                    glsl::unit_normal(to_glsl(su), to_glsl(sv), g.orientation));
+        push_vertex(out.vertices, to_glsl(s), glsl::unit_normal(to_glsl(su), to_glsl(sv)));
       }
   }
   if (!others_.empty()) {
@@ -221,7 +190,7 @@ void SmoothSurface::evaluate(std::span<const Vec3> x, int lod, SmoothMesh& out) 
           glsl::vec3 s, sb, sc;
           glsl::pn_triangle(to_glsl(x[a]), to_glsl(x[b]), to_glsl(x[c]), normal(a), normal(b),
                             normal(c), float(i) * step, float(j) * step, s, sb, sc);
-          push_vertex(out.vertices, s, glsl::unit_normal(sb, sc, 1.0f));
+          push_vertex(out.vertices, s, glsl::unit_normal(sb, sc));
         }
     }
   }

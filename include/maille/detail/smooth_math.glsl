@@ -83,8 +83,8 @@ MAILLE_SHARED void pn_triangle(vec3 p1, vec3 p2, vec3 p3, vec3 n1, vec3 n2, vec3
 }
 
 // The unit normal from two tangents (zero where they are parallel: a degenerate spot).
-MAILLE_SHARED vec3 unit_normal(vec3 t1, vec3 t2, float orientation) {
-  vec3 n = cross(t1, t2) * orientation;
+MAILLE_SHARED vec3 unit_normal(vec3 t1, vec3 t2) {
+  vec3 n = cross(t1, t2);
   float l = length(n);
   return l > 0.0f ? n * (1.0f / l) : n;
 }
