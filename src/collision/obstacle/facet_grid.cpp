@@ -138,7 +138,6 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
   }
   inv_cell_ = 1 / cell_;
   top_ = {Real(dims_[0] - 1), Real(dims_[1] - 1), Real(dims_[2] - 1)};
-  margin_ = std::max(margin_, cell_ / 2);
   // Counting sort of (cell, facet) entries into CSR rows.
   const std::uint64_t cells = std::uint64_t(dims_[0]) * dims_[1] * dims_[2];
   starts_.assign(cells + 1, 0);

@@ -81,8 +81,6 @@ class FacetGrid {
     if (row.end - row.begin <= row.ids.size()) return {row.ids.data(), row.end - row.begin};
     return {entries_.data() + row.begin, entries_.data() + row.end};
   }
-  // A box grown by this much always finds the facets within that distance (the grid's margin).
-  Real margin() const { return margin_; }
 
   // The brief's test of the segment p -> q against facet f, with `eps` the "above" threshold
   // in this frame: N.AP > eps, N.PQ < 0, u <= 1 and M inside the facet (closed edges, with a
@@ -143,7 +141,8 @@ class FacetGrid {
   std::vector<PseudoNormals> pseudo_;
   bool closed_ = false;
   Vec3 lo_, hi_;  // the grid's box (facets' boxes grown by the margin)
-  Real cell_ = 1, inv_cell_ = 1, margin_ = 0;
+  Real cell_ = 1, inv_cell_ = 1;
+  Real margin_ = 0;  // rounding: facets' boxes and the cells of the plane test are grown by it
   std::array<int, 3> dims_{1, 1, 1};
   Vec3 top_{};  // the last cell's index per axis, as reals (cell_of clamps to it)
   std::vector<std::uint32_t> starts_;  // per cell, into entries_ (CSR)
