@@ -222,17 +222,6 @@ class FacetObstacleStage final : public Stage {
                         bool first_pass, std::span<Real> kept) const {
     Contact hit, rest;
     Real first = 2;
-    if (!first_pass && !kept.empty()) {
-      // Later passes: only a facet p is above can be crossed (resting ones are the first's).
-      for (std::size_t k = 0; k < near.size(); ++k) {
-        const std::uint32_t fi = near[k];
-        Real u;
-        if (kept[k] > eps_[fi] && grid_.crosses_above(fi, kept[k], p, q, eps_[fi], u) &&
-            (u < first || (u == first && fi < hit.facet)))
-          first = u, hit = {true, true, false, fi};
-      }
-      return hit;
-    }
     // The facet whose plane is nearest p: a particle inside a closed mesh, near its surface,
     // lies behind it and over it (one inside test per particle, not one per facet).
     Real nearest = std::numeric_limits<Real>::max(), nearest_above = 0;
@@ -240,7 +229,9 @@ class FacetObstacleStage final : public Stage {
     for (std::size_t k = 0; k < near.size(); ++k) {
       const std::uint32_t fi = near[k];
       const facets::Facet& fa = grid_.facets()[fi];
-      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      // p does not move between passes: N.AP is the first pass's, kept when there is room.
+      const bool reuse = !first_pass && !kept.empty();
+      const Real above = reuse ? kept[k] : dot(fa.n, p - fa.a), eps = eps_[fi];
       if (first_pass && !kept.empty()) kept[k] = above;
       Real u;
       if (above > eps) {
