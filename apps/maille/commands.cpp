@@ -15,6 +15,7 @@
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
+#include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"
 #ifdef MAILLE_WITH_RENDER
 #include <unistd.h>
@@ -204,6 +205,11 @@ int run(const RunOptions& o) {
               : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
                           o.duration ? "--duration" : "the scene's duration");
   if (!steps) return usage;
+  // Refused before the output directory is made: nothing is left behind.
+  if (o.smooth && SmoothSurface(scene->model).empty()) {
+    std::cerr << o.scene << ": error: --smooth: the scene has no surface to smooth\n";
+    return bad_input;
+  }
   const std::filesystem::path out = !o.out.empty() ? std::filesystem::path(o.out)
                                     : !o.resume.empty()
                                         ? std::filesystem::path(o.resume)

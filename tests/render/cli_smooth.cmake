@@ -35,6 +35,9 @@ endforeach()
 execute_process(COMMAND ${MAILLE} run ${SOURCE}/examples/pendulum_chain.toml --steps 1
                 --format obj --smooth --out ${OUT}/chain RESULT_VARIABLE rc OUTPUT_QUIET
                 ERROR_VARIABLE err)
-if(NOT rc EQUAL 1 OR NOT err MATCHES "no surface to smooth")
+if(NOT rc EQUAL 1 OR NOT err MATCHES "pendulum_chain.toml: error: .*no surface to smooth")
   message(FATAL_ERROR "smoothing a scene without surface: expected exit 1, got ${rc}: ${err}")
+endif()
+if(EXISTS ${OUT}/chain)
+  message(FATAL_ERROR "a refused --smooth run left its output directory ${OUT}/chain")
 endif()
