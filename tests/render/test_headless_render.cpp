@@ -9,6 +9,7 @@
 #include <memory>
 #include <numbers>
 
+#include "example_run.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/damper.hpp"
 #include "maille/links/spring_damper.hpp"
@@ -537,17 +538,10 @@ TEST(RenderCamera, ProjectAndRayAgree) {
 
 // --- smooth surfaces (T3.1) ----------------------------------------------------------------------
 
-// The cloth of `name` after `steps` steps, in the renderer.
+// The cloth of `name` after `steps` steps, as a snapshot.
 Snapshot curved_snapshot(const char* name, std::uint64_t steps, Scene& scene) {
-  auto loaded = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
-  EXPECT_TRUE(loaded) << (loaded ? "" : loaded.error().to_string());
-  scene = std::move(loaded.value());
-  SimulationSettings settings = scene.settings;
-  settings.threads = 1;
-  Simulator sim(scene.model, settings);
-  sim.run_steps(steps);
   Snapshot s;
-  s.positions.assign(sim.state().x().begin(), sim.state().x().end());
+  s.positions = test::run_example(name, steps, scene);
   return s;
 }
 

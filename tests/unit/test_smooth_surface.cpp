@@ -5,24 +5,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "example_run.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 
 namespace maille {
 namespace {
-
-// A scene from examples/, run `steps` steps so that its cloth is curved, not flat.
-std::vector<Vec3> deformed(const char* name, std::uint64_t steps, Scene& out) {
-  auto scene = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
-  EXPECT_TRUE(scene) << (scene ? "" : scene.error().to_string());
-  out = std::move(scene.value());
-  SimulationSettings settings = out.settings;
-  settings.threads = 1;
-  Simulator sim(out.model, settings);
-  sim.run_steps(steps);
-  return {sim.state().x().begin(), sim.state().x().end()};
-}
 
 Vec3 vertex(const SmoothMesh& m, std::size_t v) {
   return {m.vertices[6 * v], m.vertices[6 * v + 1], m.vertices[6 * v + 2]};
@@ -44,7 +33,7 @@ constexpr Real kFloatTolerance = 1e-6;
 
 TEST(SmoothSurface, GridClothPassesThroughEveryParticle) {
   Scene scene;
-  const std::vector<Vec3> x = deformed("flag_in_wind", 2000, scene);
+  const std::vector<Vec3> x = test::run_example("flag_in_wind", 2000, scene);
   const SmoothSurface smooth(scene.model);
   ASSERT_EQ(smooth.grids().size(), 1u);
   EXPECT_TRUE(smooth.other_triangles().empty());
@@ -65,7 +54,7 @@ TEST(SmoothSurface, GridClothPassesThroughEveryParticle) {
 
 TEST(SmoothSurface, PnTrianglesPassThroughEveryCorner) {
   Scene scene;
-  const std::vector<Vec3> x = deformed("drum_membrane", 1500, scene);
+  const std::vector<Vec3> x = test::run_example("drum_membrane", 1500, scene);
   const SmoothSurface smooth(scene.model);
   EXPECT_TRUE(smooth.grids().empty());
   const auto& tris = smooth.other_triangles();
@@ -106,7 +95,7 @@ void expect_normals_match_differences(const SmoothMesh& mesh, std::size_t centre
 // holds both with room. The mesh's normals are those tangents' cross product.
 TEST(SmoothSurface, GridNormalsAreTheSurfacesNormals) {
   Scene scene;
-  const std::vector<Vec3> x = deformed("flag_in_wind", 2000, scene);
+  const std::vector<Vec3> x = test::run_example("flag_in_wind", 2000, scene);
   const SmoothSurface smooth(scene.model);
   const int lod = 4;
   SmoothMesh mesh;
@@ -147,7 +136,7 @@ TEST(SmoothSurface, GridNormalsAreTheSurfacesNormals) {
 
 TEST(SmoothSurface, PnNormalsAreTheSurfacesNormals) {
   Scene scene;
-  const std::vector<Vec3> x = deformed("drum_membrane", 1500, scene);
+  const std::vector<Vec3> x = test::run_example("drum_membrane", 1500, scene);
   const SmoothSurface smooth(scene.model);
   const int lod = 16;
   SmoothMesh mesh;
@@ -167,7 +156,8 @@ TEST(SmoothSurface, PnNormalsAreTheSurfacesNormals) {
 
 TEST(SmoothSurface, FlatClothStaysFlatAndFacesTheModelsWay) {
   Scene scene;
-  const std::vector<Vec3> x = deformed("flag_in_wind", 0, scene);  // the initial, planar flag
+  const std::vector<Vec3> x =
+      test::run_example("flag_in_wind", 0, scene);  // the initial, planar flag
   const SmoothSurface smooth(scene.model);
   SmoothMesh mesh;
   smooth.evaluate(x, 4, mesh);
@@ -188,7 +178,7 @@ TEST(SmoothSurface, FlatClothStaysFlatAndFacesTheModelsWay) {
 
 TEST(SmoothSurface, RefusesBadInput) {
   Scene scene;
-  const std::vector<Vec3> x = deformed("flag_in_wind", 0, scene);
+  const std::vector<Vec3> x = test::run_example("flag_in_wind", 0, scene);
   const SmoothSurface smooth(scene.model);
   SmoothMesh mesh;
   EXPECT_THROW(smooth.evaluate(x, 0, mesh), std::invalid_argument);
