@@ -7,7 +7,11 @@
 //      and pure functions `force`, `energy`, `stiffness`, `damping` (optionally `is_active`);
 //      Params may hold more members than `fields` lists (per-link data set by code: an index, a
 //      shape), as long as it stays a plain record;
-//   2. one line `registry.add<YourKind>()` (built-ins: src/links/builtin_kinds.cpp).
+//   2. one line `registry.add<YourKind>()` (built-ins: src/links/builtin_kinds.cpp);
+//   3. optionally, to run on the GPU backend too: write `force` as a function of
+//      include/maille/detail/link_laws.glsl (shared by C++ and GLSL, signature (xa, xb, va, vb,
+//      fields in order), at most 4 fields) and name it in `static constexpr std::string_view
+//      shared_law`; kinds without one make the GPU backend refuse the scene, naming the kind.
 // The simulator loop never changes: it folds over the model's pools, one virtual call per pool,
 // and each pool runs a tight, inlined loop over its own records.
 #pragma once

@@ -36,6 +36,9 @@ class LinkPoolBase {
   virtual bool prepared() const = 0;
   // Conditional kinds (with is_active) are contacts, not topology.
   virtual bool conditional() const = 0;
+  // The kind's force law in include/maille/detail/link_laws.glsl (shared with the GPU), or empty
+  // when the kind runs on the CPU only.
+  virtual std::string_view shared_law() const = 0;
   virtual std::vector<ParamInfo> fields() const = 0;
   // Params in `fields()` order; used by the scene reader and the viewer.
   virtual void add_generic(LinkEnds ends, std::span<const Real> params) = 0;
@@ -87,6 +90,12 @@ class LinkPool final : public LinkPoolBase {
   std::uint32_t id_of_slot(std::size_t slot) const override { return id_of_slot_[slot]; }
   bool prepared() const override { return schedule_.ready() || ends_.empty(); }
   bool conditional() const override { return !kAlwaysActive; }
+  std::string_view shared_law() const override {
+    if constexpr (requires { K::shared_law; })
+      return K::shared_law;
+    else
+      return {};
+  }
 
   // Removes every link (a stage's transient contacts are rebuilt each step); keeps capacity.
   void clear() {

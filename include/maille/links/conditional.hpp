@@ -20,6 +20,7 @@ namespace maille {
 
 struct EuclideanDistance {
   static constexpr std::string_view keyword = "conditional";
+  static constexpr std::string_view shared_law = "conditional_law";  // link_laws.glsl
   static Separation separation(const Vec3& xa, const Vec3& xb) {
     return maille::separation(xa, xb);
   }
@@ -27,9 +28,20 @@ struct EuclideanDistance {
   static bool within(const Vec3& xa, const Vec3& xb, Real s) { return norm2(xb - xa) < s * s; }
 };
 
+// The shared law (link_laws.glsl) of a distance policy: only the Euclidean one has one; another
+// policy runs on the CPU only.
+template <class Distance>
+constexpr std::string_view shared_law_of() {
+  if constexpr (requires { Distance::shared_law; })
+    return Distance::shared_law;
+  else
+    return {};
+}
+
 template <class Distance = EuclideanDistance>
 struct ConditionalSpringDamperT {
   static constexpr std::string_view keyword = Distance::keyword;
+  static constexpr std::string_view shared_law = shared_law_of<Distance>();
   struct Params {
     Real stiffness = 0;    // k, N/m
     Real damping = 0;      // z, N.s/m
@@ -61,9 +73,14 @@ struct ConditionalSpringDamperT {
   }
   static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                     const Params& p) {
-    const Separation s = Distance::separation(xa, xb);
-    if (s.length >= p.threshold) return {};
-    return spring_damper_force(s, vb - va, p.stiffness, p.rest_length, p.damping);
+    if constexpr (!shared_law.empty()) {
+      return law::conditional_law(xa, xb, va, vb, p.stiffness, p.damping, p.threshold,
+                                  p.rest_length);
+    } else {
+      const Separation s = Distance::separation(xa, xb);
+      if (s.length >= p.threshold) return {};
+      return spring_damper_force(s, vb - va, p.stiffness, p.rest_length, p.damping);
+    }
   }
   // Zero while inactive; a spring-damper toward rest_length while active.
   static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,

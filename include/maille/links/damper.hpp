@@ -10,6 +10,7 @@ namespace maille {
 
 struct Damper {
   static constexpr std::string_view keyword = "damper";
+  static constexpr std::string_view shared_law = "damper_law";  // link_laws.glsl
   struct Params {
     Real damping = 0;  // z, N.s/m
   };
@@ -19,8 +20,7 @@ struct Damper {
 
   static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                     const Params& p) {
-    const Separation s = separation(xa, xb);
-    return s.n * (p.damping * dot(vb - va, s.n));
+    return law::damper_law(xa, xb, va, vb, p.damping);
   }
   static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                                const Params& p, JacobianMode mode) {

@@ -5,6 +5,7 @@
 #include <array>
 
 #include "maille/link_kind.hpp"
+#include "maille/links/shared_laws.hpp"
 #include "maille/mat3.hpp"
 
 namespace maille {
@@ -14,14 +15,11 @@ struct Separation {
   Real length = 0;
   Vec3 n{};
 };
-// Lengths below kTinyLength are treated as zero: adding it to |d| keeps 1/|d| finite (so a
-// zero-length link gets n = 0 and a finite force, never NaN) and changes no length above 1e-15 m
-// by more than rounding. Branch-free on purpose: a compare-and-select or fmax here blocked GCC
-// 12's vectoriser on the link loops.
+// Lengths below kTinyLength are treated as zero (see law::inverse_length, the shared laws).
 inline constexpr Real kTinyLength = Real(1e-30);  // m
 
 inline Real inverse_length(const Vec3& d) {
-  return Real(1) / (norm(d) + kTinyLength);
+  return law::inverse_length(d);
 }
 
 inline Separation separation(const Vec3& xa, const Vec3& xb) {
@@ -59,6 +57,7 @@ inline LinkJacobian damper_jacobian(const Vec3& d, const Vec3& dv, Real z, Jacob
 
 struct Spring {
   static constexpr std::string_view keyword = "spring";
+  static constexpr std::string_view shared_law = "spring_law";  // link_laws.glsl
   struct Params {
     Real stiffness = 0;    // k, N/m
     Real rest_length = 0;  // L0, m
@@ -74,9 +73,9 @@ struct Spring {
        "L0; default: the distance between the points in the scene"},
   }};
 
-  static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3&, const Vec3&, const Params& p) {
-    const Vec3 d = xb - xa;
-    return d * (p.stiffness * (1 - p.rest_length * inverse_length(d)));
+  static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
+                    const Params& p) {
+    return law::spring_law(xa, xb, va, vb, p.stiffness, p.rest_length);
   }
   static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
     const Real e = norm(xb - xa) - p.rest_length;

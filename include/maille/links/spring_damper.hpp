@@ -15,6 +15,7 @@ inline Vec3 spring_damper_force(const Separation& s, const Vec3& dv, Real k, Rea
 
 struct SpringDamper {
   static constexpr std::string_view keyword = "spring_damper";
+  static constexpr std::string_view shared_law = "spring_damper_law";  // link_laws.glsl
   struct Params {
     Real stiffness = 0;    // k, N/m
     Real rest_length = 0;  // L0, m
@@ -36,9 +37,7 @@ struct SpringDamper {
   //   f_a = [k (1 - L0 inv) + z (dv.d) inv^2] d
   static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                     const Params& p) {
-    const Vec3 d = xb - xa;
-    const Real inv = inverse_length(d);
-    return d * (p.stiffness * (1 - p.rest_length * inv) + p.damping * dot(vb - va, d) * inv * inv);
+    return law::spring_damper_law(xa, xb, va, vb, p.stiffness, p.rest_length, p.damping);
   }
   static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                                const Params& p, JacobianMode mode) {

@@ -1,0 +1,57 @@
+// The built-in link kinds' force laws, written once and compiled twice. This file is valid C++
+// and valid GLSL 4.50: include/maille/links/shared_laws.hpp includes it in namespace
+// maille::law with `vec3` = Vec3 and `real` = Real (double by default), and the GPU backend's
+// force shader (src/gpu/shaders.cpp) pastes its text after defining `real` as float. The CPU
+// kinds (include/maille/links/*.hpp) call these functions, so the CPU is the GPU's oracle and a
+// law is never copied (the habit of Jolt's shared shader headers).
+//
+// Rules for this file (as for smooth_math.glsl): no `inline`, `const&`, templates, brace
+// initialisers or `f` literals (the scalar type changes); scalars written real(...); every
+// parameter used or passed to MAILLE_UNUSED; zero3() for the zero vector.
+//
+// A law's signature is (xa, xb, va, vb, then the kind's scene fields in their declared order):
+// the GPU backend calls it with the link's parameters as stored, in that order. It returns the
+// force on a; b receives its opposite.
+
+// Lengths below this are treated as zero: adding it to |d| keeps 1/|d| finite (a zero-length
+// link gets n = 0 and a finite force, never NaN) and changes no length above 1e-15 m by more than
+// rounding (float's smallest normal is 1.2e-38, so it is not zero in GLSL either). Branch-free on
+// purpose: a compare-and-select or fmax here blocked GCC 12's vectoriser on the link loops.
+MAILLE_SHARED real inverse_length(vec3 d) {
+  return real(1) / (sqrt(dot(d, d)) + real(1e-30));
+}
+
+// Spring (Hooke): f_a = k (|d| - L0) d/|d|, d = x_b - x_a, written k (1 - L0/|d|) d (one
+// division, no normalisation).
+MAILLE_SHARED vec3 spring_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real rest) {
+  MAILLE_UNUSED(va);
+  MAILLE_UNUSED(vb);
+  vec3 d = xb - xa;
+  return d * (k * (real(1) - rest * inverse_length(d)));
+}
+
+// Axial damper: f_a = z ((v_b - v_a).n) n. Axial so that a rigid rotation is not damped.
+MAILLE_SHARED vec3 damper_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real z) {
+  vec3 n = (xb - xa) * inverse_length(xb - xa);
+  return n * (z * dot(vb - va, n));
+}
+
+// Spring and axial damper in parallel, sharing one direction:
+//   f_a = [k (|d| - L0) + z (v_b - v_a).n] n = [k (1 - L0/|d|) + z (dv.d)/|d|^2] d.
+MAILLE_SHARED vec3 spring_damper_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real rest,
+                                     real z) {
+  vec3 d = xb - xa;
+  real inv = inverse_length(d);
+  return d * (k * (real(1) - rest * inv) + z * dot(vb - va, d) * inv * inv);
+}
+
+// Conditional spring-damper (the CORDIS contact): silent at or beyond the threshold s, a
+// spring-damper toward L0 while closer.
+MAILLE_SHARED vec3 conditional_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real z, real s,
+                                   real rest) {
+  vec3 d = xb - xa;
+  real len = sqrt(dot(d, d));
+  if (len >= s) return zero3();
+  vec3 n = d * (real(1) / (len + real(1e-30)));
+  return n * (k * (len - rest) + z * dot(vb - va, n));
+}

@@ -1,0 +1,26 @@
+// The link force laws shared with the GPU (include/maille/detail/link_laws.glsl), compiled as
+// C++ in namespace maille::law: `vec3` is Vec3 and `real` is Real. A kind that has such a law
+// names it in `shared_law` (link_kind.hpp); the GPU backend then runs the kind too.
+#pragma once
+
+#include <cmath>
+
+#include "maille/vec3.hpp"
+
+namespace maille::law {
+
+using vec3 = Vec3;
+using real = Real;
+using std::sqrt;
+
+inline Vec3 zero3() {
+  return {};
+}
+
+#define MAILLE_SHARED inline
+#define MAILLE_UNUSED(x) static_cast<void>(x)
+#include "maille/detail/link_laws.glsl"
+#undef MAILLE_UNUSED
+#undef MAILLE_SHARED
+
+}  // namespace maille::law
