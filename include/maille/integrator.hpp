@@ -5,6 +5,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -70,6 +71,18 @@ class Integrator {
   virtual std::string check(const Model&) const { return {}; }
   // Drop scratch buffers sized for a model (the scheme's history lives in the State).
   virtual void reset() {}
+
+  // Schemes whose step is one kick and one drift (v += kick f/m; x += drift v, free points
+  // only) say so, so that a compute backend (backend.hpp) can run them: the kick and drift of
+  // the next step from state s, and the history to record after it. nullopt: the scheme runs
+  // on the CPU only.
+  struct KickDrift {
+    Real kick = 0, drift = 0;
+    SchemeHistory history_after;
+  };
+  virtual std::optional<KickDrift> kick_drift_step(const State&, Real) const {
+    return std::nullopt;
+  }
   void set_threads(int threads) { threads_ = threads; }
 
   // Largest h with spectral radius <= 1 on the test equation: 0 when no step is stable

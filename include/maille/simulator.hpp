@@ -11,6 +11,10 @@
 //   health          non-finite values and a kinetic-energy bound every step; the full runaway
 //                   check at the sampling cadence and whenever the bound trips
 //   publish         every k steps: a snapshot of positions for renderers and writers
+//
+// With a compute backend other than the CPU (settings.backend, backend.hpp), the same order runs
+// with the forces, the integration and the health flag on the device (simulator_backend.cpp);
+// the host copy of the state is brought up to date only when it is needed.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "maille/backend.hpp"
 #include "maille/energy.hpp"
 #include "maille/integrator.hpp"
 #include "maille/model.hpp"
@@ -41,6 +46,8 @@ struct SimulationSettings {
   double runaway_factor = 1e3;               // blow-up when energy exceeds this times its scale
   ImplicitSettings implicit;                 // used by implicit_euler only
   std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
+  std::string backend = "cpu";               // a name from BackendRegistry::global()
+  BackendOptions backend_options;            // which device, for backends that have several
 };
 
 // Convenience bases for the two common phases (see stage.hpp for the phases).
@@ -87,13 +94,20 @@ class Simulator : private ForceEvaluator {
   void on_sample(std::function<void(const EnergySample&, const Profile&)> listener);
 
   const Model& model() const { return model_; }
-  const State& state() const { return state_; }
+  // The current state; with a device backend, brought back from the device first when stale.
+  const State& state() const {
+    sync_host();
+    return state_;
+  }
   const SimulationSettings& settings() const { return settings_; }
   const Integrator& integrator() const { return *integrator_; }
   const Profile& profile() const { return profile_; }
   const std::optional<BlowUp>& blow_up() const { return blow_up_; }
   const StabilityEstimate& stability() const { return stability_; }
   int threads() const { return threads_; }
+  // The compute backend, or nullptr on the CPU path.
+  const Backend* backend() const { return backend_.get(); }
+  void wait();  // until every submitted step has run (a device backend runs asynchronously)
   std::uint64_t frames_published() const { return snapshot_.frame; }
 
   // Edits, between steps only. Structural edits (points, links, faces, stages) go through
@@ -107,7 +121,13 @@ class Simulator : private ForceEvaluator {
   // Replaces the whole state (a checkpoint, a copy from another simulator of the same model).
   // Throws std::invalid_argument when its size does not match the model.
   void restore(State state, std::uint64_t frames_published = 0);
-  State& state_for_editing() { return state_; }  // between steps only (positions, velocities)
+  // Between steps only (positions, velocities); a device backend is reloaded before the next
+  // step.
+  State& state_for_editing() {
+    sync_host();
+    host_ahead_ = true;
+    return state_;
+  }
 
   // Switches scheme between steps: velocities are first synchronised to the time of x (a
   // staggered scheme's half-step velocity is converted), then the new scheme starts afresh.
@@ -161,11 +181,19 @@ class Simulator : private ForceEvaluator {
   std::string blame_forces(State& s);
   void publish();
   void fail(std::string module, std::string detail);
+  // Device backends (simulator_backend.cpp).
+  void make_backend();
+  // Throws std::invalid_argument when the backend refuses the scheme, the installed stages or
+  // `extra` (a stage about to be installed).
+  void check_backend(const Integrator& scheme, const Stage* extra = nullptr) const;
+  bool step_on_backend();
+  void sync_host() const;  // the device's x, v, f into state_ when the device is ahead
+  void check_backend_health();
   double energy_scale() const;
 
   Model model_;
   SimulationSettings settings_;
-  State state_;
+  mutable State state_;  // mutable: with a device backend, the host copy is refreshed lazily
   std::unique_ptr<Integrator> integrator_;
   std::vector<Installed> force_stages_, response_stages_, after_stages_;
   std::vector<SnapshotListener> publish_listeners_;
@@ -182,6 +210,9 @@ class Simulator : private ForceEvaluator {
   bool overlays_ = false;
   struct StageIds;
   std::unique_ptr<StageIds> ids_;
+  std::unique_ptr<Backend> backend_;
+  mutable bool device_ahead_ = false;  // the device has steps the host copy has not
+  bool host_ahead_ = true;             // the host changed the model or the state: reload
 };
 
 }  // namespace maille

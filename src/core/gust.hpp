@@ -19,6 +19,7 @@
 #include <numbers>
 
 #include "maille/fields.hpp"
+#include "maille/shared_laws.hpp"
 
 namespace maille::gust {
 
@@ -47,16 +48,7 @@ inline float reduce(double y) {
 }
 
 inline float sin_half(float r) {
-  const float folded_high = 0.5f - r;
-  r = folded_high < r ? folded_high : r;
-  const float folded_low = -0.5f - r;
-  r = folded_low > r ? folded_low : r;
-  // Near (2 pi)^(2n+1) / (2n+1)! with alternating signs, fitted (weighted least squares).
-  constexpr float c1 = 6.283185160f, c3 = -41.34165504f, c5 = 81.60100468f, c7 = -76.54979454f,
-                  c9 = 39.53678991f;
-  // r (c1 + c3 z + c5 z^2 + c7 z^3 + c9 z^4), z = r^2
-  const float z = r * r, z2 = z * z;
-  return r * (((c1 + c3 * z) + z2 * (c5 + c7 * z)) + (z2 * z2) * c9);
+  return law::sin_half_turn(r);  // include/maille/detail/wind_law.glsl
 }
 
 inline float sin_turns(double y) {
@@ -134,7 +126,7 @@ inline void arguments(const Basis& b, const Vec3& p, float r[4]) {
 // The gust w - U (m/s, by axis) from the four reduced arguments.
 inline void gust_from(const Basis& b, const float r[4], float gust[3]) {
   const float s0 = sin_half(r[0]), s1 = sin_half(r[1]), s2 = sin_half(r[2]), s3 = sin_half(r[3]);
-  const float g = 0.6f * s0 + 0.4f * s1;
+  const float g = law::gust_along_factor(s0, s1);
   for (int axis = 0; axis < 3; ++axis)
     gust[axis] = (b.along[axis] * g + b.across1[axis] * s2) + b.across2[axis] * s3;
 }
@@ -155,9 +147,12 @@ inline Vec3 at(const Basis& b, const Vec3& p) {
 // the division is by |a2|^2 + (|a2|^2 == 0), written so that loops vectorise without masks.
 // The factor of a2 in it, from d and |a2|^2: shared by the double path below and the grid path's
 // float loop (field_forces.cpp), which writes the vectors out by component.
-template <class T>
-inline T face_force_scale(T coef, T d, T l2) {
-  return coef * std::abs(d) * d / (l2 + T(l2 == 0));
+// float: the shared law (wind_law.glsl); double (the general path): the same formula.
+inline float face_force_scale(float coef, float d, float l2) {
+  return law::wind_pressure_scale(coef, d, l2);
+}
+inline double face_force_scale(double coef, double d, double l2) {
+  return coef * std::abs(d) * d / (l2 + double(l2 == 0));
 }
 inline Vec3 face_force(const Vec3& w, Real coef, const Vec3& a2, const Vec3& vc) {
   return a2 * face_force_scale(coef, dot(w - vc, a2), norm2(a2));

@@ -12,38 +12,19 @@
 #include <stdexcept>
 
 #include "health.hpp"
+#include "simulator_detail.hpp"
 #include "stages.hpp"
 
 namespace maille {
+
+using detail::Timed;
 
 namespace {
 
 // Below this many points a step is a few microseconds and threads cost more than they give.
 constexpr std::uint32_t kParallelThreshold = 4096;
 
-// Times a block into a profile stage.
-class Timed {
- public:
-  Timed(Profile& p, int stage) : p_(p), stage_(stage), t0_(std::chrono::steady_clock::now()) {}
-  ~Timed() {
-    const auto dt = std::chrono::steady_clock::now() - t0_;
-    p_.add_time(stage_, static_cast<double>(std::chrono::nanoseconds(dt).count()));
-  }
-  Timed(const Timed&) = delete;
-  Timed& operator=(const Timed&) = delete;
-
- private:
-  Profile& p_;
-  int stage_;
-  std::chrono::steady_clock::time_point t0_;
-};
-
 }  // namespace
-
-struct Simulator::StageIds {
-  int drive, clear, links, fields, integrate, after, health, publish;
-  int active_links, wind_faces;
-};
 
 Simulator::Simulator(Model model, SimulationSettings settings)
     : model_(std::move(model)), settings_(std::move(settings)), ids_(std::make_unique<StageIds>()) {
@@ -75,6 +56,7 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   ids.wind_faces = profile_.counter("wind_faces");
   install_model_stages();
   reset();
+  if (settings_.backend != "cpu") make_backend();
 }
 
 Simulator::~Simulator() = default;
@@ -89,6 +71,7 @@ void Simulator::build_integrator(const std::string& name) {
   std::unique_ptr<Integrator> scheme = entry->make(settings_.implicit);
   scheme->set_threads(threads_);
   if (const std::string why = scheme->check(model_); !why.empty()) throw std::invalid_argument(why);
+  if (backend_) check_backend(*scheme);
   if (!scheme->accepts_state_rewrites() && !response_stages_.empty())
     throw std::invalid_argument("stage '" + response_stages_.front().stage->name() +
                                 "' rewrites forces and velocities after the fact; " + name +
@@ -133,9 +116,12 @@ void Simulator::reset() {
   snapshot_ = Snapshot{};
   scratch_velocity_.assign(n, Vec3{});
   energy_scale_ = energy_scale();
+  host_ahead_ = true;
+  device_ahead_ = false;
 }
 
 void Simulator::check_stage(const Stage& stage) const {
+  if (backend_) check_backend(*integrator_, &stage);
   if (stage.phase() == Phase::response && !integrator_->accepts_state_rewrites())
     throw std::invalid_argument("stage '" + stage.name() +
                                 "' rewrites forces and velocities after the fact; " +
@@ -177,6 +163,7 @@ void Simulator::set_step(double h) {
 // the new scheme starts from a synchronous state, as at t = 0.
 void Simulator::set_integrator(const std::string& name) {
   if (name == integrator_->name()) return;
+  sync_host();
   std::unique_ptr<Integrator> old = std::move(integrator_);
   const std::string old_name = settings_.integrator;
   try {
@@ -190,6 +177,7 @@ void Simulator::set_integrator(const std::string& name) {
   old->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step), scratch_velocity_);
   std::copy(scratch_velocity_.begin(), scratch_velocity_.end(), state_.v().begin());
   state_.history = SchemeHistory{};
+  host_ahead_ = true;
 }
 
 void Simulator::restore(State state, std::uint64_t frames_published) {
@@ -200,12 +188,15 @@ void Simulator::restore(State state, std::uint64_t frames_published) {
   blow_up_.reset();
   pending_sample_.reset();
   snapshot_.frame = frames_published;
+  host_ahead_ = true;
+  device_ahead_ = false;
 }
 
 // The step, as a table of contents. Energies are sampled between the force pass and the
 // integration, when forces and (synchronised) velocities belong to the same time t_n.
 bool Simulator::step() {
   if (blow_up_) return false;
+  if (backend_) return step_on_backend();
   profile_.begin_step();
   const auto& ids = *ids_;
   const Real h = static_cast<Real>(settings_.step);
@@ -315,6 +306,7 @@ void Simulator::respond() {
 }
 
 Energies Simulator::energies() {
+  sync_host();
   evaluate(state_);  // synchronising staggered velocities needs the forces at x
   integrator_->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step),
                                      scratch_velocity_);
@@ -323,6 +315,10 @@ Energies Simulator::energies() {
 
 bool Simulator::check_energy() {
   if (blow_up_) return false;
+  if (backend_) {
+    check_backend_health();
+    if (blow_up_) return false;
+  }
   const Energies e = energies();
   return !runaway(e.kinetic + e.elastic);
 }
@@ -364,6 +360,7 @@ void Simulator::publish() {
 }
 
 void Simulator::publish_now() {
+  sync_host();
   publish();
 }
 

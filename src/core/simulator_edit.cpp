@@ -27,6 +27,8 @@ Structure structure_of(const Model& m) {
 }  // namespace
 
 void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
+  sync_host();
+  host_ahead_ = true;  // the device copy of the model is reloaded before the next step
   const Structure before = structure_of(model_);
   edit(model_);
   if (structure_of(model_) != before) {
@@ -39,6 +41,8 @@ void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
 // The edit is made on a copy: when the result is a model the scheme or a stage refuses, the
 // simulator keeps the old one and throws std::invalid_argument.
 void Simulator::edit_model(const std::function<void(Model&)>& edit) {
+  sync_host();
+  host_ahead_ = true;
   Model previous = model_;
   edit(model_);
   try {

@@ -16,11 +16,15 @@ class Leapfrog final : public Integrator {
   std::string_view name() const override { return "leapfrog"; }
 
   void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
-    const bool primed = primed_here(s);
+    const KickDrift k = *kick_drift_step(s, h);
+    kick_drift(m, s, k.kick, k.drift, threads_);
+    s.history = k.history_after;
+  }
+
+  std::optional<KickDrift> kick_drift_step(const State& s, Real h) const override {
     const Real kick =
-        primed ? Real(0.5) * (static_cast<Real>(s.history.last_h) + h) : Real(0.5) * h;
-    kick_drift(m, s, kick, h, threads_);
-    s.history = {std::string(name()), true, static_cast<double>(h)};
+        primed_here(s) ? Real(0.5) * (static_cast<Real>(s.history.last_h) + h) : Real(0.5) * h;
+    return KickDrift{kick, h, {std::string(name()), true, static_cast<double>(h)}};
   }
 
   VelocityTime velocity_time(const State& s) const override {

@@ -14,6 +14,9 @@ class SymplecticEuler final : public Integrator {
   void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
     kick_drift(m, s, h, h, threads_);
   }
+  std::optional<KickDrift> kick_drift_step(const State& s, Real h) const override {
+    return KickDrift{h, h, s.history};
+  }
   Amplification increment(double h, double w2, double c) const override {
     return kick_drift_increment(h, w2, c);
   }

@@ -5,7 +5,7 @@
 #include <array>
 
 #include "maille/link_kind.hpp"
-#include "maille/links/shared_laws.hpp"
+#include "maille/shared_laws.hpp"
 #include "maille/mat3.hpp"
 
 namespace maille {

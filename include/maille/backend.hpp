@@ -1,0 +1,80 @@
+// Compute backends: where the bulk of a step runs (Theme 3, T3.2).
+//
+// The Simulator stays the only simulator: it keeps the order of a step, the scheme's
+// bookkeeping (SchemeHistory), the health verdicts, the energy samples and the publishing. A
+// backend holds its own copy of the state on its device and runs the heavy parts there; the
+// Simulator calls it at this seam (src/core/simulator_backend.cpp):
+//   load       model and state, after construction, reset, restore, edits, host-side changes
+//   drive      driven points' positions and velocities at t (paths are evaluated on the host:
+//              a handful of points)
+//   evaluate   every force of the step at the device's x and v (links, gravity, drag, wind)
+//   integrate  one kick and one drift (Integrator::kick_drift_step), flagging non-finite values
+//   health     the first step whose integration left a non-finite value (a reduction on the
+//              device, read back at the sampling and publishing cadence)
+//   download   x, v and f into the host State, only when someone needs them (frames, energy
+//              samples, edits, the end of a run)
+// The CPU path is the Simulator's own (the reference every backend is tested against): "cpu"
+// has no Backend object. A backend is one type implementing this interface and one
+// registration (BackendRegistry::add); the GPU's is src/gpu/.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/integrator.hpp"
+#include "maille/model.hpp"
+#include "maille/stage.hpp"
+#include "maille/state.hpp"
+
+namespace maille {
+
+struct BackendOptions {
+  int device = -1;  // which device (for "gpu": an EGL device index); -1: the platform's default
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual std::string_view name() const = 0;
+  // The device and driver, and the limits that matter, for logs and `maille info`.
+  virtual std::string describe() const = 0;
+  // Why this set-up cannot run here (empty: it can), naming the link kind, the stage or the
+  // scheme that has no version on this backend.
+  virtual std::string refuses(const Model& m, const Integrator& scheme,
+                              std::span<const Stage* const> stages) const = 0;
+  virtual void load(const Model& m, const State& s) = 0;
+  virtual void drive(const Model& m, double t) = 0;
+  virtual void evaluate(const Model& m, double t) = 0;
+  virtual void integrate(Real kick, Real drift, std::uint64_t step) = 0;
+  // The first step (the step count after it) whose integration produced a non-finite position
+  // or velocity; 0 while there is none. Waits for the device.
+  virtual std::uint64_t first_non_finite() = 0;
+  // x, v and f of the device into s (size checked by the caller); waits for the device.
+  virtual void download(State& s) = 0;
+  virtual void finish() = 0;  // waits until every submitted step has run (timing)
+};
+
+class BackendRegistry {
+ public:
+  using Factory = std::function<std::unique_ptr<Backend>(const BackendOptions&)>;
+  struct Entry {
+    std::string name, doc;
+    Factory make;  // empty for "cpu" (the Simulator's own path)
+  };
+  // The process's registry: "cpu" always, others as the program registers them (apps call
+  // e.g. maille::gpu::register_backend() first thing).
+  static BackendRegistry& global();
+  void add(Entry e);  // replaces an entry of the same name
+  const Entry* find(std::string_view name) const;
+  std::string names() const;  // "cpu, gpu"
+
+ private:
+  std::vector<Entry> entries_;
+};
+
+}  // namespace maille

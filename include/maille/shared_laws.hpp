@@ -1,0 +1,29 @@
+// The force laws shared with the GPU backend, compiled as C++ in namespace maille::law:
+// include/maille/detail/link_laws.glsl (`vec3` is Vec3 and `real` is Real here) and
+// include/maille/detail/wind_law.glsl (float). A link kind that has such a law names it in
+// `shared_law` (link_kind.hpp); the GPU backend then runs the kind too.
+#pragma once
+
+#include <cmath>
+
+#include "maille/vec3.hpp"
+
+namespace maille::law {
+
+using vec3 = Vec3;
+using real = Real;
+using std::abs;
+using std::sqrt;
+
+inline Vec3 zero3() {
+  return {};
+}
+
+#define MAILLE_SHARED inline
+#define MAILLE_UNUSED(x) static_cast<void>(x)
+#include "maille/detail/link_laws.glsl"
+#include "maille/detail/wind_law.glsl"
+#undef MAILLE_UNUSED
+#undef MAILLE_SHARED
+
+}  // namespace maille::law

@@ -1,0 +1,121 @@
+// The step on a device backend (backend.hpp): the same order as Simulator::step, with the
+// forces, the integration and the health flag on the device. The host copy of the state is
+// refreshed only when something needs it: an energy sample, a snapshot, an edit, the end of a
+// run (sync_host); host-side changes reload the device before the next step (host_ahead_).
+#include <sstream>
+#include <stdexcept>
+
+#include "maille/simulator.hpp"
+#include "simulator_detail.hpp"
+#include "stages.hpp"
+
+namespace maille {
+
+using detail::Timed;
+
+void Simulator::make_backend() {
+  const BackendRegistry::Entry* entry = BackendRegistry::global().find(settings_.backend);
+  if (!entry)
+    throw std::invalid_argument("unknown backend '" + settings_.backend +
+                                "' (this program has: " + BackendRegistry::global().names() + ")");
+  if (!entry->make) return;  // the CPU: the simulator's own path
+  std::unique_ptr<Backend> made = entry->make(settings_.backend_options);
+  backend_ = std::move(made);
+  try {
+    check_backend(*integrator_);
+  } catch (...) {
+    backend_.reset();
+    throw;
+  }
+}
+
+void Simulator::check_backend(const Integrator& scheme, const Stage* extra) const {
+  std::vector<const Stage*> stages;
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (const auto& st : *list) stages.push_back(st.stage.get());
+  if (extra) stages.push_back(extra);
+  if (const std::string why = backend_->refuses(model_, scheme, stages); !why.empty())
+    throw std::invalid_argument("backend " + std::string(backend_->name()) + ": " + why);
+}
+
+void Simulator::sync_host() const {
+  if (!backend_ || !device_ahead_) return;
+  backend_->download(state_);
+  device_ahead_ = false;
+}
+
+void Simulator::wait() {
+  if (backend_) backend_->finish();
+}
+
+// A non-finite value flagged on the device: the state is brought back and the report names the
+// step at which the flag was first raised (checks run at the sampling and publishing cadence).
+void Simulator::check_backend_health() {
+  const std::uint64_t first = backend_->first_non_finite();
+  if (first == 0) return;
+  sync_host();
+  std::ostringstream why;
+  why << "non-finite position or velocity computed on the " << backend_->name()
+      << " backend, first at step " << first << " (t = " << double(first) * settings_.step << " s)";
+  fail("", why.str());
+  blow_up_->step = first;
+}
+
+bool Simulator::step_on_backend() {
+  const auto& ids = *ids_;
+  if (host_ahead_) {
+    sync_host();
+    backend_->load(model_, state_);
+    host_ahead_ = false;
+  }
+  profile_.begin_step();
+  const Real h = static_cast<Real>(settings_.step);
+  const bool driven = !model_.drives.empty();
+  if (driven) {
+    Timed t(profile_, ids.drive);
+    backend_->drive(model_, state_.time);
+  }
+  {
+    Timed t(profile_, ids.links);  // every force of the step, on the device
+    backend_->evaluate(model_, state_.time);
+  }
+  // Energies at t_n need the forces at t_n (a staggered scheme's velocities are synchronised
+  // with them), so the sample downloads them before the integration.
+  if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) {
+    device_ahead_ = true;
+    sync_host();
+    sample_energies();
+    if (blow_up_) return false;
+  }
+  {
+    Timed t(profile_, ids.integrate);
+    const std::optional<Integrator::KickDrift> k = integrator_->kick_drift_step(state_, h);
+    backend_->integrate(k->kick, k->drift, state_.step + 1);
+    state_.history = k->history_after;
+  }
+  state_.time += settings_.step;
+  state_.step += 1;
+  device_ahead_ = true;
+  if (driven) {
+    Timed t(profile_, ids.after);
+    backend_->drive(model_, state_.time);
+  }
+  const bool publishing = state_.step % static_cast<std::uint64_t>(settings_.publish_every) == 0;
+  if (publishing || pending_sample_) {
+    Timed t(profile_, ids.health);
+    check_backend_health();
+    if (blow_up_) return false;
+  }
+  if (publishing) {
+    Timed t(profile_, ids.publish);
+    sync_host();
+    publish();
+  }
+  if (pending_sample_) {
+    for (const auto& l : sample_listeners_) l(*pending_sample_, profile_);
+    pending_sample_.reset();
+  }
+  return true;
+}
+
+}  // namespace maille
