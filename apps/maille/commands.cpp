@@ -1,5 +1,6 @@
 #include "commands.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <iostream>
 #include <map>
 
+#include "maille/backend.hpp"
 #include "maille/checkpoint.hpp"
 #include "maille/io.hpp"
 #include "maille/limits.hpp"
@@ -131,9 +133,40 @@ int validate(const std::string& path, const std::vector<std::string>& sets) {
   return ok;
 }
 
-int info(const std::string& path, const std::vector<std::string>& sets) {
+namespace {
+
+// The backend's description (for gpu: driver, device, limits, EGL devices), made by starting it.
+int describe_backend(const std::string& name, std::optional<int> device) {
+  const BackendRegistry::Entry* entry = BackendRegistry::global().find(name);
+  if (!entry) {
+    std::cerr << "error: unknown backend '" << name
+              << "' (this program has: " << BackendRegistry::global().names() << ")\n";
+    return usage;
+  }
+  std::cout << "backend      " << entry->name << ": " << entry->doc << '\n';
+  if (!entry->make) return ok;
+  try {
+    BackendOptions options;
+    if (device) options.device = *device;
+    std::cout << entry->make(options)->describe();
+  } catch (const std::exception& e) {
+    std::cerr << "error: backend " << name << " cannot start: " << e.what() << '\n';
+    return output_error;
+  }
+  return ok;
+}
+
+}  // namespace
+
+int info(const std::string& path, const std::vector<std::string>& sets, const std::string& backend,
+         std::optional<int> gpu_device) {
+  if (!backend.empty())
+    if (const int code = describe_backend(backend, gpu_device); code != ok) return code;
+  if (path.empty()) return ok;
   auto scene = load_or_report(path, sets);
   if (!scene) return bad_input;
+  if (!backend.empty()) scene->settings.backend = backend;
+  if (gpu_device) scene->settings.backend_options.device = *gpu_device;
   std::optional<Simulator> built;
   try {
     built.emplace(std::move(scene->model), scene->settings);
@@ -191,6 +224,8 @@ int run(const RunOptions& o) {
   if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
   if (o.every) settings.publish_every = *o.every;
   if (o.threads) settings.threads = *o.threads;
+  if (!o.backend.empty()) settings.backend = o.backend;
+  if (o.gpu_device) settings.backend_options.device = *o.gpu_device;
   const auto format = parse_frame_format(o.format);
   if (!format) {
     std::cerr << "unknown format '" << o.format << "'\n";
@@ -248,13 +283,13 @@ int run(const RunOptions& o) {
 
     const auto t0 = std::chrono::steady_clock::now();
     std::uint64_t done = 0;
-    while (sim.state().step < *steps && !g_stop && sim.step()) {
+    while (sim.steps_taken() < *steps && !g_stop && sim.step()) {
       ++done;
-      if (o.checkpoint_every && sim.state().step % *o.checkpoint_every == 0) checkpoint();
+      if (o.checkpoint_every && sim.steps_taken() % *o.checkpoint_every == 0) checkpoint();
     }
     if (!sim.blow_up()) sim.check_energy();  // a runaway since the last check
     const double wall = seconds_since(t0);
-    if (o.checkpoint_every && !sim.blow_up() && sim.state().step % *o.checkpoint_every != 0)
+    if (o.checkpoint_every && !sim.blow_up() && sim.steps_taken() % *o.checkpoint_every != 0)
       checkpoint();              // where this run stopped (the end, or an interrupt)
     stats.close(sim.profile());  // the header is there even when no row is
 
@@ -271,7 +306,7 @@ int run(const RunOptions& o) {
       return blow_up;
     }
     if (g_stop) {
-      std::cerr << "interrupted at step " << sim.state().step
+      std::cerr << "interrupted at step " << sim.steps_taken()
                 << "; the frames and stats written so far are complete\n";
       return interrupted;
     }
@@ -291,58 +326,111 @@ int run(const RunOptions& o) {
   return ok;
 }
 
+namespace {
+
+struct BenchRow {
+  std::string backend;
+  std::uint64_t points = 0, links = 0;
+  int threads = 1;
+  double seconds = 1e300;               // the fastest repetition
+  std::map<std::string, double> stage;  // ns in that repetition, by profile stage
+};
+
+// The fastest of o.repeat timed runs of o.steps steps, each after o.warmup untimed ones. A device
+// backend runs asynchronously: the clock starts and stops on a finished device (Simulator::wait).
+std::optional<BenchRow> bench_backend(const Scene& scene, SimulationSettings settings,
+                                      const BenchOptions& o, int& exit_code) {
+  BenchRow row;
+  row.backend = settings.backend;
+  for (int r = 0; r < o.repeat; ++r) {
+    std::optional<Simulator> built;
+    try {
+      built.emplace(scene.model, settings);
+    } catch (const std::exception& e) {
+      std::cerr << o.scene << ": error: " << e.what() << '\n';
+      exit_code = bad_input;
+      return std::nullopt;
+    }
+    Simulator& sim = *built;
+    row.points = sim.model().points.size();
+    row.links = sim.model().links.total();
+    row.threads = sim.threads();
+    if (o.warmup > 0 && !sim.run_steps(o.warmup)) {
+      std::cerr << "error: " << sim.blow_up()->message << '\n';
+      exit_code = blow_up;
+      return std::nullopt;
+    }
+    sim.wait();
+    std::map<std::string, double> before;  // stage times of the warm-up, not reported
+    for (const auto& s : sim.profile().stages()) before[s.name] = s.total_ns;
+    const auto t0 = std::chrono::steady_clock::now();
+    bool fine = sim.run_steps(o.steps);
+    sim.wait();
+    const double wall = seconds_since(t0);
+    if (fine) fine = sim.check_energy();  // a device flags non-finite values at its cadence
+    if (!fine) {
+      std::cerr << "error: " << sim.blow_up()->message << '\n';
+      exit_code = blow_up;
+      return std::nullopt;
+    }
+    if (wall < row.seconds) {
+      row.seconds = wall;
+      for (const auto& s : sim.profile().stages()) row.stage[s.name] = s.total_ns - before[s.name];
+    }
+  }
+  return row;
+}
+
+}  // namespace
+
 int bench(const BenchOptions& o) {
   auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
   SimulationSettings settings = scene->settings;
   if (o.threads) settings.threads = *o.threads;
   if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
+  if (o.gpu_device) settings.backend_options.device = *o.gpu_device;
   settings.publish_every = 1 << 30;  // no publication cost in a benchmark
   settings.sample_every = 1 << 30;
-  double best = 1e300;
-  std::map<std::string, double> stage_ns;
-  std::uint64_t points = 0, links = 0;
-  int threads = 1;
-  for (int r = 0; r < o.repeat; ++r) {
-    std::optional<Simulator> built;
-    try {
-      built.emplace(scene->model, settings);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << o.scene << ": error: " << e.what() << '\n';
-      return bad_input;
-    }
-    Simulator& sim = *built;
-    points = sim.model().points.size();
-    links = sim.model().links.total();
-    threads = sim.threads();
-    if (o.warmup > 0 && !sim.run_steps(o.warmup)) {
-      std::cerr << "error: " << sim.blow_up()->message << '\n';
-      return blow_up;
-    }
-    std::map<std::string, double> before;  // stage times of the warm-up, not reported
-    for (const auto& s : sim.profile().stages()) before[s.name] = s.total_ns;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (!sim.run_steps(o.steps)) {
-      std::cerr << "error: " << sim.blow_up()->message << '\n';
-      return blow_up;
-    }
-    const double wall = seconds_since(t0);
-    if (wall < best) {
-      best = wall;
-      for (const auto& s : sim.profile().stages()) stage_ns[s.name] = s.total_ns - before[s.name];
-    }
+  std::vector<std::string> backends = o.backends;
+  if (backends.empty()) backends.push_back(settings.backend);
+  std::vector<BenchRow> rows;
+  for (const auto& b : backends) {
+    settings.backend = b;
+    int code = ok;
+    auto row = bench_backend(*scene, settings, o, code);
+    if (!row) return code;
+    rows.push_back(std::move(*row));
   }
-  const double ps = double(o.steps) * double(points);
+  // Stage columns: every stage any backend timed (a device backend times fewer), empty where a
+  // backend has none.
+  std::vector<std::string> stages;
+  for (const auto& r : rows)
+    for (const auto& [name, ns] : r.stage)
+      if (std::find(stages.begin(), stages.end(), name) == stages.end()) stages.push_back(name);
+  std::sort(stages.begin(), stages.end());
   if (o.header) {
-    std::printf("scene,points,links,threads,steps,seconds,ns_per_particle_step");
-    for (const auto& [name, ns] : stage_ns) std::printf(",ns_pps_%s", name.c_str());
+    std::printf(
+        "scene,points,links,threads,steps,seconds,ns_per_particle_step,backend,"
+        "particle_steps_per_second");
+    for (const auto& name : stages) std::printf(",ns_pps_%s", name.c_str());
     std::printf("\n");
   }
-  std::printf("%s,%llu,%llu,%d,%llu,%.6g,%.4g", scene->name.c_str(),
-              static_cast<unsigned long long>(points), static_cast<unsigned long long>(links),
-              threads, static_cast<unsigned long long>(o.steps), best, best * 1e9 / ps);
-  for (const auto& [name, ns] : stage_ns) std::printf(",%.4g", ns / ps);
-  std::printf("\n");
+  for (const auto& r : rows) {
+    const double ps = double(o.steps) * double(r.points);
+    std::printf("%s,%llu,%llu,%d,%llu,%.6g,%.4g,%s,%.4g", scene->name.c_str(),
+                static_cast<unsigned long long>(r.points), static_cast<unsigned long long>(r.links),
+                r.threads, static_cast<unsigned long long>(o.steps), r.seconds,
+                r.seconds * 1e9 / ps, r.backend.c_str(), ps / r.seconds);
+    for (const auto& name : stages) {
+      const auto it = r.stage.find(name);
+      if (it == r.stage.end())
+        std::printf(",");
+      else
+        std::printf(",%.4g", it->second / ps);
+    }
+    std::printf("\n");
+  }
   return ok;
 }
 
@@ -414,6 +502,8 @@ int render(const RenderCommandOptions& o) {
   auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
   if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
+  if (!o.backend.empty()) scene->settings.backend = o.backend;
+  if (o.gpu_device) scene->settings.backend_options.device = *o.gpu_device;
   render::MovieSettings m;
   for (const auto& text : o.stage_options) {
     const auto dot = text.find('.'), eq = text.find('=');

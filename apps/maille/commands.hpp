@@ -33,11 +33,16 @@ struct RunOptions {
   std::string resume;                             // DIR of a checkpoint to continue from
   bool no_self_collision = false;                 // skip the scene's [self_collision] stage
   std::vector<std::string> sets;                  // --set KEY=VALUE overrides
+  std::string backend;                            // empty: the scene's ([simulation] backend)
+  std::optional<int> gpu_device;                  // EGL device index for the gpu backend
 };
 int run(const RunOptions& o);
 // `sets`: scene overrides KEY=VALUE (`--set`, see src/scene/overrides.hpp), in order.
 int validate(const std::string& scene, const std::vector<std::string>& sets = {});
-int info(const std::string& scene, const std::vector<std::string>& sets = {});
+// `backend`: also describe that backend (for gpu: driver, device, limits) and say whether the
+// scene runs there; with no scene, describe the backend only.
+int info(const std::string& scene, const std::vector<std::string>& sets = {},
+         const std::string& backend = {}, std::optional<int> gpu_device = {});
 
 struct BenchOptions {
   std::string scene;
@@ -47,7 +52,9 @@ struct BenchOptions {
   int repeat = 3;
   bool header = true;
   bool no_self_collision = false;
-  std::vector<std::string> sets;  // --set KEY=VALUE overrides
+  std::vector<std::string> sets;      // --set KEY=VALUE overrides
+  std::vector<std::string> backends;  // one CSV row each; empty: the scene's
+  std::optional<int> gpu_device;
 };
 int bench(const BenchOptions& o);
 
@@ -68,6 +75,8 @@ struct RenderCommandOptions {
   std::vector<std::string>
       stage_options;              // "STAGE.OPTION=VALUE", e.g. self_collision.draw_cells=on
   std::vector<std::string> sets;  // --set KEY=VALUE overrides
+  std::string backend;            // empty: the scene's
+  std::optional<int> gpu_device;
 };
 int render(const RenderCommandOptions& o);
 

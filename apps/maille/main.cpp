@@ -3,9 +3,14 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "commands.hpp"
+#ifdef MAILLE_WITH_RENDER
+#include "maille/gpu.hpp"
+#endif
 #include "maille/limits.hpp"
 #include "study.hpp"
 
@@ -35,11 +40,21 @@ CLI::Validator number_in(double lo, double hi, bool open_low = false) {
 const CLI::Validator kThreads = number_in(1, maille::limits::max_threads);
 const CLI::Validator kSteps = number_in(1, double(maille::limits::max_steps));
 const CLI::Validator kDuration = number_in(0, maille::limits::max_duration, true);
+const CLI::Validator kDevice = number_in(0, 64);
+const char* const backend_help =
+    "Where the step runs: cpu (every stage and scheme, double) or gpu (OpenGL 4.5 compute, "
+    "float); default: the scene's [simulation] backend, else cpu";
+const char* const gpu_device_help =
+    "EGL device index for the gpu backend (`maille info --backend gpu` lists them; default: "
+    "Mesa's surfaceless platform)";
 
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace maille::app;
+#ifdef MAILLE_WITH_RENDER
+  maille::gpu::register_backend();
+#endif
   CLI::App app{"Maille: mass-interaction physics (mass-spring cloth, ropes, nets, lattices)"};
   app.require_subcommand(1);
 
@@ -82,12 +97,21 @@ int main(int argc, char** argv) {
       "KEY=VALUE, repeatable: override a scene key by its path (simulation.step=2e-4, "
       "flag[0].stiffness=800, self_collision.broad_phase=brute), validated as in the file";
   run_cmd->add_option("--set", ro.sets, set_help);
+  run_cmd->add_option("--backend", ro.backend, backend_help);
+  run_cmd->add_option("--gpu-device", ro.gpu_device, gpu_device_help)->check(kDevice);
   auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");
   validate_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
   validate_cmd->add_option("--set", sets, set_help);
   auto* info_cmd = app.add_subcommand("info", "Counts by brick kind and the stability estimate");
-  info_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
+  std::string info_backend;
+  std::optional<int> info_device;
+  auto* info_scene = info_cmd->add_option("scene", scene, "Scene file (TOML)");
   info_cmd->add_option("--set", sets, set_help);
+  auto* info_backend_opt = info_cmd->add_option(
+      "--backend", info_backend,
+      "Also describe this backend (gpu: driver, device, limits) and whether the scene runs "
+      "there; the scene may then be omitted");
+  info_cmd->add_option("--gpu-device", info_device, gpu_device_help)->check(kDevice);
 
   BenchOptions bo;
   auto* bench_cmd =
@@ -108,6 +132,12 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("--no-self-collision", bo.no_self_collision,
                       "Ignore the scene's [self_collision] table");
   bench_cmd->add_option("--set", bo.sets, set_help);
+  bench_cmd
+      ->add_option("--backend", bo.backends,
+                   "Backends to compare, one CSV row each: cpu, gpu or cpu,gpu (default: the "
+                   "scene's)")
+      ->delimiter(',');
+  bench_cmd->add_option("--gpu-device", bo.gpu_device, gpu_device_help)->check(kDevice);
 
   StudyOptions so;
   auto* study_cmd = app.add_subcommand(
@@ -161,6 +191,8 @@ int main(int argc, char** argv) {
                          "self_collision.draw_cells=on, self_collision.draw_contacts=on");
   render_cmd->add_option("--threads", rn.threads, "Simulation threads (default: the scene's)")
       ->check(kThreads);
+  render_cmd->add_option("--backend", rn.backend, backend_help);
+  render_cmd->add_option("--gpu-device", rn.gpu_device, gpu_device_help)->check(kDevice);
 #endif
 
   try {
@@ -171,7 +203,13 @@ int main(int argc, char** argv) {
   }
   if (*run_cmd) return run(ro);
   if (*validate_cmd) return validate(scene, sets);
-  if (*info_cmd) return info(scene, sets);
+  if (*info_cmd) {
+    if (info_scene->count() == 0 && info_backend_opt->count() == 0) {
+      std::cerr << "info: give a scene, --backend NAME, or both\n";
+      return usage;
+    }
+    return info(scene, sets, info_backend, info_device);
+  }
   if (*bench_cmd) return bench(bo);
   if (*study_cmd) return study(so);
 #ifdef MAILLE_WITH_RENDER

@@ -196,8 +196,8 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
   std::lock_guard lock(mutex_);
   status_.stage_options = std::move(stage_options);
   status_.running = running_;
-  status_.step = sim.state().step;
-  status_.time = sim.state().time;
+  status_.step = sim.steps_taken();
+  status_.time = sim.time();
   status_.step_size = sim.settings().step;
   status_.integrator = sim.settings().integrator;
   if (batch_wall_s > 0) {

@@ -100,6 +100,9 @@ class Simulator : private ForceEvaluator {
     return state_;
   }
   const SimulationSettings& settings() const { return settings_; }
+  // The step count and the time of the state: never a download, unlike state().
+  std::uint64_t steps_taken() const { return state_.step; }
+  double time() const { return state_.time; }
   const Integrator& integrator() const { return *integrator_; }
   const Profile& profile() const { return profile_; }
   const std::optional<BlowUp>& blow_up() const { return blow_up_; }

@@ -72,8 +72,8 @@ struct Basis {
 };
 
 // Each sine's frequency factor and phase (rad); its wave numbers along and across the wind (in
-// 1/lambda: 1, 1.31, 0.8, 1.2 and 0, 0.5, 0.3, 0) are written out in at(). The incommensurate
-// factors (1.73, 1.37, 0.61) keep the pattern from repeating quickly.
+// 1/lambda: 1, 1.31, 0.8, 1.2 and 0, 0.5, 0.3, 0) are MAILLE_GUST_WAVEk in wind_law.glsl. The
+// incommensurate factors (1.73, 1.37, 0.61) keep the pattern from repeating quickly.
 inline constexpr double frequency_factor[4] = {1, 1.73, 1.37, 0.61};
 inline constexpr double phase_rad[4] = {0, 1.1, 0.7, 2.1};
 
@@ -113,10 +113,10 @@ inline Basis basis(const WindField& w, double t) {
 // along and across the wind in wavelengths, s = u.p / lambda and q = e2.p / lambda (linear in
 // p: the stage gives a face the mean of its corners' s and q).
 inline void arguments(const Basis& b, double s, double q, float r[4]) {
-  r[0] = reduce(b.phase[0] - s);
-  r[1] = reduce(b.phase[1] - 1.31 * s + 0.5 * q);
-  r[2] = reduce(b.phase[2] - 0.8 * s + 0.3 * q);
-  r[3] = reduce(b.phase[3] - 1.2 * s);
+  r[0] = reduce(b.phase[0] + MAILLE_GUST_WAVE0(s, q));  // include/maille/detail/wind_law.glsl
+  r[1] = reduce(b.phase[1] + MAILLE_GUST_WAVE1(s, q));
+  r[2] = reduce(b.phase[2] + MAILLE_GUST_WAVE2(s, q));
+  r[3] = reduce(b.phase[3] + MAILLE_GUST_WAVE3(s, q));
 }
 
 inline void arguments(const Basis& b, const Vec3& p, float r[4]) {

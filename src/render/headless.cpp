@@ -22,16 +22,69 @@ namespace {
 
 }  // namespace
 
-HeadlessContext::HeadlessContext() {
-  // Surfaceless: no X server, no GBM device; Mesa picks a GPU when there is one, llvmpipe else.
-  // The EXT entry point (a client extension): libepoxy cannot tell the EGL version before a
-  // display exists, so it refuses the EGL 1.5 core eglGetPlatformDisplay here.
-  if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
+namespace {
+
+bool has_device_enumeration() {
+  return epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_device_enumeration") &&
+         epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_EXT_platform_device");
+}
+
+std::vector<EGLDeviceEXT> devices() {
+  EGLint count = 0;
+  if (!has_device_enumeration() || !eglQueryDevicesEXT(0, nullptr, &count) || count <= 0) return {};
+  std::vector<EGLDeviceEXT> out(static_cast<std::size_t>(count));
+  if (!eglQueryDevicesEXT(count, out.data(), &count)) return {};
+  out.resize(static_cast<std::size_t>(count));
+  return out;
+}
+
+// Surfaceless: no X server, no GBM device; Mesa picks a GPU when there is one, llvmpipe else.
+// The EXT entry point (a client extension): libepoxy cannot tell the EGL version before a
+// display exists, so it refuses the EGL 1.5 core eglGetPlatformDisplay here.
+EGLDisplay open_display(int device) {
+  if (device < 0) {
+    if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
+      throw std::runtime_error(
+          "headless OpenGL: EGL lacks EGL_MESA_platform_surfaceless (install libegl-mesa0)");
+    EGLDisplay display =
+        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (display == EGL_NO_DISPLAY) fail("eglGetPlatformDisplay(surfaceless)");
+    return display;
+  }
+  const std::vector<EGLDeviceEXT> all = devices();
+  if (std::size_t(device) >= all.size())
     throw std::runtime_error(
-        "headless OpenGL: EGL lacks EGL_MESA_platform_surfaceless (install libegl-mesa0)");
+        "headless OpenGL: no EGL device " + std::to_string(device) + " (this machine has " +
+        std::to_string(all.size()) +
+        (has_device_enumeration() ? "" : "; EGL_EXT_device_enumeration is missing") + ")");
   EGLDisplay display =
-      eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-  if (display == EGL_NO_DISPLAY) fail("eglGetPlatformDisplay(surfaceless)");
+      eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, all[std::size_t(device)], nullptr);
+  if (display == EGL_NO_DISPLAY) fail("eglGetPlatformDisplay(device)");
+  return display;
+}
+
+}  // namespace
+
+std::vector<std::string> egl_devices() {
+  std::vector<std::string> out;
+  const std::vector<EGLDeviceEXT> all = devices();
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const char* ext = eglQueryDeviceStringEXT(all[i], EGL_EXTENSIONS);
+    std::string name = "device";
+    const std::string e = ext ? ext : "";
+    if (e.find("EGL_MESA_device_software") != std::string::npos)
+      name = "software (llvmpipe)";
+    else if (e.find("EGL_EXT_device_drm") != std::string::npos)
+      name = "DRM device";
+    else if (e.find("EGL_NV_device_cuda") != std::string::npos)
+      name = "NVIDIA GPU";
+    out.push_back(std::to_string(i) + ": " + name + " (" + e + ")");
+  }
+  return out;
+}
+
+HeadlessContext::HeadlessContext(int device) {
+  EGLDisplay display = open_display(device);
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor)) fail("eglInitialize");
   if (!eglBindAPI(EGL_OPENGL_API)) fail("eglBindAPI(OpenGL)");
@@ -61,6 +114,20 @@ HeadlessContext::~HeadlessContext() {
   eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   eglDestroyContext(display_, context_);
   eglTerminate(display_);
+}
+
+void HeadlessContext::make_current() {
+  if (is_current()) return;
+  if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
+    fail("eglMakeCurrent (is the context current on another thread?)");
+}
+
+bool HeadlessContext::is_current() const {
+  return eglGetCurrentContext() == context_;
+}
+
+void HeadlessContext::release() {
+  eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
 }
 
 std::string HeadlessContext::description() const {

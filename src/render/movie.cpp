@@ -55,7 +55,7 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
     // Frame k shows the state at the step nearest to k / fps.
     const auto step = static_cast<std::uint64_t>(std::llround(double(k) / s.fps / settings.step));
     auto t0 = Clock::now();
-    while (sim.state().step < step)
+    while (sim.steps_taken() < step)
       if (!sim.step()) {
         report.blow_up = sim.blow_up()->message;
         break;
@@ -84,8 +84,8 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
       break;
     }
   }
-  report.steps = sim.state().step;
-  report.simulated = sim.state().time;
+  report.steps = sim.steps_taken();
+  report.simulated = sim.time();
   const auto t0 = Clock::now();
   if (report.frames > 0) sink.finish();
   report.output_seconds += seconds_since(t0);

@@ -113,6 +113,9 @@ class SceneReader {
     s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, 1 << 30));
     s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, 1 << 30));
     s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
+    s.backend = t.text("backend", s.backend, {"cpu", "gpu"});
+    s.backend_options.device =
+        static_cast<int>(t.integer("gpu_device", s.backend_options.device, -1, 64));
     s.runaway_factor =
         t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
     if (auto i = t.table("implicit")) {

@@ -20,6 +20,15 @@ MAILLE_SHARED float sin_half_turn(float r) {
               (z2 * z2) * 39.53678991f);
 }
 
+// The gust's four travelling sines: sine k's argument (turns) at a point is its phase at time t
+// plus MAILLE_GUST_WAVEk(s, q), with s and q the point's coordinates along and across the wind in
+// wavelengths (src/core/gust.hpp: Basis). Macros, so that the host evaluates them in double (the
+// phases grow with time) and the GPU in float.
+#define MAILLE_GUST_WAVE0(s, q) (-(s))
+#define MAILLE_GUST_WAVE1(s, q) (0.5 * (q) - 1.31 * (s))
+#define MAILLE_GUST_WAVE2(s, q) (0.3 * (q) - 0.8 * (s))
+#define MAILLE_GUST_WAVE3(s, q) (-1.2 * (s))
+
 // The gust's sum of its four sines (s0..s3 = sin of the four reduced arguments), as a factor of
 // each of its three amplitude vectors: w - U = along g + across1 s2 + across2 s3.
 MAILLE_SHARED float gust_along_factor(float s0, float s1) {

@@ -4,25 +4,36 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "maille/render/image.hpp"
 
 namespace maille::render {
 
-// Creates the context and makes it current on the calling thread for its whole life.
-// Throws std::runtime_error saying which EGL call failed.
+// Creates the context and makes it current on the calling thread. Throws std::runtime_error
+// saying which EGL call failed. device < 0: Mesa's surfaceless platform (a GPU when Mesa drives
+// one, llvmpipe else); device >= 0: that EGL device (EGL_EXT_device_enumeration: the NVIDIA
+// driver's GPUs, Mesa's devices), an error naming how many there are when out of range.
 class HeadlessContext {
  public:
-  HeadlessContext();
+  explicit HeadlessContext(int device = -1);
   ~HeadlessContext();
   HeadlessContext(const HeadlessContext&) = delete;
   HeadlessContext& operator=(const HeadlessContext&) = delete;
   std::string description() const;  // "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) ..."
+  // Makes the context current on the calling thread (another thread must have released it).
+  void make_current();
+  bool is_current() const;
+  void release();  // no context current on the calling thread
 
  private:
   void* display_ = nullptr;
   void* context_ = nullptr;
 };
+
+// The EGL devices (EGL_EXT_device_enumeration), each as "index: name (extensions)"; empty when
+// the extension is missing.
+std::vector<std::string> egl_devices();
 
 // A width x height colour + depth framebuffer, multisampled when samples > 1 (resolved on read).
 // Needs a current OpenGL 4.5 context.

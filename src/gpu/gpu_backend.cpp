@@ -1,0 +1,433 @@
+// The GPU backend: the model's points, links and faces in shader storage buffers
+// (gpu_layout.hpp), and one step as four compute dispatches (shaders.hpp):
+//   drive      driven points' x and v at t (uploaded: the paths are evaluated on the host)
+//   faces      the wind's force per face (only with wind)
+//   forces     per point: links (gather over its adjacency), faces, gravity, drag
+//   integrate  per point: kick and drift, the health flag
+// Positions stay on the device between steps; the Simulator downloads them only when it needs
+// them (backend.hpp). Arithmetic is float: the tests derive their tolerances from it.
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+#include <utility>
+
+#include "../core/gust.hpp"
+#include "../render/gl_program.hpp"
+#include "gpu_layout.hpp"
+#include "maille/backend.hpp"
+#include "maille/gpu.hpp"
+#include "maille/render/headless.hpp"
+#include "shaders.hpp"
+
+namespace maille::gpu {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Host-side packing of the model.
+
+struct ParamsHash {
+  std::size_t operator()(const std::array<float, 4>& p) const {
+    std::size_t h = 0;
+    for (float x : p) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &x, 4);
+      h = h * 0x9E3779B97F4A7C15ull + bits;
+    }
+    return h;
+  }
+};
+
+// Every link of every pool, as seen from each of its ends (CSR by point), with its parameters
+// deduplicated (a cloth has a handful of distinct sets for millions of links).
+struct Adjacency {
+  std::vector<std::uint32_t> offset;  // n + 1
+  std::vector<Adjacent> entries;
+  std::vector<float> params;  // 4 per set
+  std::vector<KindLaw> kinds;
+};
+
+Adjacency pack_links(const Model& m) {
+  const std::uint32_t n = m.points.size();
+  Adjacency out;
+  out.offset.assign(n + 1, 0);
+  for (const auto& pool : m.links.pools())
+    for (const LinkEnds& e : pool->slot_ends()) ++out.offset[e.a + 1], ++out.offset[e.b + 1];
+  for (std::uint32_t i = 0; i < n; ++i) out.offset[i + 1] += out.offset[i];
+  out.entries.resize(out.offset[n]);
+  std::vector<std::uint32_t> fill(out.offset.begin(), out.offset.end() - 1);
+  std::unordered_map<std::array<float, 4>, std::uint32_t, ParamsHash> sets;
+  for (const auto& pool : m.links.pools()) {
+    if (pool->size() == 0) continue;
+    const auto kind = static_cast<std::uint32_t>(out.kinds.size());
+    const std::size_t fields = pool->fields().size();
+    out.kinds.push_back({std::string(pool->shared_law()), int(fields)});
+    const auto ends = pool->slot_ends();
+    for (std::size_t slot = 0; slot < ends.size(); ++slot) {
+      std::array<float, 4> p{};
+      const std::uint32_t id = pool->id_of_slot(slot);
+      for (std::size_t f = 0; f < fields; ++f) p[f] = float(pool->param(id, f));
+      auto [it, added] = sets.try_emplace(p, std::uint32_t(sets.size()));
+      if (added) out.params.insert(out.params.end(), p.begin(), p.end());
+      const auto [a, b] = ends[slot];
+      out.entries[fill[a]++] = {b, kind, it->second};
+      out.entries[fill[b]++] = {a, kind | kEndIsB, it->second};
+    }
+  }
+  if (out.params.empty()) out.params.assign(4, 0.0f);
+  return out;
+}
+
+// The faces of each point (CSR), for the gather of the wind's face forces.
+void pack_faces(const Model& m, std::vector<std::uint32_t>& corners,
+                std::vector<std::uint32_t>& offset, std::vector<std::uint32_t>& incidence) {
+  const std::uint32_t n = m.points.size();
+  const auto& tris = m.surface.triangles;
+  corners.clear();
+  offset.assign(n + 1, 0);
+  for (const auto& t : tris)
+    for (std::uint32_t c : t) corners.push_back(c), ++offset[c + 1];
+  for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
+  incidence.resize(offset[n]);
+  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+  for (std::uint32_t f = 0; f < tris.size(); ++f)
+    for (std::uint32_t c : tris[f]) incidence[fill[c]++] = f;
+}
+
+std::vector<float> packed(std::span<const Vec3> a) {
+  std::vector<float> out(3 * a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    out[3 * i] = float(a[i].x);
+    out[3 * i + 1] = float(a[i].y);
+    out[3 * i + 2] = float(a[i].z);
+  }
+  return out;
+}
+
+void unpack(const std::vector<float>& in, std::span<Vec3> out) {
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {Real(in[3 * i]), Real(in[3 * i + 1]), Real(in[3 * i + 2])};
+}
+
+// A compute program and its uniforms' locations (looked up once).
+class Kernel {
+ public:
+  Kernel() = default;
+  Kernel(std::string_view name, const std::string& source)
+      : program_(render::link_compute_program(name, source)) {}
+  Kernel(Kernel&& o) noexcept : program_(std::exchange(o.program_, 0)), loc_(std::move(o.loc_)) {}
+  Kernel& operator=(Kernel&& o) noexcept {
+    std::swap(program_, o.program_);
+    std::swap(loc_, o.loc_);
+    return *this;
+  }
+  ~Kernel() {
+    if (program_) glDeleteProgram(program_);
+  }
+  GLint at(const char* name) {
+    auto it = loc_.find(name);
+    if (it == loc_.end()) it = loc_.emplace(name, glGetUniformLocation(program_, name)).first;
+    return it->second;
+  }
+  void set(const char* name, GLuint value) { glProgramUniform1ui(program_, at(name), value); }
+  void set(const char* name, float value) { glProgramUniform1f(program_, at(name), value); }
+  void set_flag(const char* name, bool value) { glProgramUniform1i(program_, at(name), value); }
+  void set(const char* name, const Vec3& value) {
+    glProgramUniform3f(program_, at(name), float(value.x), float(value.y), float(value.z));
+  }
+  void set(const char* name, const float (&value)[3]) {
+    glProgramUniform3f(program_, at(name), value[0], value[1], value[2]);
+  }
+  void set(const char* name, const float (&value)[4]) {
+    glProgramUniform4f(program_, at(name), value[0], value[1], value[2], value[3]);
+  }
+  // Runs `count` invocations (u_count), then makes its writes visible to the next kernel.
+  void run(GLuint count) {
+    if (count == 0) return;
+    set("u_count", count);
+    glUseProgram(program_);
+    glDispatchCompute((count + kGroupSize - 1) / kGroupSize, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+
+ private:
+  GLuint program_ = 0;
+  std::map<std::string, GLint, std::less<>> loc_;
+};
+
+std::string gl_string(GLenum e) {
+  const auto* s = reinterpret_cast<const char*>(glGetString(e));
+  return s ? s : "?";
+}
+
+GLint gl_int(GLenum e, GLuint index = 0, bool indexed = false) {
+  GLint v = 0;
+  if (indexed)
+    glGetIntegeri_v(e, index, &v);
+  else
+    glGetIntegerv(e, &v);
+  return v;
+}
+
+std::string describe_current() {
+  std::ostringstream s;
+  s << "renderer     " << gl_string(GL_RENDERER) << "\n"
+    << "vendor       " << gl_string(GL_VENDOR) << "\n"
+    << "version      OpenGL " << gl_string(GL_VERSION) << ", GLSL "
+    << gl_string(GL_SHADING_LANGUAGE_VERSION) << "\n"
+    << "work groups  at most " << gl_int(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, true)
+    << " per dispatch of " << kGroupSize << " invocations (max "
+    << gl_int(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS)
+    << "): " << double(gl_int(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, true)) * kGroupSize
+    << " points or faces\n"
+    << "storage      " << gl_int(GL_MAX_COMPUTE_SHADER_STORAGE_BLOCKS)
+    << " blocks per compute shader, " << gl_int(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS)
+    << " bindings, blocks up to " << double(gl_int(GL_MAX_SHADER_STORAGE_BLOCK_SIZE)) / (1 << 20)
+    << " MiB\n";
+  return s.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+class GpuBackend final : public Backend {
+ public:
+  explicit GpuBackend(const BackendOptions& o) {
+    // A context already current on this thread (the renderer's) is used as is, so that the
+    // renderer draws from the position buffer; otherwise the backend makes its own.
+    if (o.device >= 0 || eglGetCurrentContext() == EGL_NO_CONTEXT)
+      own_ = std::make_unique<render::HeadlessContext>(o.device);
+    if (epoxy_gl_version() < 45)
+      throw std::runtime_error("the GPU backend needs OpenGL 4.5 (this context has " +
+                               std::to_string(epoxy_gl_version()) + ")");
+    glCreateBuffers(GLsizei(kBufferCount), buffers_.data());
+    faces_ = Kernel("gpu faces", faces_shader());
+    integrate_ = Kernel("gpu integrate", integrate_shader());
+    drive_ = Kernel("gpu drive", drive_shader());
+    max_invocations_ = double(gl_int(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, true)) * kGroupSize;
+  }
+
+  ~GpuBackend() override {
+    current();
+    forces_ = {};
+    faces_ = {};
+    integrate_ = {};
+    drive_ = {};
+    glDeleteBuffers(GLsizei(kBufferCount), buffers_.data());
+  }
+
+  std::string_view name() const override { return "gpu"; }
+
+  std::string describe() const override {
+    const_cast<GpuBackend*>(this)->current();
+    std::string out = describe_current();
+    const std::vector<std::string> devices = render::egl_devices();
+    out += "devices      " + std::to_string(devices.size()) + " EGL device(s) (--gpu-device N)\n";
+    for (const auto& d : devices) out += "             " + d + "\n";
+    return out;
+  }
+
+  std::string refuses(const Model& m, const Integrator& scheme,
+                      std::span<const Stage* const> stages) const override {
+    if (!scheme.kick_drift_step(State(), Real(1e-3)))
+      return "integrator '" + std::string(scheme.name()) +
+             "' has no GPU version (the GPU runs leapfrog and symplectic_euler; the CPU runs "
+             "every scheme)";
+    for (const auto& pool : m.links.pools()) {
+      if (pool->size() == 0) continue;
+      if (pool->shared_law().empty())
+        return "link kind '" + std::string(pool->keyword()) +
+               "' has no GPU version (its force law is not in "
+               "include/maille/detail/link_laws.glsl): run this scene with --backend cpu";
+      if (pool->fields().size() > 4)
+        return "link kind '" + std::string(pool->keyword()) + "' has more than 4 parameters";
+    }
+    for (const Stage* st : stages)
+      return "stage '" + st->name() +
+             "' has no GPU version yet: run this scene with --backend cpu" +
+             (st->name() == "self_collision" ? " (or without it: --no-self-collision)" : "");
+    const double biggest = std::max<double>(m.points.size(), double(m.surface.triangles.size()));
+    if (biggest > max_invocations_)
+      return std::to_string(std::uint64_t(biggest)) +
+             " points or faces exceed what one dispatch reaches here (" +
+             std::to_string(std::uint64_t(max_invocations_)) + ")";
+    return {};
+  }
+
+  void load(const Model& m, const State& s) override {
+    current();
+    points_ = m.points.size();
+    upload(Buf::x, packed(s.x()));
+    upload(Buf::v, packed(s.v()));
+    upload(Buf::f, std::vector<float>(3 * std::size_t(points_), 0.0f));
+    std::vector<float> inv_mass(points_), mass(points_);
+    for (std::uint32_t i = 0; i < points_; ++i) {
+      inv_mass[i] = float(m.points.inv_mass[i]);
+      mass[i] = float(m.points.mass[i]);
+    }
+    upload(Buf::inv_mass, inv_mass);
+    upload(Buf::mass, mass);
+
+    Adjacency adj = pack_links(m);
+    upload(Buf::adjacency_offset, adj.offset);
+    upload(Buf::adjacency, adj.entries);
+    upload(Buf::link_params, adj.params);
+    const std::string source = forces_shader(adj.kinds);
+    if (source != forces_source_) {
+      forces_ = Kernel("gpu forces", source);
+      forces_source_ = source;
+    }
+
+    wind_ = m.fields.wind.active() && !m.surface.triangles.empty();
+    faces_count_ = wind_ ? std::uint32_t(m.surface.triangles.size()) : 0;
+    std::vector<std::uint32_t> corners, offset, incidence;
+    if (wind_) pack_faces(m, corners, offset, incidence);
+    if (offset.empty()) offset.assign(std::size_t(points_) + 1, 0);
+    upload(Buf::face_corner, corners);
+    upload(Buf::face_offset, offset);
+    upload(Buf::face_of_point, incidence);
+    upload(Buf::face_force, std::vector<float>(3 * std::size_t(faces_count_), 0.0f));
+
+    driven_.resize(m.drives.size());
+    upload(Buf::driven, driven_);
+    upload(Buf::health, std::vector<std::uint32_t>{0xffffffffu});
+  }
+
+  void drive(const Model& m, double t) override {
+    if (m.drives.empty()) return;
+    current();
+    for (std::size_t k = 0; k < m.drives.size(); ++k) {
+      const Drive& d = m.drives[k];
+      const Vec3 p = d.path.position(t), u = d.path.velocity(t);
+      driven_[k] = {d.point,    float(p.x), float(p.y), float(p.z),
+                    float(u.x), float(u.y), float(u.z)};
+    }
+    glNamedBufferSubData(buffer(Buf::driven), 0, GLsizeiptr(driven_.size() * sizeof(DrivenPoint)),
+                         driven_.data());
+    bind();
+    drive_.run(GLuint(driven_.size()));
+  }
+
+  void evaluate(const Model& m, double t) override {
+    current();
+    bind();
+    if (wind_) {
+      const WindField& w = m.fields.wind;
+      const gust::Basis b = gust::basis(w, t);
+      faces_.set("u_mean", b.mean);
+      faces_.set("u_coef", float(w.density * w.drag_coefficient / Real(12)));
+      faces_.set_flag("u_gusty", !b.steady);
+      faces_.set("u_k_along", b.k_along);
+      faces_.set("u_k_across", b.k_across);
+      // The phases grow with time: reduced in double here, so the GPU's float keeps its digits.
+      float phase[4];
+      for (int k = 0; k < 4; ++k) phase[k] = float(b.phase[k] - std::nearbyint(b.phase[k]));
+      faces_.set("u_phase", phase);
+      faces_.set("u_along", b.along);
+      faces_.set("u_across1", b.across1);
+      faces_.set("u_across2", b.across2);
+      faces_.run(faces_count_);
+    }
+    forces_.set("u_gravity", m.fields.gravity);
+    forces_.set("u_drag", float(m.fields.air_drag));
+    forces_.set_flag("u_wind", wind_);
+    forces_.run(points_);
+  }
+
+  void integrate(Real kick, Real drift, std::uint64_t step) override {
+    current();
+    bind();
+    integrate_.set("u_kick", float(kick));
+    integrate_.set("u_drift", float(drift));
+    integrate_.set("u_step", GLuint(std::min<std::uint64_t>(step, 0xfffffffeu)));
+    integrate_.run(points_);
+  }
+
+  std::uint64_t first_non_finite() override {
+    current();
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::uint32_t first = 0;
+    glGetNamedBufferSubData(buffer(Buf::health), 0, 4, &first);
+    return first == 0xffffffffu ? 0 : first;
+  }
+
+  void download(State& s) override {
+    current();
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<float> tmp(3 * std::size_t(points_));
+    const auto bytes = GLsizeiptr(tmp.size() * sizeof(float));
+    glGetNamedBufferSubData(buffer(Buf::x), 0, bytes, tmp.data());
+    unpack(tmp, s.x());
+    glGetNamedBufferSubData(buffer(Buf::v), 0, bytes, tmp.data());
+    unpack(tmp, s.v());
+    glGetNamedBufferSubData(buffer(Buf::f), 0, bytes, tmp.data());
+    unpack(tmp, s.f());
+  }
+
+  void finish() override {
+    current();
+    glFinish();
+  }
+
+ private:
+  void current() {
+    if (own_) own_->make_current();
+  }
+  GLuint buffer(Buf b) const { return buffers_[unsigned(b)]; }
+
+  template <class T>
+  void upload(Buf b, const std::vector<T>& data) {
+    // At least 16 bytes: a buffer bound to a storage block must not be empty.
+    const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
+    std::vector<std::byte> padded;
+    const void* src = data.data();
+    if (data.size() * sizeof(T) < 16) {
+      padded.assign(16, std::byte{0});
+      if (!data.empty()) std::memcpy(padded.data(), data.data(), data.size() * sizeof(T));
+      src = padded.data();
+    }
+    glNamedBufferData(buffer(b), GLsizeiptr(bytes), src, GL_DYNAMIC_DRAW);
+  }
+
+  // The renderer shares the context and binds its own buffers to low bindings: ours are bound
+  // again before every pass.
+  void bind() {
+    for (unsigned k = 0; k < kBufferCount; ++k)
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, k, buffers_[k]);
+  }
+
+  std::unique_ptr<render::HeadlessContext> own_;
+  std::array<GLuint, kBufferCount> buffers_{};
+  Kernel forces_, faces_, integrate_, drive_;
+  std::string forces_source_;
+  std::uint32_t points_ = 0, faces_count_ = 0;
+  bool wind_ = false;
+  std::vector<DrivenPoint> driven_;
+  double max_invocations_ = 0;
+};
+
+}  // namespace
+
+void register_backend() {
+  BackendRegistry::global().add(
+      {"gpu",
+       "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog and "
+       "symplectic Euler, driven points, conditional contacts",
+       [](const BackendOptions& o) -> std::unique_ptr<Backend> {
+         return std::make_unique<GpuBackend>(o);
+       }});
+}
+
+std::string describe(int device) {
+  return GpuBackend(BackendOptions{device}).describe();
+}
+
+}  // namespace maille::gpu

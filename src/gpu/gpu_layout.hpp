@@ -1,0 +1,86 @@
+// The GPU step's buffers and records, declared once. The host code binds and fills them through
+// the C++ names generated here (enum Buf, struct Adjacent, struct DrivenPoint), and every shader
+// gets its GLSL declarations generated from the same lists (glsl_records, glsl_buffers), so the
+// two sides cannot drift apart. Records hold 32-bit scalars only: their std430 layout is then
+// the C++ one, member by member (checked below).
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+namespace maille::gpu {
+
+// Buffer bindings: X(binding, block name, element type, array name, what it holds).
+#define MAILLE_GPU_BUFFERS(X)                                                                 \
+  X(0, Positions, float, x, "m, 3 per point, packed (the renderer draws from it)")            \
+  X(1, Velocities, float, v, "m/s, 3 per point")                                              \
+  X(2, Forces, float, f, "N, 3 per point")                                                    \
+  X(3, InvMasses, float, inv_mass, "1/kg per point; 0 for fixed and driven points")           \
+  X(4, Masses, float, mass, "kg per point")                                                   \
+  X(5, AdjacencyOffsets, uint, adjacency_offset, "n + 1: point i's links are [o[i], o[i+1])") \
+  X(6, Adjacency, Adjacent, adjacency, "each point's links, as seen from that point")         \
+  X(7, LinkParams, float, link_params, "4 per distinct parameter set")                        \
+  X(8, FaceOffsets, uint, face_offset, "n + 1: point i's faces are [o[i], o[i+1])")           \
+  X(9, FaceIncidence, uint, face_of_point, "the faces of each point")                         \
+  X(10, FaceCorners, uint, face_corner, "3 per face")                                         \
+  X(11, FaceForces, float, face_force, "N on each corner, 3 per face")                        \
+  X(12, DrivenPoints, DrivenPoint, driven, "driven points' positions and velocities at t")    \
+  X(13, Health, uint, health, "[0]: first step with a non-finite value; 0xffffffff: none")
+
+enum class Buf : unsigned {
+#define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
+  MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM)
+#undef MAILLE_GPU_ENUM
+};
+inline constexpr unsigned kBufferCount = 14;
+
+// Records: F(type, member).
+// One link seen from one of its ends: the other end, the kind (its index in the model's GPU
+// kinds; bit 31 set when this point is the link's b end) and the index of its parameter set.
+#define MAILLE_GPU_ADJACENT(F) F(uint, other) F(uint, kind) F(uint, params)
+// A driven point's state at t.
+#define MAILLE_GPU_DRIVEN(F) \
+  F(uint, point) F(float, px) F(float, py) F(float, pz) F(float, vx) F(float, vy) F(float, vz)
+
+inline constexpr std::uint32_t kEndIsB = 0x80000000u;
+
+using uint = std::uint32_t;
+#define MAILLE_GPU_MEMBER(type, name) type name;
+struct Adjacent {
+  MAILLE_GPU_ADJACENT(MAILLE_GPU_MEMBER)
+};
+struct DrivenPoint {
+  MAILLE_GPU_DRIVEN(MAILLE_GPU_MEMBER)
+};
+#undef MAILLE_GPU_MEMBER
+#define MAILLE_GPU_COUNT(type, name) +1
+static_assert(sizeof(Adjacent) == 4 * (0 MAILLE_GPU_ADJACENT(MAILLE_GPU_COUNT)));
+static_assert(sizeof(DrivenPoint) == 4 * (0 MAILLE_GPU_DRIVEN(MAILLE_GPU_COUNT)));
+#undef MAILLE_GPU_COUNT
+
+// GLSL struct declarations of the records.
+inline std::string glsl_records() {
+#define MAILLE_GPU_GLSL_MEMBER(type, name) " " #type " " #name ";"
+  return "struct Adjacent {" MAILLE_GPU_ADJACENT(MAILLE_GPU_GLSL_MEMBER) " };\n"
+         "struct DrivenPoint {" MAILLE_GPU_DRIVEN(MAILLE_GPU_GLSL_MEMBER) " };\n";
+#undef MAILLE_GPU_GLSL_MEMBER
+}
+
+// GLSL declarations of the buffers a shader uses (only those: the number of storage blocks a
+// compute shader may use is limited, 8 at the least).
+inline std::string glsl_buffers(std::initializer_list<Buf> used) {
+  std::string out;
+  for (Buf b : used) {
+#define MAILLE_GPU_DECLARE(binding, block, type, name, doc)                              \
+  if (b == Buf::name)                                                                    \
+    out += "layout(std430, binding = " #binding ") buffer " #block " { " #type " " #name \
+           "[]; };  // " doc "\n";
+    MAILLE_GPU_BUFFERS(MAILLE_GPU_DECLARE)
+#undef MAILLE_GPU_DECLARE
+  }
+  return out;
+}
+
+}  // namespace maille::gpu
