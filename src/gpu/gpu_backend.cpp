@@ -196,6 +196,19 @@ std::string describe_current() {
   return s.str();
 }
 
+// The model's largest buffer against the driver's largest storage block (Mesa's llvmpipe: 128 MiB,
+// a 1024 x 1024 flag's links; NVIDIA's drivers: 2 GiB and more).
+std::string too_big(const Model& m, double max_block) {
+  const double adjacency = 2.0 * double(m.links.total()) * sizeof(Adjacent);
+  const double faces = 3.0 * 4 * double(m.surface.triangles.size());
+  const double biggest = std::max({adjacency, faces, 12.0 * m.points.size()});
+  if (biggest <= max_block) return {};
+  std::ostringstream why;
+  why << "the model needs a " << biggest / (1 << 20) << " MiB storage buffer (its links seen from "
+      << "both ends), more than this driver's limit of " << max_block / (1 << 20) << " MiB";
+  return why.str();
+}
+
 // ---------------------------------------------------------------------------------------------
 
 class GpuBackend final : public Backend {
@@ -213,6 +226,9 @@ class GpuBackend final : public Backend {
     integrate_ = Kernel("gpu integrate", integrate_shader());
     drive_ = Kernel("gpu drive", drive_shader());
     max_invocations_ = double(gl_int(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, true)) * kGroupSize;
+    GLint64 block = 0;
+    glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    max_block_ = double(block);
   }
 
   ~GpuBackend() override {
@@ -254,6 +270,7 @@ class GpuBackend final : public Backend {
       return "stage '" + st->name() +
              "' has no GPU version yet: run this scene with --backend cpu" +
              (st->name() == "self_collision" ? " (or without it: --no-self-collision)" : "");
+    if (const std::string why = too_big(m, max_block_); !why.empty()) return why;
     const double biggest = std::max<double>(m.points.size(), double(m.surface.triangles.size()));
     if (biggest > max_invocations_)
       return std::to_string(std::uint64_t(biggest)) +
@@ -412,6 +429,7 @@ class GpuBackend final : public Backend {
   bool wind_ = false;
   std::vector<DrivenPoint> driven_;
   double max_invocations_ = 0;
+  double max_block_ = 0;  // bytes, the largest storage block this driver binds
 };
 
 }  // namespace
