@@ -4,9 +4,11 @@
 #include <string>
 #include <vector>
 
+#include "maille/gpu.hpp"
 #include "viewer.hpp"
 
 int main(int argc, char** argv) {
+  maille::gpu::register_backend();
   maille::viewer::ViewerOptions o;
   CLI::App app{"Maille viewer: run a scene live, drag particles, tune parameters"};
   std::string scene, examples = MAILLE_EXAMPLES_DIR, screenshot;
@@ -19,6 +21,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--screenshot", screenshot, "With --frames: write the last frame here (PNG)");
   app.add_flag("--paused", o.paused, "Start paused");
+  app.add_option("--backend", o.backend,
+                 "Where the step runs: cpu or gpu (OpenGL 4.5 compute); default: the scene's");
   app.add_flag("--smooth", o.smooth, "Draw cloth as a smooth surface through the particles");
   app.add_option("--lod", o.lod, "Smooth surface: sub-segments per physical edge")
       ->check(CLI::Range(1, 16));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "maille/backend.hpp"
 #include "maille/integrator.hpp"
 #include "maille/smooth_surface.hpp"
 
@@ -51,6 +52,14 @@ void simulation_controls(PhysicsThread& physics, const PhysicsStatus& st, Tuning
         physics.set_integrator(e.name);
     ImGui::EndCombo();
   }
+
+  if (ImGui::BeginCombo("backend", st.backend.c_str())) {
+    for (const auto& e : BackendRegistry::global().entries())
+      if (ImGui::Selectable(e.name.c_str(), e.name == st.backend)) physics.set_backend(e.name);
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered() && st.backend != "cpu")
+    ImGui::SetTooltip("particles can be dragged on the cpu backend only");
 
   ImGui::Text("t = %.3f s   step %llu", st.time, static_cast<unsigned long long>(st.step));
   ImGui::Text("%.0f steps/s   %.2fx real time", st.steps_per_second, st.realtime_factor);

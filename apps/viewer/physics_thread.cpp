@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace maille::viewer {
 
@@ -25,11 +26,14 @@ constexpr double kSamplesPerSecond = 100;
 PhysicsThread::PhysicsThread(Model model, SimulationSettings settings,
                              render::SnapshotExchange& out, bool play)
     : out_(out) {
+  // A device backend is started on the physics thread, where its steps run.
+  const std::string backend = std::exchange(settings.backend, "cpu");
   sim_ = make_simulator(std::move(model), std::move(settings));
   running_ = play;
   sim_->publish_now();
   publish_status(0, 0, 0);
   thread_ = std::thread([this] { run(); });
+  if (backend != "cpu") set_backend(backend);
 }
 
 PhysicsThread::~PhysicsThread() {
@@ -45,8 +49,9 @@ std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, Simulation
   settings.publish_every = 1 << 30;  // published explicitly after each batch of steps
   settings.sample_every =
       std::max(1, static_cast<int>(std::lround(1 / (kSamplesPerSecond * settings.step))));
+  const bool cpu = settings.backend == "cpu";
   auto sim = std::make_unique<Simulator>(std::move(model), std::move(settings));
-  sim->add_stage(std::make_unique<DragSpring>(drag_));
+  if (cpu) sim->add_stage(std::make_unique<DragSpring>(drag_));  // a CPU stage
   sim->set_overlays(true);  // stages' contacts and cells reach the window with the snapshots
   // Runs on the physics thread, inside Simulator::publish_now.
   sim->on_publish([this](const Snapshot& s) { out_.publish(s); });
@@ -126,6 +131,27 @@ void PhysicsThread::set_integrator(const std::string& name) {
   });
 }
 
+void PhysicsThread::set_backend(const std::string& name) {
+  drag_->release();
+  send([this, name](Simulator& sim) {
+    if (name == sim.settings().backend) return;
+    try {
+      SimulationSettings settings = sim.settings();
+      settings.backend = name;
+      std::unique_ptr<Simulator> next = make_simulator(sim.model(), settings);
+      next->restore(sim.state(), sim.frames_published());
+      sim_ = std::move(next);  // `sim` is gone from here on
+      std::lock_guard lock(mutex_);
+      status_.notice.clear();
+      status_.notice_stage.clear();
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      status_.notice = "backend " + name + ": " + e.what();
+      status_.notice_stage.clear();
+    }
+  });
+}
+
 void PhysicsThread::scale_link_param(std::size_t pool, std::size_t field, Real factor) {
   send([pool, field, factor](Simulator& sim) {
     sim.edit_parameters([&](Model& m) {
@@ -200,6 +226,7 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
   status_.time = sim.time();
   status_.step_size = sim.settings().step;
   status_.integrator = sim.settings().integrator;
+  status_.backend = sim.settings().backend;
   if (batch_wall_s > 0) {
     status_.steps_per_second = double(batch_steps) / batch_wall_s;
     status_.realtime_factor = batch_sim_s / batch_wall_s;
@@ -216,28 +243,34 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
 void PhysicsThread::run() {
   // While playing, simulated time follows anchor_sim + (now - anchor_wall) * speed.
   Clock::time_point anchor_wall = Clock::now();
-  double anchor_sim = sim_->state().time;
+  double anchor_sim = sim_->time();
   bool was_running = false;
   for (;;) {
     std::deque<Command> commands;
     bool running = false;
     int singles = 0;
     double speed = 1;
+    bool quit = false;
     {
       std::unique_lock lock(mutex_);
       wake_.wait(lock, [&] { return quit_ || !commands_.empty() || running_ || single_steps_; });
-      if (quit_) return;
+      quit = quit_;
       commands.swap(commands_);
       running = running_;
       singles = std::exchange(single_steps_, 0);
       speed = speed_;
       if (running && sim_->blow_up()) running = running_ = false;  // nothing more to run
     }
+    if (quit) {
+      // Destroyed on this thread: a device backend's context is current here.
+      sim_.reset();
+      return;
+    }
 
     for (auto& c : commands) c(*sim_);
     const Clock::time_point t0 = Clock::now();
-    const double sim0 = sim_->state().time;
-    const std::uint64_t step0 = sim_->state().step;
+    const double sim0 = sim_->time();
+    const std::uint64_t step0 = sim_->steps_taken();
 
     if (singles > 0) {
       for (int i = 0; i < singles && sim_->step(); ++i) {
@@ -249,25 +282,25 @@ void PhysicsThread::run() {
         anchor_sim = sim0;
       }
       const double due = speed > 0 ? anchor_sim + seconds(t0 - anchor_wall) * speed : INFINITY;
-      while (sim_->state().time < due && seconds(Clock::now() - t0) < kBatchSeconds &&
+      while (sim_->time() < due && seconds(Clock::now() - t0) < kBatchSeconds &&
              sim_->step()) {
       }
       // Too slow for real time: follow from here rather than falling further behind.
-      if (speed > 0 && sim_->state().time < due - 0.05 * speed) {
+      if (speed > 0 && sim_->time() < due - 0.05 * speed) {
         anchor_wall = Clock::now();
-        anchor_sim = sim_->state().time;
+        anchor_sim = sim_->time();
       }
     }
     was_running = running && singles == 0;
 
-    const std::uint64_t steps = sim_->state().step - step0;
+    const std::uint64_t steps = sim_->steps_taken() - step0;
     if (steps > 0 || !commands.empty()) sim_->publish_now();
-    publish_status(steps, seconds(Clock::now() - t0), sim_->state().time - sim0);
+    publish_status(steps, seconds(Clock::now() - t0), sim_->time() - sim0);
 
     // Ahead of the clock: sleep until the next step is due or a command arrives.
     if (running && speed > 0 && singles == 0) {
       const double ahead =
-          sim_->state().time - (anchor_sim + seconds(Clock::now() - anchor_wall) * speed);
+          sim_->time() - (anchor_sim + seconds(Clock::now() - anchor_wall) * speed);
       if (ahead > 0) {
         std::unique_lock lock(mutex_);
         wake_.wait_for(lock, std::chrono::duration<double>(std::min(ahead / speed, 0.01)),

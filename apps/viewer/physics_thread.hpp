@@ -40,6 +40,7 @@ struct PhysicsStatus {
   double time = 0;       // s, simulated
   double step_size = 0;  // h, s
   std::string integrator;
+  std::string backend;
   double steps_per_second = 0;  // wall-clock rate over the last batch
   double realtime_factor = 0;   // simulated s per wall s over the last batch
   std::optional<std::string> blow_up;
@@ -75,6 +76,10 @@ class PhysicsThread {
   void set_speed(double speed);
   void set_time_step(double h);                  // s, > 0
   void set_integrator(const std::string& name);  // rebuilt around the current state
+  // Runs the simulation on another backend from the current state (a simulator rebuilt on the
+  // physics thread: a GPU backend's EGL context lives there, apart from the window's). Refused
+  // set-ups keep the old backend and leave a notice. Dragging particles needs the CPU.
+  void set_backend(const std::string& name);
   // Multiplies parameter `field` of every link of pool `pool` by `factor` (> 0).
   void scale_link_param(std::size_t pool, std::size_t field, Real factor);
   void set_fields(const Fields& fields);

@@ -73,6 +73,7 @@ class Viewer {
       physics_.reset();
       exchange_ = std::make_unique<render::SnapshotExchange>();
       scene_ = std::move(loaded.value());
+      if (!options_.backend.empty()) scene_.settings.backend = options_.backend;
       physics_ = std::make_unique<PhysicsThread>(scene_.model, scene_.settings, *exchange_,
                                                  !options_.paused);
     } catch (const std::exception& e) {
@@ -321,7 +322,7 @@ int run_viewer(const ViewerOptions& o) {
       if (o.frames > 0) {
         const PhysicsStatus st = viewer.physics().status();
         std::cout << "maille-viewer: " << o.frames << " frames, simulated " << st.time << " s in "
-                  << st.step << " steps\n";
+                  << st.step << " steps on the " << st.backend << " backend\n";
         if (!st.notice.empty()) std::cout << "maille-viewer: notice: " << st.notice << '\n';
       }
     }

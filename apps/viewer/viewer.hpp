@@ -18,6 +18,7 @@ struct ViewerOptions {
   bool paused = false;               // start paused
   bool smooth = false;               // cloth drawn as a smooth surface
   int lod = 4;                       // its sub-segments per physical edge, 1 to 16
+  std::string backend;               // empty: the scene's ([simulation] backend)
   // Stages' live settings sent once the scene runs, (stage, option, value), through the same
   // path as the Stages panel; a refused one is shown there (and printed at the end of a
   // --frames run).

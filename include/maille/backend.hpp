@@ -72,6 +72,7 @@ class BackendRegistry {
   void add(Entry e);  // replaces an entry of the same name
   const Entry* find(std::string_view name) const;
   std::string names() const;  // "cpu, gpu"
+  const std::vector<Entry>& entries() const { return entries_; }
 
  private:
   std::vector<Entry> entries_;

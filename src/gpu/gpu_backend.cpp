@@ -133,6 +133,7 @@ class Kernel {
   ~Kernel() {
     if (program_) glDeleteProgram(program_);
   }
+  void forget() { program_ = 0; }  // its context is gone or not current: nothing to delete
   GLint at(const char* name) {
     auto it = loc_.find(name);
     if (it == loc_.end()) it = loc_.emplace(name, glGetUniformLocation(program_, name)).first;
@@ -231,8 +232,15 @@ class GpuBackend final : public Backend {
     max_block_ = double(block);
   }
 
+  // Frees the buffers and programs when the context can be made current here; otherwise (it is
+  // current on another thread) destroying the context frees them.
   ~GpuBackend() override {
-    current();
+    try {
+      current();
+    } catch (const std::exception&) {
+      forces_.forget(), faces_.forget(), integrate_.forget(), drive_.forget();
+      return;
+    }
     forces_ = {};
     faces_ = {};
     integrate_ = {};
