@@ -3,9 +3,10 @@
 # (bench/scenes/gpu_flag.toml) at N x N particles, on the CPU with one thread, the CPU with all
 # threads and the GPU backend, with and without self-collision, as one CSV:
 #   size,particles,config,self_collision,threads,steps,seconds,particle_steps_per_second,
-#   ns_per_particle_step,status
+#   ns_per_particle_step,status,device
 # config: cpu1 | cpuall | gpu; status: ok, or why the run did not happen (a refusal names the
-# stage or the limit). Every size runs the same step and particle mass (the scene's comment).
+# stage or the limit); device: the CPU's model, or the GPU driver's renderer string (commas
+# dropped), so that every figure carries the device that made it. Every size runs the same step and particle mass (the scene's comment).
 #
 # Usage: scripts/bench_gpu.sh [--sizes 64,256,1024,2048] [--steps N] [--out FILE]
 #                             [--gpu-device N] [--maille PATH]
@@ -38,10 +39,14 @@ if [ -z "$maille" ]; then
 fi
 unset OMP_WAIT_POLICY  # benchmarks run alone: spinning OpenMP threads are right (scripts/bench.sh)
 cores=$(nproc)
+cpu_name=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//; s/,//g')
+gpu_name=$("$maille" info --backend gpu "${device[@]}" 2>/dev/null | sed -n 's/^renderer *//p' |
+  tr -d ',' || true)
+gpu_name=${gpu_name:-unavailable}
 mkdir -p "$(dirname "$out")"
 tmp=$(mktemp)
 trap 'rm -f "$tmp" "$tmp.err"' EXIT
-echo "size,particles,config,self_collision,threads,steps,seconds,particle_steps_per_second,ns_per_particle_step,status" >"$tmp"
+echo "size,particles,config,self_collision,threads,steps,seconds,particle_steps_per_second,ns_per_particle_step,status,device" >"$tmp"
 IFS=, read -r -a size_list <<<"$sizes"
 for n in "${size_list[@]}"; do
   particles=$((n * n))
@@ -58,13 +63,15 @@ for n in "${size_list[@]}"; do
         cpuall) args+=(--backend cpu --threads "$cores") ;;
         gpu) args+=(--backend gpu "${device[@]}") ;;
       esac
+      name=$cpu_name
+      [ "$config" = gpu ] && name=$gpu_name
       if row=$("$maille" "${args[@]}" 2>"$tmp.err"); then
         # scene,points,links,threads,steps,seconds,ns_per_particle_step,backend,pps,...
         IFS=, read -r _ points _ threads nsteps seconds ns _ pps _ <<<"$row"
-        echo "$n,$points,$config,$sc,$threads,$nsteps,$seconds,$pps,$ns,ok" >>"$tmp"
+        echo "$n,$points,$config,$sc,$threads,$nsteps,$seconds,$pps,$ns,ok,$name" >>"$tmp"
       else
         why=$(tr '\n,' '  ' <"$tmp.err" | sed 's/ *$//')
-        echo "$n,$particles,$config,$sc,,$s,,,,${why:-failed}" >>"$tmp"
+        echo "$n,$particles,$config,$sc,,$s,,,,${why:-failed},$name" >>"$tmp"
       fi
       echo "N=$n $config self_collision=$sc: $(tail -1 "$tmp")" >&2
     done

@@ -68,6 +68,19 @@ if [ -x "$peer" ]; then
 else
   echo "report: $peer not built (Bullet not found): no peer comparison"
 fi
+# The CPU-against-GPU table (issue 10): the GPU backend on whatever EGL finds (llvmpipe when
+# there is no GPU, where it is slow: small flags only).
+t=$(now)
+gpu_s=0 gpu_status=absent
+if "$maille" info --backend gpu >/dev/null 2>&1; then
+  sizes=64,128,256
+  [ ${#quick[@]} -gt 0 ] && sizes=16,32
+  steps=()
+  [ ${#quick[@]} -gt 0 ] && steps=(--steps 20)
+  if scripts/bench_gpu.sh --sizes "$sizes" "${steps[@]}" --maille "$maille" \
+       --out "$data.new/gpu/flags.csv" 2>/dev/null; then gpu_status=ran; else gpu_status=failed; fi
+  gpu_s=$(since "$t")
+fi
 # The new data replaces the old only once every study has finished.
 rm -rf "$data" && mv "$data.new" "$data"
 
@@ -91,6 +104,8 @@ fi
   echo "study_s,$study_s"
   echo "peer_s,$peer_s"
   echo "peer,$peer_status"
+  echo "gpu_s,$gpu_s"
+  echo "gpu,$gpu_status"
   echo "gallery_s,$gallery_s"
   echo "total_s,$(since "$start")"
 } >"$data/run.csv"

@@ -739,6 +739,61 @@ def peer(d, figures, v):
     return True
 
 
+def gpu(d, v):
+    """The CPU-against-GPU table (scripts/bench_gpu.sh): particle-steps per second by size."""
+    v["gpu_loss"] = ""
+    if not d.has("gpu/flags.csv"):
+        v["gpu_section"] = (
+            "The GPU backend did not run for this report (`maille info --backend gpu` failed: no "
+            "OpenGL 4.5 driver through EGL), so there is no CPU/GPU table here.")
+        return
+    rows = d("gpu", "flags.csv")
+    by = {(int(r["size"]), r["config"], r["self_collision"]): r for r in rows}
+    sizes = sorted({int(r["size"]) for r in rows})
+    gpu_names = sorted({str(r["device"]) for r in rows if r["config"] == "gpu"})
+    cpu_names = sorted({str(r["device"]) for r in rows if r["config"] != "gpu"})
+
+    def cell(r):
+        if r is None:
+            return "n/a"
+        if r["status"] != "ok":
+            return "refused" if "no GPU version" in str(r["status"]) else "failed"
+        return g(r["particle_steps_per_second"])
+
+    out, ratios = [], []
+    for n in sizes:
+        for sc in ("off", "on"):
+            c1, ca, gp = (by.get((n, c, sc)) for c in ("cpu1", "cpuall", "gpu"))
+            ratio = "n/a"
+            if c1 and gp and c1["status"] == "ok" and gp["status"] == "ok":
+                ratio = g(gp["particle_steps_per_second"] / c1["particle_steps_per_second"])
+                ratios.append(gp["particle_steps_per_second"] / c1["particle_steps_per_second"])
+            out.append([f"{n}²", "with" if sc == "on" else "without", cell(c1), cell(ca),
+                        cell(gp), ratio])
+    text = [f"Particle-steps per second of a square flag in gusty wind "
+            f"(`bench/scenes/gpu_flag.toml`, `scripts/bench_gpu.sh`), on {', '.join(cpu_names)} "
+            f"(one thread, all threads) and the GPU backend on "
+            f"**{', '.join(gpu_names)}**:",
+            table(["flag", "self-collision", "CPU 1 thread", "CPU all threads", "GPU",
+                   "GPU / CPU 1"], out)]
+    if any("llvmpipe" in n for n in gpu_names):
+        text.append(
+            "llvmpipe is Mesa's software driver: the GPU backend's shaders run on this machine's "
+            "CPU cores, one work group per thread, so these ratios measure the backend's "
+            "correctness path, not a GPU; "
+            f"it runs at {g(min(ratios)) if ratios else 'n/a'}–{g(max(ratios)) if ratios else 'n/a'}x "
+            "the CPU backend's one thread. The bytes each particle-step moves, and the bandwidth "
+            "bound they set on a real GPU, are in [rendering.md](rendering.md#the-gpu-backend-theme-3-t32).")
+    if any(r["config"] == "gpu" and r["status"] != "ok" for r in rows):
+        text.append("\"refused\": the scene's self-collision stage has no GPU version in this "
+                    "build, and the GPU backend refuses it by name rather than run it wrongly.")
+    v["gpu_section"] = "\n\n".join(text)
+    if all("llvmpipe" in n or n == "unavailable" for n in gpu_names):
+        v["gpu_loss"] = ("- **The GPU backend was not measured on a GPU**: section 6 ran on "
+                         f"{', '.join(gpu_names)}, the CPU in disguise; how close it comes to "
+                         "its bandwidth bound on a real GPU is unknown to this report.")
+
+
 def run_info(d, v):
     info = {}
     if d.has("run.csv"):
@@ -770,6 +825,7 @@ def main():
     self_collision(d, a.figures, v)
     obstacles(d, a.figures, v)
     has_peer = peer(d, a.figures, v)
+    gpu(d, v)
     run_info(d, v)
     written = FIGURES + (OPTIONAL_FIGURES if has_peer else [])
     missing = [f for f in written if not os.path.exists(os.path.join(a.figures, f))]
