@@ -179,7 +179,7 @@ class FacetObstacleStage final : public Stage {
   // than P does (N unit), so at P, N.AP >= below - |P - anchor| for each facet. When that bound
   // exceeds eps (the widest) and the segment's reach, every facet is above P beyond eps (no
   // resting contact, nothing behind) and out of reach (no crossing): the scan would find
-  // nothing, so it is skipped. A particle hovering near the mesh (62 % of those near it on
+  // nothing, so it is skipped. A particle hovering near the mesh (about half of those near it on
   // the draped cloth of the benchmark) then costs its query and this test; one touching a
   // facet is scanned every step, as before. Reset when the query falls in another cell.
   struct Clearance {
