@@ -54,6 +54,8 @@ class FacetGrid {
 
   const std::vector<Facet>& facets() const { return facets_; }
   bool closed() const { return closed_; }
+  const Vec3& lo() const { return lo_; }  // the grid's box
+  const Vec3& hi() const { return hi_; }
   // Facets whose boxes may meet the box [lo, hi] (a facet may repeat): empty when the box
   // misses the grid; else gathered into `scratch`, which the result views. `row` is the
   // caller's memory of the single cell its last query fell in and of that cell's facets: a
@@ -64,6 +66,7 @@ class FacetGrid {
     std::uint64_t cell = kNoCell;
     std::uint32_t begin = 0, end = 0;    // the row in the grid
     std::array<std::uint32_t, 6> ids{};  // a copy of it when it is that short
+    bool in_cell = false;  // the last query fell in this one cell (its result is the row)
   };
   std::span<const std::uint32_t> candidates(const Vec3& lo, const Vec3& hi,
                                             std::vector<std::uint32_t>& scratch, Row& row) const {
@@ -71,7 +74,8 @@ class FacetGrid {
     for (int d = 0; d < 3; ++d)
       if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return {};  // NaN misses too
     const auto c0 = cell_of(lo), c1 = cell_of(hi);
-    if (c0 != c1) return candidates_in_cells(c0, c1, scratch);
+    row.in_cell = c0 == c1;
+    if (!row.in_cell) return candidates_in_cells(c0, c1, scratch);
     const std::uint64_t c = cell_index(c0[0], c0[1], c0[2]);
     if (c != row.cell) {
       row.cell = c, row.begin = starts_[c], row.end = starts_[c + 1];

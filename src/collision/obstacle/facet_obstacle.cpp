@@ -14,6 +14,7 @@
 //      it is put back on the surface, its inward velocity removed, and counted in facet_leaks.
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -35,7 +36,9 @@ namespace {
 
 constexpr int kPasses = 4;
 // Nearby facets whose N.AP the first pass keeps for the next ones (more: recomputed).
-constexpr std::size_t kKeptAbove = 16;
+constexpr std::size_t kKeptAbove = 64;
+// A facet more than the segment's length above p cannot be crossed by it (reach(), below).
+constexpr Real kReachMargin = Real(1) + Real(1e-7);
 
 struct Counts {
   std::uint64_t contacts = 0, hits = 0, sticks = 0, slides = 0, leaks = 0;
@@ -75,6 +78,7 @@ class FacetObstacleStage final : public Stage {
       : o_(std::move(o)),
         set_(colliding_points(m, o_)),
         row_(set_.size()),
+        clearance_(set_.size()),
         surface_(o_, std::make_shared<const TriMesh>(obstacle_mesh(o_))),
         world_(!o_.motion.moves()),
         grid_(world_ ? placed(*surface_.mesh(), o_.place) : *surface_.mesh()) {
@@ -89,6 +93,14 @@ class FacetObstacleStage final : public Stage {
       eps_.push_back(o_.epsilon * stretch);
       normals_.push_back(n);
     }
+    widest_eps_ = *std::max_element(eps_.begin(), eps_.end());
+    // Rounding of N.AP (a difference, then a dot product) in this frame: a few units of
+    // 2^-53 of |P| + |A|, both within the grid's box; 1e-12 of its size is generous.
+    const Vec3 lo = grid_.lo(), hi = grid_.hi();
+    const Vec3 corner{std::max(std::abs(lo.x), std::abs(hi.x)),
+                      std::max(std::abs(lo.y), std::abs(hi.y)),
+                      std::max(std::abs(lo.z), std::abs(hi.z))};
+    rounding_ = Real(1e-12) * (norm(corner) + std::numeric_limits<Real>::min());
   }
 
   std::string name() const override { return "obstacle:" + o_.name; }
@@ -116,7 +128,7 @@ class FacetObstacleStage final : public Stage {
       const std::uint32_t p = set_[i];
       const int t = threads > 1 ? thread_index() : 0;
       particle(x[p], v[p], f[p], inv_mass[p], h, ctx, now, next, band, scratch_[t], row_[i],
-               counts[t]);
+               clearance_[i], counts[t]);
     }
     Counts total;
     for (const Counts& c : counts) total.add(c);
@@ -162,27 +174,79 @@ class FacetObstacleStage final : public Stage {
     return {l > 0 ? w / l : Vec3{0, 1, 0}, l};
   }
 
+  // Per colliding particle, a lower bound on N.AP of every facet of its row's cell, valid at
+  // `anchor` (its N.AP found there by the first scan, less their rounding). N.AP moves no more
+  // than P does (N unit), so at P, N.AP >= below - |P - anchor| for each facet. When that bound
+  // exceeds eps (the widest) and the segment's reach, every facet is above P beyond eps (no
+  // resting contact, nothing behind) and out of reach (no crossing): the scan would find
+  // nothing, so it is skipped. A particle hovering near the mesh (about half of those near it on
+  // the draped cloth of the benchmark) then costs its query and this test; one touching a
+  // facet is scanned every step, as before. Reset when the query falls in another cell.
+  struct Clearance {
+    Vec3 anchor;
+    Real below = -std::numeric_limits<Real>::infinity();
+    bool out_of_reach(const Vec3& p, const Vec3& q, Real eps) const {
+      // |P - anchor| rounded up by far more than its rounding; squares compared for the reach
+      // (reach2 carries the scan's margin), so a NaN anywhere keeps the scan.
+      const Real clear = below - norm(p - anchor) * (1 + Real(1e-12));
+      return clear > eps && clear * clear > reach2(p, q);
+    }
+  };
+
+  struct Contact {
+    bool found = false;
+    bool swept = false;   // the brief's crossing (else: resting on the facet)
+    bool behind = false;  // p is behind a nearby facet it projects onto: maybe inside
+    std::uint32_t facet = 0;
+  };
+
+  // The first pass's N.AP of the nearby facets, for the next passes (p does not move between
+  // them): only facets above their plane (N.AP > eps) can be crossed, and the next passes test
+  // only those of them the new segment can reach, with no facet record read for the others.
+  struct Seen {
+    bool kept = false;       // the near facets fit: above and over hold them all
+    std::uint64_t over = 0;  // bit k: N.AP > eps for the k-th near facet
+    Real lowest = 0;         // the least N.AP (NaN if any is; -inf when they are not kept)
+    std::array<Real, kKeptAbove> above;  // N.AP per near facet
+  };
+
+  // The square of the distance beyond which a facet's plane is out of the segment's reach:
+  // facet f can be crossed only if N.AP <= -N.PQ <= |PQ| (N unit), so N.AP^2 > |PQ|^2 rules
+  // it out. The margin (1e-7) covers the rounding of the unit normal and of the products, so
+  // a facet ruled out is one the brief's exact test would reject (u > 1): skipping it changes
+  // no result, it only saves the division and the inside test. A NaN or infinite reach rules
+  // nothing out.
+  static Real reach2(const Vec3& p, const Vec3& q) {
+    return norm2(q - p) * kReachMargin;
+  }
+  static bool out_of_reach(Real above, Real reach2) {
+    return above * above > reach2;
+  }
+
   void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, Real h, const StageContext& ctx,
                 const shapes::Affine& now, const shapes::Affine& next, Real band,
-                std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Counts& c) const {
+                std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Clearance& clear,
+                Counts& c) const {
     const Vec3 p = to_frame(now, x);
     auto end_point = [&] {
       const Vec3 kicked = ctx.drift_after_kick ? v + f * (h * inv_mass) : v;
       return to_frame(next, x + kicked * h);
     };
     Vec3 q = end_point();
+    const std::uint64_t cell = row.cell;
     const std::span<const std::uint32_t> near = grid_.candidates(
         lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band, scratch, row);
     if (near.empty()) return;  // far from the obstacle: one box test
+    if (row.cell != cell) clear.below = -std::numeric_limits<Real>::infinity();  // other facets
+    if (row.in_cell && clear.out_of_reach(p, q, widest_eps_)) return;  // clear of every facet
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
     bool touched = false, stuck = false, behind = false;
-    // N.AP per nearby facet, kept from the first pass for the next ones (p does not move).
-    std::array<Real, kKeptAbove> above;
-    const std::span<Real> kept = near.size() <= above.size()
-                                     ? std::span<Real>(above.data(), near.size())
-                                     : std::span<Real>();
+    // What the first pass learns of the nearby facets, kept for the next ones.
+    Seen seen;
     for (int pass = 0; pass < kPasses; ++pass) {
-      const Contact hit = first_contact(p, q, near, pass == 0, kept);
+      const Contact hit =
+          pass == 0 ? first_contact(p, q, near, seen) : next_contact(p, q, near, seen);
+      if (pass == 0 && row.in_cell) clear = {p, seen.lowest - rounding_};
       behind |= hit.behind;
       if (!hit.found) break;
       c.hits += pass == 0 && hit.swept;
@@ -192,7 +256,7 @@ class FacetObstacleStage final : public Stage {
                   .stuck;
       q = end_point();
       if (q == p) break;  // held still (a resting, sticking particle): nothing left to cross
-      if (pass == kPasses - 1 && first_contact(p, q, near, false, kept).found) {
+      if (pass == kPasses - 1 && next_contact(p, q, near, seen).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
         f = {};
       }
@@ -204,24 +268,22 @@ class FacetObstacleStage final : public Stage {
     if (behind && grid_.closed()) push_out_if_inside(p, x, v, f, surface_v, now, near, c);
   }
 
-  struct Contact {
-    bool found = false;
-    bool swept = false;   // the brief's crossing (else: resting on the facet)
-    bool behind = false;  // p is behind a nearby facet it projects onto: maybe inside
-    std::uint32_t facet = 0;
-  };
-
-  // One scan of the nearby facets: the earliest one the segment p -> q crosses (ties: the
-  // lowest index); else, on the first pass, a facet the particle rests on: within eps of its
-  // plane, over it, heading into it (the brief's test (a) fails there, yet it must be held).
-  // The first pass also notes whether p lies behind a facet it projects onto, the only way a
-  // particle can be inside a closed mesh near its surface (most are not: no closest-point
-  // search for them).
-  // `kept`: N.AP per facet of `near` (written by the first pass, read by the next), or empty.
+  // The first scan of the nearby facets: the earliest one the segment p -> q crosses (ties:
+  // the lowest index); else a facet the particle rests on: within eps of its plane, over it,
+  // heading into it (the brief's test (a) fails there, yet it must be held). It also notes
+  // whether p lies behind a facet it projects onto, the only way a particle can be inside a
+  // closed mesh near its surface (most are not: no closest-point search for them), and fills
+  // `seen` for the next passes. One loop with no branch sorts the facets into bit masks (within
+  // reach above the plane, within eps of it) and the nearest plane; the exact tests then run
+  // on the few flagged facets, in the order of `near` (so ties resolve as before).
   Contact first_contact(const Vec3& p, const Vec3& q, std::span<const std::uint32_t> near,
-                        bool first_pass, std::span<Real> kept) const {
-    Contact hit, rest;
-    Real first = 2;
+                        Seen& seen) const {
+    const Real reach = reach2(p, q);
+    seen.kept = near.size() <= seen.above.size();
+    seen.lowest = -std::numeric_limits<Real>::infinity();
+    if (!seen.kept) return first_contact_any(p, q, near, reach);
+    Real lowest = std::numeric_limits<Real>::infinity();
+    std::uint64_t over = 0, crossing = 0, resting = 0;
     // The facet whose plane is nearest p: a particle inside a closed mesh, near its surface,
     // lies behind it and over it (one inside test per particle, not one per facet).
     Real nearest = std::numeric_limits<Real>::max(), nearest_above = 0;
@@ -229,32 +291,104 @@ class FacetObstacleStage final : public Stage {
     for (std::size_t k = 0; k < near.size(); ++k) {
       const std::uint32_t fi = near[k];
       const facets::Facet& fa = grid_.facets()[fi];
-      // p does not move between passes: N.AP is the first pass's, kept when there is room.
-      const bool reuse = !first_pass && !kept.empty();
-      const Real above = reuse ? kept[k] : dot(fa.n, p - fa.a), eps = eps_[fi];
-      if (first_pass && !kept.empty()) kept[k] = above;
+      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      seen.above[k] = above;
+      lowest = above >= lowest ? lowest : above;  // a NaN sticks: no clearance then
+      const bool is_over = above > eps;
+      over |= std::uint64_t(is_over) << k;
+      crossing |= std::uint64_t(is_over & !out_of_reach(above, reach)) << k;
+      resting |= std::uint64_t(!is_over & (above >= -eps)) << k;
+      const Real distance = std::abs(above);
+      const bool closer = distance < nearest;
+      nearest = closer ? distance : nearest;
+      nearest_above = closer ? above : nearest_above;
+      nearest_facet = closer ? fi : nearest_facet;
+    }
+    seen.over = over, seen.lowest = lowest;
+    Contact hit;
+    Real first = 2;
+    for (; crossing != 0; crossing &= crossing - 1) {
+      const auto k = static_cast<std::size_t>(std::countr_zero(crossing));
+      const std::uint32_t fi = near[k];
+      Real u;
+      if (grid_.crosses_above(fi, seen.above[k], p, q, eps_[fi], u) &&
+          (u < first || (u == first && fi < hit.facet)))
+        first = u, hit = {true, true, false, fi};
+    }
+    if (nearest_above < -eps_[nearest_facet]) hit.behind = grid_.projects_inside(nearest_facet, p);
+    if (hit.found) return hit;
+    Contact rest;
+    const Vec3 pq = q - p;
+    for (; resting != 0; resting &= resting - 1) {
+      const std::uint32_t fi = near[static_cast<std::size_t>(std::countr_zero(resting))];
+      if ((!rest.found || fi < rest.facet) && dot(grid_.facets()[fi].n, pq) < 0 &&
+          grid_.projects_inside(fi, p))
+        rest = {true, false, hit.behind, fi};
+    }
+    return rest.found ? rest : hit;
+  }
+
+  // The same, one facet at a time, for more nearby facets than `seen` holds (a fast particle's
+  // query over many cells).
+  Contact first_contact_any(const Vec3& p, const Vec3& q, std::span<const std::uint32_t> near,
+                            Real reach) const {
+    Contact hit, rest;
+    Real first = 2;
+    Real nearest = std::numeric_limits<Real>::max(), nearest_above = 0;
+    std::uint32_t nearest_facet = 0;
+    for (const std::uint32_t fi : near) {
+      const facets::Facet& fa = grid_.facets()[fi];
+      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
       Real u;
       if (above > eps) {
-        if (grid_.crosses_above(fi, above, p, q, eps, u) &&
+        if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, eps, u) &&
             (u < first || (u == first && fi < hit.facet)))
           first = u, hit = {true, true, false, fi};
-      } else if (first_pass && above >= -eps) {
+      } else if (above >= -eps) {
         if ((!rest.found || fi < rest.facet) && dot(fa.n, q - p) < 0 &&
             grid_.projects_inside(fi, p))
           rest = {true, false, false, fi};
       }
-      if (first_pass && std::abs(above) < nearest)
+      if (std::abs(above) < nearest)
         nearest = std::abs(above), nearest_above = above, nearest_facet = fi;
     }
-    if (first_pass && nearest_above < -eps_[nearest_facet])
-      hit.behind = grid_.projects_inside(nearest_facet, p);
+    if (nearest_above < -eps_[nearest_facet]) hit.behind = grid_.projects_inside(nearest_facet, p);
     if (!hit.found && rest.found) rest.behind = hit.behind, hit = rest;
+    return hit;
+  }
+
+  // A later scan, after a response changed q (p is the same): the earliest crossing only.
+  Contact next_contact(const Vec3& p, const Vec3& q, std::span<const std::uint32_t> near,
+                       const Seen& seen) const {
+    const Real reach = reach2(p, q);
+    Contact hit;
+    Real first = 2;
+    auto test = [&](std::uint32_t fi, Real above) {
+      Real u;
+      if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, eps_[fi], u) &&
+          (u < first || (u == first && fi < hit.facet)))
+        first = u, hit = {true, true, false, fi};
+    };
+    if (seen.kept) {
+      // Only the facets above their plane, no facet record read for those out of reach.
+      for (std::uint64_t over = seen.over; over != 0; over &= over - 1) {
+        const auto k = static_cast<std::size_t>(std::countr_zero(over));
+        test(near[k], seen.above[k]);
+      }
+    } else {
+      for (const std::uint32_t fi : near) {
+        const facets::Facet& fa = grid_.facets()[fi];
+        const Real above = dot(fa.n, p - fa.a);
+        if (above > eps_[fi]) test(fi, above);
+      }
+    }
     return hit;
   }
 
   void model_changed(const Model& m) override {
     set_ = colliding_points(m, o_);
     row_.assign(set_.size(), {});
+    clearance_.assign(set_.size(), {});
     swept_inside_ = false;
   }
 
@@ -321,10 +455,13 @@ class FacetObstacleStage final : public Stage {
   std::vector<std::uint32_t> set_;
   // Per colliding point: the grid cell of its last query and its facets (FacetGrid::Row).
   std::vector<facets::FacetGrid::Row> row_;
+  std::vector<Clearance> clearance_;  // per colliding point: the scan it may skip
   ObstacleSurface surface_;
   bool world_;  // static: the grid holds the placed mesh, in the world's frame
   facets::FacetGrid grid_;
   std::vector<Real> eps_;      // per facet, in the mesh frame
+  Real widest_eps_ = 0;        // the largest of them
+  Real rounding_ = 0;          // bound on the rounding of a facet's N.AP (Clearance)
   std::vector<Vec3> normals_;  // per facet, in the world at rest (placement `place`)
   bool swept_inside_ = false;  // the first step's full inside test was made
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
