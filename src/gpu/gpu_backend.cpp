@@ -23,6 +23,7 @@
 #include "../core/gust.hpp"
 #include "../render/gl_program.hpp"
 #include "gpu_layout.hpp"
+#include "gpu_self_collision.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
 #include "maille/render/headless.hpp"
@@ -217,6 +218,7 @@ class GpuBackend final : public Backend {
 
   ~GpuBackend() override {
     current();
+    self_collision_.clear();
     forces_ = {};
     faces_ = {};
     integrate_ = {};
@@ -250,10 +252,15 @@ class GpuBackend final : public Backend {
       if (pool->fields().size() > 4)
         return "link kind '" + std::string(pool->keyword()) + "' has more than 4 parameters";
     }
-    for (const Stage* st : stages)
+    for (const Stage* st : stages) {
+      if (const auto why = GpuSelfCollision::check(*st)) {  // a self-collision stage
+        if (why->empty()) continue;
+        return *why;
+      }
       return "stage '" + st->name() +
              "' has no GPU version yet: run this scene with --backend cpu" +
              (st->name() == "self_collision" ? " (or without it: --no-self-collision)" : "");
+    }
     const double biggest = std::max<double>(m.points.size(), double(m.surface.triangles.size()));
     if (biggest > max_invocations_)
       return std::to_string(std::uint64_t(biggest)) +
@@ -262,7 +269,7 @@ class GpuBackend final : public Backend {
     return {};
   }
 
-  void load(const Model& m, const State& s) override {
+  void load(const Model& m, const State& s, std::span<const Stage* const> stages) override {
     current();
     points_ = m.points.size();
     upload(Buf::x, packed(s.x()));
@@ -299,6 +306,12 @@ class GpuBackend final : public Backend {
     driven_.resize(m.drives.size());
     upload(Buf::driven, driven_);
     upload(Buf::health, std::vector<std::uint32_t>{0xffffffffu});
+
+    // Self-collision stages (the ones refuses() let through), after the step's buffers.
+    self_collision_.clear();
+    for (const Stage* st : stages)
+      if (GpuSelfCollision::check(*st))
+        self_collision_.push_back(std::make_unique<GpuSelfCollision>(m, *st, max_invocations_));
   }
 
   void drive(const Model& m, double t) override {
@@ -340,6 +353,7 @@ class GpuBackend final : public Backend {
     forces_.set("u_drag", float(m.fields.air_drag));
     forces_.set_flag("u_wind", wind_);
     forces_.run(points_);
+    for (const auto& sc : self_collision_) sc->evaluate();  // contacts added into f
   }
 
   void integrate(Real kick, Real drift, std::uint64_t step) override {
@@ -377,6 +391,12 @@ class GpuBackend final : public Backend {
     glFinish();
   }
 
+  std::optional<SelfCollisionDebug> self_collision_debug() {
+    if (self_collision_.empty()) return std::nullopt;
+    current();
+    return self_collision_.front()->debug();
+  }
+
  private:
   void current() {
     if (own_) own_->make_current();
@@ -412,6 +432,7 @@ class GpuBackend final : public Backend {
   bool wind_ = false;
   std::vector<DrivenPoint> driven_;
   double max_invocations_ = 0;
+  std::vector<std::unique_ptr<GpuSelfCollision>> self_collision_;
 };
 
 }  // namespace
@@ -420,10 +441,15 @@ void register_backend() {
   BackendRegistry::global().add(
       {"gpu",
        "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog and "
-       "symplectic Euler, driven points, conditional contacts",
+       "symplectic Euler, driven points, conditional contacts, self-collision (points)",
        [](const BackendOptions& o) -> std::unique_ptr<Backend> {
          return std::make_unique<GpuBackend>(o);
        }});
+}
+
+std::optional<SelfCollisionDebug> self_collision_debug(Backend& b) {
+  auto* gpu = dynamic_cast<GpuBackend*>(&b);
+  return gpu ? gpu->self_collision_debug() : std::nullopt;
 }
 
 std::string describe(int device) {
