@@ -71,10 +71,11 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 // coordinates' bits mapped to an order-preserving uint (negative floats flipped whole, positive
 // ones with their sign bit set); the grid kernel turns it into an origin, a cell size and
 // dimensions, and resets it for the next step.
-#define MAILLE_GPU_SELF_GRID(F)                                                            \
-  F(uint, lo_x)                                                                            \
-  F(uint, lo_y) F(uint, lo_z) F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) \
-      F(float, origin_y) F(float, origin_z) F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
+#define MAILLE_GPU_SELF_GRID(F)                                                                 \
+  F(uint, lo_x)                                                                                 \
+  F(uint, lo_y)                                                                                 \
+  F(uint, lo_z) F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) \
+      F(float, origin_z) F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
 
 inline constexpr std::uint32_t kEndIsB = 0x80000000u;
 
