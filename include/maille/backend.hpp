@@ -4,7 +4,8 @@
 // bookkeeping (SchemeHistory), the health verdicts, the energy samples and the publishing. A
 // backend holds its own copy of the state on its device and runs the heavy parts there; the
 // Simulator calls it at this seam (src/core/simulator_backend.cpp):
-//   load       model and state, after construction, reset, restore, edits, host-side changes
+//   load       model, state and the installed stages (those refuses() accepted), after
+//              construction, reset, restore, edits, stages added, host-side changes
 //   drive      driven points' positions and velocities at t (paths are evaluated on the host:
 //              a handful of points)
 //   evaluate   every force of the step at the device's x and v (links, gravity, drag, wind)
@@ -47,7 +48,10 @@ class Backend {
   // scheme that has no version on this backend.
   virtual std::string refuses(const Model& m, const Integrator& scheme,
                               std::span<const Stage* const> stages) const = 0;
-  virtual void load(const Model& m, const State& s) = 0;
+  // `stages`: the simulator's installed stages, in their phases' order; the backend may keep
+  // the pointers until the next load (the simulator loads again whenever they change). The
+  // default (none) is for callers that drive a backend by hand on a bare model.
+  virtual void load(const Model& m, const State& s, std::span<const Stage* const> stages = {}) = 0;
   virtual void drive(const Model& m, double t) = 0;
   virtual void evaluate(const Model& m, double t) = 0;
   virtual void integrate(Real kick, Real drift, std::uint64_t step) = 0;

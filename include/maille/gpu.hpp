@@ -3,7 +3,15 @@
 // GPU (CI), an EGL device otherwise. Built with the renderer (MAILLE_BUILD_RENDER).
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
+
+namespace maille {
+class Backend;
+}
 
 namespace maille::gpu {
 
@@ -15,5 +23,22 @@ void register_backend();
 // context made for the purpose, and the EGL devices present: `maille info --backend gpu`.
 // Throws std::runtime_error when no OpenGL 4.5 context can be made.
 std::string describe(int device = -1);
+
+// The self-collision grid as the GPU left it after the backend's last force pass (tests,
+// studies): the counting sort's result and each particle's contacts.
+struct SelfCollisionDebug {
+  std::vector<std::uint32_t> particles;   // [n_c] global ids of the colliding points
+  std::vector<std::uint32_t> contacts;    // [n_c] contacts each found (a pair counts at both)
+  std::vector<std::uint32_t> cell_of;     // [n_c] each particle's cell
+  std::vector<std::uint32_t> cell_start;  // [cells + 1] where each cell starts in `order`
+  std::vector<std::uint32_t> order;       // [n_c] local indices sorted by cell, then index
+  std::array<float, 3> origin{};          // m, the grid's corner (the box's lower corner)
+  float cell = 0;                         // m, the cell size used
+  std::array<std::uint32_t, 3> dims{};    // cells along x, y, z
+  std::uint32_t budget = 0;               // cells at most (cell_start has budget + 1 entries)
+};
+// The first self-collision stage's grid on a "gpu" backend; nullopt for another backend or when
+// it runs no self-collision. Waits for the device.
+std::optional<SelfCollisionDebug> self_collision_debug(Backend& b);
 
 }  // namespace maille::gpu

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -69,6 +70,32 @@ class SelfCollision;
 // The force stage ("self_collision", Phase::forces). Throws std::invalid_argument for groups
 // that do not exist or hold no free point, or a cell size below the radius.
 std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfCollisionSettings& s);
+
+// Below this tangential speed, friction turns viscous (contact_friction_law's `slip`), m/s.
+inline constexpr Real kSelfCollisionSlip = Real(1e-3);
+
+// For device backends that run the stage themselves (the GPU's uniform grid, src/gpu): what a
+// self-collision stage runs now. `settings` is null when `st` is not a self-collision stage;
+// otherwise it holds the live options (exclusion, broad phase) and the resolved radius (> 0).
+// The view is valid until the stage's next model_changed.
+struct SelfCollisionView {
+  const SelfCollisionSettings* settings = nullptr;
+  bool enabled = false;                      // the live option "enabled"
+  std::span<const std::uint32_t> particles;  // the colliding points: the groups' free points
+};
+SelfCollisionView self_collision_view(const Stage& st);
+
+// The pairs the topological exclusion removes, as rows (CSR over local indices: positions in
+// `particles`), whatever the stage's exclusion mode: the matrix form, which removes exactly the
+// pairs the signature form removes (test unit.SelfCollision.ExclusionRemovesExactly...).
+// `particles` sorted; radius 0: empty rows.
+struct ExclusionRows {
+  std::vector<std::uint32_t> offset;   // [particles + 1]: row a is [offset[a], offset[a + 1])
+  std::vector<std::uint32_t> partner;  // local indices, sorted in each row
+};
+ExclusionRows self_collision_exclusion_rows(const Model& m,
+                                            std::span<const std::uint32_t> particles,
+                                            int topological_radius);
 
 // The engine behind the stage, usable alone (tests, studies, benchmarks).
 class SelfCollisionEngine {

@@ -4,6 +4,7 @@
 // `shared_law` (link_kind.hpp); the GPU backend then runs the kind too.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "maille/vec3.hpp"
@@ -13,6 +14,7 @@ namespace maille::law {
 using vec3 = Vec3;
 using real = Real;
 using std::abs;
+using std::max;
 using std::sqrt;
 
 inline Vec3 zero3() {

@@ -142,6 +142,7 @@ void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model, int
                : stage->phase() == Phase::response ? response_stages_
                                                    : after_stages_;
   list.push_back({std::move(stage), id, from_model, spec});
+  host_ahead_ = true;  // a device backend is loaded again with the new list before the next step
   restimate_stability();
 }
 

@@ -65,7 +65,10 @@ bool Simulator::step_on_backend() {
   const auto& ids = *ids_;
   if (host_ahead_) {
     sync_host();
-    backend_->load(model_, state_);
+    std::vector<const Stage*> stages;
+    for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+      for (const auto& st : *list) stages.push_back(st.stage.get());
+    backend_->load(model_, state_, stages);
     host_ahead_ = false;
   }
   profile_.begin_step();

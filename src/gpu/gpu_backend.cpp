@@ -23,6 +23,7 @@
 #include "../core/gust.hpp"
 #include "../render/gl_program.hpp"
 #include "gpu_layout.hpp"
+#include "gpu_self_collision.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
 #include "maille/render/headless.hpp"
@@ -239,8 +240,12 @@ class GpuBackend final : public Backend {
       current();
     } catch (const std::exception&) {
       forces_.forget(), faces_.forget(), integrate_.forget(), drive_.forget();
+      // Their GL objects go with the context; their few host bytes are left (no GL call may
+      // run without a current context).
+      for (auto& sc : self_collision_) static_cast<void>(sc.release());
       return;
     }
+    self_collision_.clear();
     forces_ = {};
     faces_ = {};
     integrate_ = {};
@@ -274,10 +279,15 @@ class GpuBackend final : public Backend {
       if (pool->fields().size() > 4)
         return "link kind '" + std::string(pool->keyword()) + "' has more than 4 parameters";
     }
-    for (const Stage* st : stages)
+    for (const Stage* st : stages) {
+      if (const auto why = GpuSelfCollision::check(*st)) {  // a self-collision stage
+        if (why->empty()) continue;
+        return *why;
+      }
       return "stage '" + st->name() +
              "' has no GPU version yet: run this scene with --backend cpu" +
              (st->name() == "self_collision" ? " (or without it: --no-self-collision)" : "");
+    }
     if (const std::string why = too_big(m, max_block_); !why.empty()) return why;
     const double biggest = std::max<double>(m.points.size(), double(m.surface.triangles.size()));
     if (biggest > max_invocations_)
@@ -287,7 +297,7 @@ class GpuBackend final : public Backend {
     return {};
   }
 
-  void load(const Model& m, const State& s) override {
+  void load(const Model& m, const State& s, std::span<const Stage* const> stages) override {
     current();
     points_ = m.points.size();
     upload(Buf::x, packed(s.x()));
@@ -324,6 +334,12 @@ class GpuBackend final : public Backend {
     driven_.resize(m.drives.size());
     upload(Buf::driven, driven_);
     upload(Buf::health, std::vector<std::uint32_t>{0xffffffffu});
+
+    // Self-collision stages (the ones refuses() let through), after the step's buffers.
+    self_collision_.clear();
+    for (const Stage* st : stages)
+      if (GpuSelfCollision::check(*st))
+        self_collision_.push_back(std::make_unique<GpuSelfCollision>(m, *st, max_invocations_));
   }
 
   void drive(const Model& m, double t) override {
@@ -365,6 +381,7 @@ class GpuBackend final : public Backend {
     forces_.set("u_drag", float(m.fields.air_drag));
     forces_.set_flag("u_wind", wind_);
     forces_.run(points_);
+    for (const auto& sc : self_collision_) sc->evaluate();  // contacts added into f
   }
 
   void integrate(Real kick, Real drift, std::uint64_t step) override {
@@ -400,6 +417,12 @@ class GpuBackend final : public Backend {
   void finish() override {
     current();
     glFinish();
+  }
+
+  std::optional<SelfCollisionDebug> self_collision_debug() {
+    if (self_collision_.empty()) return std::nullopt;
+    current();
+    return self_collision_.front()->debug();
   }
 
  private:
@@ -438,6 +461,7 @@ class GpuBackend final : public Backend {
   std::vector<DrivenPoint> driven_;
   double max_invocations_ = 0;
   double max_block_ = 0;  // bytes, the largest storage block this driver binds
+  std::vector<std::unique_ptr<GpuSelfCollision>> self_collision_;
 };
 
 }  // namespace
@@ -446,10 +470,15 @@ void register_backend() {
   BackendRegistry::global().add(
       {"gpu",
        "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog and "
-       "symplectic Euler, driven points, conditional contacts",
+       "symplectic Euler, driven points, conditional contacts, self-collision (points)",
        [](const BackendOptions& o) -> std::unique_ptr<Backend> {
          return std::make_unique<GpuBackend>(o);
        }});
+}
+
+std::optional<SelfCollisionDebug> self_collision_debug(Backend& b) {
+  auto* gpu = dynamic_cast<GpuBackend*>(&b);
+  return gpu ? gpu->self_collision_debug() : std::nullopt;
 }
 
 std::string describe(int device) {

@@ -29,12 +29,35 @@ namespace maille::gpu {
   X(12, DrivenPoints, DrivenPoint, driven, "driven points' positions and velocities at t")    \
   X(13, Health, uint, health, "[0]: first step with a non-finite value; 0xffffffff: none")
 
+// The self-collision grid's buffers (gpu_self_collision.hpp), after the step's: owned and bound
+// by each self-collision stage's GPU version. n_c: colliding particles; cells: the grid's cell
+// budget (its scan covers cells + 1 counts).
+#define MAILLE_GPU_SELF_BUFFERS(X)                                                             \
+  X(14, SelfParticles, uint, sc_particle, "n_c: global point id of each colliding particle")   \
+  X(15, SelfExclusionOffsets, uint, sc_excluded_offset,                                        \
+    "n_c + 1: particle a's excluded partners are [o[a], o[a+1])")                              \
+  X(16, SelfExclusions, uint, sc_excluded, "excluded partners, local indices, sorted per row") \
+  X(17, SelfSlots, uint, sc_slot, "2 per colliding particle: its cell, its rank in the cell")  \
+  X(18, SelfCellStarts, uint, sc_cell_start,                                                   \
+    "cells + 1 counts, then their exclusive prefix sums; then the scan's block sums")          \
+  X(19, SelfOrder, uint, sc_order, "n_c: local indices sorted by cell, by index in a cell")    \
+  X(20, SelfGrids, SelfGrid, sc_grid, "[0]: this step's bounding box and grid")                \
+  X(21, SelfContacts, uint, sc_contacts, "n_c: contacts of each particle in the last pass")
+
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
-  MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM)
+  MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
-inline constexpr unsigned kBufferCount = 14;
+#define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
+// The step's buffers are bindings [0, kBufferCount), the self-collision's the next
+// kSelfBufferCount.
+inline constexpr unsigned kBufferCount = 0 MAILLE_GPU_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+inline constexpr unsigned kSelfBufferCount = 0 MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+#undef MAILLE_GPU_COUNT_BUFFER
+static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
+              unsigned(Buf::sc_particle) == kBufferCount &&
+              unsigned(Buf::sc_contacts) == kBufferCount + kSelfBufferCount - 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -43,6 +66,16 @@ inline constexpr unsigned kBufferCount = 14;
 // A driven point's state at t.
 #define MAILLE_GPU_DRIVEN(F) \
   F(uint, point) F(float, px) F(float, py) F(float, pz) F(float, vx) F(float, vy) F(float, vz)
+
+// The self-collision grid of a step. The box is accumulated by atomicMin / atomicMax on the
+// coordinates' bits mapped to an order-preserving uint (negative floats flipped whole, positive
+// ones with their sign bit set); the grid kernel turns it into an origin, a cell size and
+// dimensions, and resets it for the next step.
+#define MAILLE_GPU_SELF_GRID(F)                                                                 \
+  F(uint, lo_x)                                                                                 \
+  F(uint, lo_y)                                                                                 \
+  F(uint, lo_z) F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) \
+      F(float, origin_z) F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
 
 inline constexpr std::uint32_t kEndIsB = 0x80000000u;
 
@@ -54,17 +87,22 @@ struct Adjacent {
 struct DrivenPoint {
   MAILLE_GPU_DRIVEN(MAILLE_GPU_MEMBER)
 };
+struct SelfGrid {
+  MAILLE_GPU_SELF_GRID(MAILLE_GPU_MEMBER)
+};
 #undef MAILLE_GPU_MEMBER
 #define MAILLE_GPU_COUNT(type, name) +1
 static_assert(sizeof(Adjacent) == 4 * (0 MAILLE_GPU_ADJACENT(MAILLE_GPU_COUNT)));
 static_assert(sizeof(DrivenPoint) == 4 * (0 MAILLE_GPU_DRIVEN(MAILLE_GPU_COUNT)));
+static_assert(sizeof(SelfGrid) == 4 * (0 MAILLE_GPU_SELF_GRID(MAILLE_GPU_COUNT)));
 #undef MAILLE_GPU_COUNT
 
 // GLSL struct declarations of the records.
 inline std::string glsl_records() {
 #define MAILLE_GPU_GLSL_MEMBER(type, name) " " #type " " #name ";"
   return "struct Adjacent {" MAILLE_GPU_ADJACENT(MAILLE_GPU_GLSL_MEMBER) " };\n"
-         "struct DrivenPoint {" MAILLE_GPU_DRIVEN(MAILLE_GPU_GLSL_MEMBER) " };\n";
+         "struct DrivenPoint {" MAILLE_GPU_DRIVEN(MAILLE_GPU_GLSL_MEMBER) " };\n"
+         "struct SelfGrid {" MAILLE_GPU_SELF_GRID(MAILLE_GPU_GLSL_MEMBER) " };\n";
 #undef MAILLE_GPU_GLSL_MEMBER
 }
 
@@ -78,6 +116,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
     out += "layout(std430, binding = " #binding ") buffer " #block " { " #type " " #name \
            "[]; };  // " doc "\n";
     MAILLE_GPU_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;

@@ -45,6 +45,10 @@ std::string link_force_function(const std::vector<KindLaw>& kinds) {
 
 }  // namespace
 
+std::string kernel_head(std::initializer_list<Buf> used) {
+  return head(used);
+}
+
 std::string forces_shader(const std::vector<KindLaw>& kinds) {
   std::string s =
       head({Buf::x, Buf::v, Buf::f, Buf::inv_mass, Buf::mass, Buf::adjacency_offset, Buf::adjacency,

@@ -2,9 +2,12 @@
 // record declarations of gpu_layout.hpp and the force laws of include/maille/detail/*.glsl.
 #pragma once
 
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "gpu_layout.hpp"
 
 namespace maille::gpu {
 
@@ -26,5 +29,34 @@ std::string faces_shader();
 std::string integrate_shader();
 // Per driven point: its position and velocity at t, scattered into x and v.
 std::string drive_shader();
+
+// The head of every kernel: version, work group size, the records, the buffers `used`, the
+// shared laws' prelude (`real` is float) and the packed-vec3 helpers LOAD3 / STORE3.
+std::string kernel_head(std::initializer_list<Buf> used);
+
+// The self-collision grid (gpu_self_collision.hpp), one kernel per pass of a step:
+//   bounds    per particle: the box of the colliding particles (work-group reduction, then
+//             atomicMin / atomicMax on order-preserving bits)
+//   grid      one invocation: origin, cell size (grown until the grid fits the cell budget),
+//             dimensions; resets the box
+//   zero      per cell: counts to 0
+//   count     per particle: its cell (clamped to the border), its rank there (atomicAdd)
+//   scan      per block of 2 x kGroupSize counts: exclusive prefix sums (Blelloch), the block's
+//             total into the level above; scan_add adds the scanned totals back
+//   scatter   per particle: into the sorted order at its cell's start + its rank
+//   sort      per cell: its particles by index (insertion sort): the order no longer depends
+//             on the atomics' order, so neither do the sums
+//   contacts  per particle: the 27 cells around its own, distance, exclusion (binary search in
+//             its row), the shared contact laws, added into f (a gather: no float atomics)
+std::string self_bounds_shader();
+std::string self_grid_shader();
+std::string self_zero_shader();
+std::string self_count_shader();
+std::string self_scan_shader();
+std::string self_scan_add_shader();
+std::string self_scatter_shader();
+std::string self_sort_shader();
+std::string self_contacts_shader();
+inline constexpr unsigned kScanBlock = 2 * kGroupSize;  // counts scanned per work group
 
 }  // namespace maille::gpu

@@ -55,3 +55,29 @@ MAILLE_SHARED vec3 conditional_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, r
   vec3 n = d * (real(1) / (len + real(1e-30)));
   return n * (k * (len - rest) + z * dot(vb - va, n));
 }
+
+// The self-collision contact (the self_collision stage on the CPU and the GPU's grid): two
+// particles closer than the contact distance s (the broad phase has tested |d| < s: no threshold
+// here) are pushed apart by a spring-damper toward s along n = d / |d|. Rest length s keeps the
+// force continuous at s. Returns the force on a; b gets the opposite.
+MAILLE_SHARED vec3 contact_normal_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real z, real s) {
+  vec3 d = xb - xa;
+  real len = sqrt(dot(d, d));
+  vec3 n = d * (real(1) / (len + real(1e-30)));
+  return n * (k * (len - s) + z * dot(vb - va, n));
+}
+
+// Its Coulomb-like friction on a: mu |F_n . n| along the tangential relative velocity
+// v_t = dv - (dv . n) n (dv = v_b - v_a, fn the normal force from contact_normal_law). Below the
+// sliding speed `slip` it turns viscous (the force scales with |v_t| / slip) instead of
+// chattering around v_t = 0.
+MAILLE_SHARED vec3 contact_friction_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, vec3 fn, real mu,
+                                        real slip) {
+  vec3 d = xb - xa;
+  real len = sqrt(dot(d, d));
+  vec3 n = d * (real(1) / (len + real(1e-30)));
+  vec3 dv = vb - va;
+  vec3 vt = dv - n * dot(dv, n);
+  real speed = sqrt(dot(vt, vt));
+  return vt * (mu * abs(dot(fn, n)) / max(speed, slip));
+}

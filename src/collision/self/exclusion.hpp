@@ -55,6 +55,9 @@ class TopologicalExclusion {
   }
   std::size_t bytes() const;
   std::size_t matrix_entries() const { return neighbours_.size(); }
+  // The matrix rows (CSR over local indices; without signatures, every particle's full row).
+  const std::vector<std::uint32_t>& row_offsets() const { return offsets_; }
+  const std::vector<std::uint32_t>& row_entries() const { return neighbours_; }
   bool uses_signature() const { return signature_; }
 
  private:

@@ -13,6 +13,7 @@
 #include "maille/links/conditional.hpp"
 #include "maille/links/spring_damper.hpp"
 #include "maille/profile.hpp"
+#include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
 #include "triangle_proximity.hpp"
 
@@ -91,9 +92,8 @@ Real default_radius(const Model& m, const std::vector<std::uint32_t>& set) {
 }
 
 constexpr double kCellFactors[] = {1.0, 1.25, 1.5, 2.0, 3.0, 4.0};
-constexpr double kRetuneBox = 1.5;           // re-tune when the box diagonal changes by this factor
-constexpr double kRetuneDensity = 2.0;       // ... or the particles per occupied cell
-constexpr Real kFrictionSpeed = Real(1e-3);  // m/s: below, friction is viscous (no chatter)
+constexpr double kRetuneBox = 1.5;      // re-tune when the box diagonal changes by this factor
+constexpr double kRetuneDensity = 2.0;  // ... or the particles per occupied cell
 
 }  // namespace
 
@@ -217,15 +217,11 @@ class SelfCollision {
       Vec3 sum{};
       for (std::uint32_t e = start_[std::size_t(a)]; e < start_[std::size_t(a) + 1]; ++e) {
         const std::uint32_t pb = set_[partners_[e]];
-        const Separation sep = separation(x[pa], x[pb]);
-        const Vec3 dv = v[pb] - v[pa];
-        const Vec3 fn = spring_damper_force(sep, dv, k, r, z);
+        // The laws the GPU runs too (include/maille/detail/link_laws.glsl).
+        const Vec3 fn = law::contact_normal_law(x[pa], x[pb], v[pa], v[pb], k, z, r);
         sum += fn;
-        if (mu > 0) {  // Coulomb-like: mu |F_n| along the tangential relative velocity
-          const Vec3 vt = dv - sep.n * dot(dv, sep.n);
-          const Real speed = norm(vt);
-          sum += vt * (mu * std::abs(dot(fn, sep.n)) / std::max(speed, kFrictionSpeed));
-        }
+        if (mu > 0)  // Coulomb-like: mu |F_n| along the tangential relative velocity
+          sum += law::contact_friction_law(x[pa], x[pb], v[pa], v[pb], fn, mu, kSelfCollisionSlip);
       }
       f[pa] += sum;
     }
@@ -476,6 +472,8 @@ class SelfCollisionStage final : public Stage {
 
   const LinkPoolBase* implicit_links() const override { return &contacts_; }
 
+  SelfCollisionView view() const { return {&engine_.settings(), enabled_, engine_.set()}; }
+
   // Contacts in green, cells as grey-blue wire boxes (at most kMaxCells of them).
   void overlay(const Model&, const State& s, std::vector<OverlaySegment>& out) const override {
     if (!enabled_) return;
@@ -522,6 +520,19 @@ class SelfCollisionStage final : public Stage {
 
 std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfCollisionSettings& s) {
   return std::make_unique<SelfCollisionStage>(m, s);
+}
+
+SelfCollisionView self_collision_view(const Stage& st) {
+  const auto* sc = dynamic_cast<const SelfCollisionStage*>(&st);
+  return sc ? sc->view() : SelfCollisionView{};
+}
+
+ExclusionRows self_collision_exclusion_rows(const Model& m,
+                                            std::span<const std::uint32_t> particles,
+                                            int topological_radius) {
+  const std::vector<std::uint32_t> set(particles.begin(), particles.end());
+  const collision::TopologicalExclusion rows(m, set, topological_radius, false);
+  return {rows.row_offsets(), rows.row_entries()};
 }
 
 }  // namespace maille
