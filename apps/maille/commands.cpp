@@ -250,9 +250,18 @@ int run(const RunOptions& o) {
                                         ? std::filesystem::path(o.resume)
                                         : std::filesystem::path("out") / scene->name;
 
+  // The simulator first: a set-up it refuses (a stage the GPU backend lacks, a device that
+  // cannot start) leaves no output directory behind.
+  std::optional<Simulator> built;
+  try {
+    built.emplace(std::move(scene->model), settings);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << o.scene << ": error: " << e.what() << '\n';
+    return bad_input;
+  }
   if (!make_output_directory(out)) return output_error;
   try {
-    Simulator sim(std::move(scene->model), settings);
+    Simulator& sim = *built;
     warn_if_unstable(sim);
     // Resuming: the state, the frame count and the statistics rows continue from the
     // checkpoint; `--steps`/`--duration` still count from the start of the simulation.

@@ -19,11 +19,6 @@ namespace maille::gpu {
 // libraries never depend on OpenGL.
 void register_backend();
 
-// The driver, the device and the limits that matter (work groups, storage blocks), from a
-// context made for the purpose, and the EGL devices present: `maille info --backend gpu`.
-// Throws std::runtime_error when no OpenGL 4.5 context can be made.
-std::string describe(int device = -1);
-
 // The self-collision grid as the GPU left it after the backend's last force pass (tests,
 // studies): the counting sort's result and each particle's contacts.
 struct SelfCollisionDebug {

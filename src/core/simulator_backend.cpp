@@ -19,7 +19,14 @@ void Simulator::make_backend() {
     throw std::invalid_argument("unknown backend '" + settings_.backend +
                                 "' (this program has: " + BackendRegistry::global().names() + ")");
   if (!entry->make) return;  // the CPU: the simulator's own path
-  std::unique_ptr<Backend> made = entry->make(settings_.backend_options);
+  // A device that cannot start (no OpenGL 4.5, no such EGL device) is a set-up the simulator
+  // refuses, like a stage the backend lacks: std::invalid_argument, with the cause.
+  std::unique_ptr<Backend> made;
+  try {
+    made = entry->make(settings_.backend_options);
+  } catch (const std::runtime_error& e) {
+    throw std::invalid_argument("backend " + settings_.backend + " cannot start: " + e.what());
+  }
   backend_ = std::move(made);
   try {
     check_backend(*integrator_);

@@ -481,8 +481,4 @@ std::optional<SelfCollisionDebug> self_collision_debug(Backend& b) {
   return gpu ? gpu->self_collision_debug() : std::nullopt;
 }
 
-std::string describe(int device) {
-  return GpuBackend(BackendOptions{device}).describe();
-}
-
 }  // namespace maille::gpu

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <random>
 
+#include "gpu/gpu_test_support.hpp"
 #include "maille/backend.hpp"
 #include "maille/builders.hpp"
 #include "maille/gpu.hpp"
@@ -28,12 +29,8 @@
 namespace maille {
 namespace {
 
-constexpr double kEps = 5.96e-8;  // float's unit roundoff, 2^-24
-
-class Gpu : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { gpu::register_backend(); }
-};
+constexpr double kEps = test::kFloatEps;
+using Gpu = test::GpuTest;
 
 std::unique_ptr<Backend> make_gpu() {
   return BackendRegistry::global().find("gpu")->make(BackendOptions{});
@@ -77,14 +74,10 @@ State random_state(Model& m, std::size_t n, std::mt19937& rng) {
 }
 
 double max_abs(const State& s) {
-  double m = 0;
-  for (const Vec3& x : s.x()) m = std::max({m, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
-  return m;
+  return test::max_abs(s.x());
 }
 double max_speed(const State& s) {
-  double m = 0;
-  for (const Vec3& v : s.v()) m = std::max(m, double(norm(v)));
-  return m;
+  return test::max_norm(s.v());
 }
 
 // Per point: the bound of the header's derivation, from each link's stiffness and damping.

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "gpu/gpu_test_support.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
 #include "maille/links/spring.hpp"
@@ -23,10 +24,7 @@
 namespace maille {
 namespace {
 
-class GpuRun : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { gpu::register_backend(); }
-};
+using GpuRun = test::GpuTest;
 
 Scene scene_of(const std::string& name, const std::vector<std::string>& sets = {}) {
   auto s = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml", sets);
@@ -42,20 +40,14 @@ std::vector<Vec3> run(const Scene& scene, const std::string& backend, std::uint6
   Simulator sim(scene.model, settings);
   for (std::uint64_t k = 0; k < steps; ++k) {
     EXPECT_TRUE(sim.step()) << backend << " step " << k;
-    if (float_storage) {
-      State& s = sim.state_for_editing();
-      for (Vec3& x : s.x()) x = {Real(float(x.x)), Real(float(x.y)), Real(float(x.z))};
-      for (Vec3& v : s.v()) v = {Real(float(v.x)), Real(float(v.y)), Real(float(v.z))};
-    }
+    if (float_storage) test::round_to_float(sim.state_for_editing());
   }
   EXPECT_TRUE(sim.check_energy());
   return {sim.state().x().begin(), sim.state().x().end()};
 }
 
 double distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, double(norm(a[i] - b[i])));
-  return d;
+  return test::max_distance(a, b);
 }
 
 // Runs `scene` on the CPU, the CPU with float storage and the GPU; checks the GPU's distance.

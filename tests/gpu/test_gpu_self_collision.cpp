@@ -25,6 +25,7 @@
 #include <cstdio>
 #include <random>
 
+#include "gpu/gpu_test_support.hpp"
 #include "intersections.hpp"
 #include "maille/backend.hpp"
 #include "maille/builders.hpp"
@@ -37,12 +38,10 @@
 namespace maille {
 namespace {
 
-constexpr double kEps = 5.96e-8;  // float's unit roundoff, 2^-24
-
-class GpuSelfCollision : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() { gpu::register_backend(); }
-};
+constexpr double kEps = test::kFloatEps;
+using GpuSelfCollision = test::GpuTest;
+using test::max_abs;
+using test::max_norm;
 
 struct GpuResult {
   std::vector<Vec3> with, without;  // f with the stage and without it
@@ -67,17 +66,6 @@ GpuResult gpu_run(const Model& prepared, const State& s, const Stage& stage) {
   EXPECT_TRUE(d.has_value());
   if (d) r.debug = std::move(*d);
   return r;
-}
-
-double max_abs(std::span<const Vec3> x) {
-  double m = 0;
-  for (const Vec3& p : x) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  return m;
-}
-double max_norm(std::span<const Vec3> v) {
-  double m = 0;
-  for (const Vec3& p : v) m = std::max(m, double(norm(p)));
-  return m;
 }
 
 struct Expectation {
@@ -387,11 +375,7 @@ TEST_F(GpuSelfCollision, ClothHeapStaysWithinTheFloatStorageDriftOfTheCpu) {
     sim.restore(from);
     for (std::uint64_t k = 0; k < steps; ++k) {
       EXPECT_TRUE(sim.step()) << backend << " step " << k;
-      if (float_storage) {
-        State& s = sim.state_for_editing();
-        for (Vec3& x : s.x()) x = {Real(float(x.x)), Real(float(x.y)), Real(float(x.z))};
-        for (Vec3& v : s.v()) v = {Real(float(v.x)), Real(float(v.y)), Real(float(v.z))};
-      }
+      if (float_storage) test::round_to_float(sim.state_for_editing());
       if (backend == "cpu" && !float_storage)
         for (const auto& c : sim.profile().counters())
           if (c.name == "self_contacts") contacts += c.last;
@@ -400,12 +384,7 @@ TEST_F(GpuSelfCollision, ClothHeapStaysWithinTheFloatStorageDriftOfTheCpu) {
     return std::vector<Vec3>(sim.state().x().begin(), sim.state().x().end());
   };
   const auto cpu = run("cpu", false), rounded = run("cpu", true), gpu = run("gpu", false);
-  auto distance = [](const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    double d = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, double(norm(a[i] - b[i])));
-    return d;
-  };
-  const double drift = distance(cpu, rounded), off = distance(cpu, gpu);
+  const double drift = test::max_distance(cpu, rounded), off = test::max_distance(cpu, gpu);
   std::printf(
       "cloth_heap, %llu steps from t = 0.4 s (%.1f contacts per step on the CPU): GPU - "
       "CPU %.3g m, float-storage drift %.3g m (ratio %.2f)\n",

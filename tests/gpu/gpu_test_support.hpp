@@ -1,0 +1,50 @@
+// What the GPU tests share: float's rounding unit, the fixture that registers the backend, the
+// extents their float-derived bounds start from, and the "float-storage" rounding of a state
+// (the CPU run that the whole-run tests measure the GPU's drift against).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "maille/gpu.hpp"
+#include "maille/state.hpp"
+
+namespace maille::test {
+
+inline constexpr double kFloatEps = 5.96e-8;  // float's unit roundoff, 2^-24
+
+class GpuTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { gpu::register_backend(); }
+};
+
+// The largest coordinate (X of the bounds) and the largest norm (V).
+inline double max_abs(std::span<const Vec3> x) {
+  double m = 0;
+  for (const Vec3& p : x) m = std::max({m, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  return m;
+}
+inline double max_norm(std::span<const Vec3> v) {
+  double m = 0;
+  for (const Vec3& p : v) m = std::max(m, double(norm(p)));
+  return m;
+}
+
+// The largest distance between corresponding points of two runs.
+inline double max_distance(std::span<const Vec3> a, std::span<const Vec3> b) {
+  double d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, double(norm(a[i] - b[i])));
+  return d;
+}
+
+// x and v rounded to float, as the GPU stores them.
+inline void round_to_float(State& s) {
+  for (Vec3& x : s.x()) x = {Real(float(x.x)), Real(float(x.y)), Real(float(x.z))};
+  for (Vec3& v : s.v()) v = {Real(float(v.x)), Real(float(v.y)), Real(float(v.z))};
+}
+
+}  // namespace maille::test
