@@ -198,8 +198,8 @@ std::string describe_current() {
   return s.str();
 }
 
-// The model's largest buffer against the driver's largest storage block (Mesa's llvmpipe: 128 MiB,
-// a 1024 x 1024 flag's links; NVIDIA's drivers: 2 GiB and more).
+// The model's largest buffer against the driver's largest storage block (`maille info --backend
+// gpu` prints it; Mesa's llvmpipe: 128 MiB, the links of flags above about 960 x 960).
 std::string too_big(const Model& m, double max_block) {
   const double adjacency = 2.0 * double(m.links.total()) * sizeof(Adjacent);
   const double faces = 3.0 * 4 * double(m.surface.triangles.size());
