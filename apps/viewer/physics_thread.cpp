@@ -24,8 +24,8 @@ constexpr double kSamplesPerSecond = 100;
 }  // namespace
 
 PhysicsThread::PhysicsThread(Model model, SimulationSettings settings,
-                             render::SnapshotExchange& out, bool play)
-    : out_(out) {
+                             render::SnapshotExchange& out, bool play, SharedContext context)
+    : out_(out), context_(std::move(context)) {
   // A device backend is started on the physics thread, where its steps run.
   const std::string backend = std::exchange(settings.backend, "cpu");
   sim_ = make_simulator(std::move(model), std::move(settings));
@@ -50,9 +50,14 @@ std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, Simulation
   settings.sample_every =
       std::max(1, static_cast<int>(std::lround(1 / (kSamplesPerSecond * settings.step))));
   const bool cpu = settings.backend == "cpu";
+  // In the shared context (current on this thread), unless a device was named: that one needs
+  // a context of its own, and its snapshots come back through the host.
+  if (context_ && settings.backend_options.device < 0)
+    settings.backend_options.use_current_context = true;
   auto sim = std::make_unique<Simulator>(std::move(model), std::move(settings));
   if (cpu) sim->add_stage(std::make_unique<DragSpring>(drag_));  // a CPU stage
   sim->set_overlays(true);  // stages' contacts and cells reach the window with the snapshots
+  sim->set_device_snapshots(bool(context_));
   // Runs on the physics thread, inside Simulator::publish_now.
   sim->on_publish([this](const Snapshot& s) { out_.publish(s); });
   sim->on_sample([this](const EnergySample& e, const Profile& p) {
@@ -241,6 +246,7 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
 }
 
 void PhysicsThread::run() {
+  if (context_) context_.make_current();
   // While playing, simulated time follows anchor_sim + (now - anchor_wall) * speed.
   Clock::time_point anchor_wall = Clock::now();
   double anchor_sim = sim_->time();
@@ -264,6 +270,7 @@ void PhysicsThread::run() {
     if (quit) {
       // Destroyed on this thread: a device backend's context is current here.
       sim_.reset();
+      if (context_) context_.release();
       return;
     }
 
@@ -282,8 +289,7 @@ void PhysicsThread::run() {
         anchor_sim = sim0;
       }
       const double due = speed > 0 ? anchor_sim + seconds(t0 - anchor_wall) * speed : INFINITY;
-      while (sim_->time() < due && seconds(Clock::now() - t0) < kBatchSeconds &&
-             sim_->step()) {
+      while (sim_->time() < due && seconds(Clock::now() - t0) < kBatchSeconds && sim_->step()) {
       }
       // Too slow for real time: follow from here rather than falling further behind.
       if (speed > 0 && sim_->time() < due - 0.05 * speed) {

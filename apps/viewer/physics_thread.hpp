@@ -58,12 +58,22 @@ struct PlotSample {
   std::vector<double> counters;  // in PhysicsStatus::counters order
 };
 
+// An OpenGL context for the physics thread in the window's share group (a hidden window), made
+// current when the thread starts and released when it ends. A GPU backend then runs in it and
+// publishes its positions on the device: the window draws straight from them through the
+// exchange (which needs a DeviceTransfer), and nothing is read back to draw.
+struct SharedContext {
+  std::function<void()> make_current, release;
+  explicit operator bool() const { return bool(make_current); }
+};
+
 class PhysicsThread {
  public:
   static constexpr std::size_t kHistory = 400;  // plot samples kept
 
   // Starts the thread, paused unless `play`. Publishes the initial state at once.
-  PhysicsThread(Model model, SimulationSettings settings, render::SnapshotExchange& out, bool play);
+  PhysicsThread(Model model, SimulationSettings settings, render::SnapshotExchange& out, bool play,
+                SharedContext context = {});
   ~PhysicsThread();  // stops the thread and joins it
   PhysicsThread(const PhysicsThread&) = delete;
   PhysicsThread& operator=(const PhysicsThread&) = delete;
@@ -77,8 +87,9 @@ class PhysicsThread {
   void set_time_step(double h);                  // s, > 0
   void set_integrator(const std::string& name);  // rebuilt around the current state
   // Runs the simulation on another backend from the current state (a simulator rebuilt on the
-  // physics thread: a GPU backend's EGL context lives there, apart from the window's). Refused
-  // set-ups keep the old backend and leave a notice. Dragging particles needs the CPU.
+  // physics thread, where a GPU backend's context is current: the shared one when given, else
+  // one of its own, whose positions are then downloaded for each snapshot). Refused set-ups keep
+  // the old backend and leave a notice. Dragging particles needs the CPU.
   void set_backend(const std::string& name);
   // Multiplies parameter `field` of every link of pool `pool` by `factor` (> 0).
   void scale_link_param(std::size_t pool, std::size_t field, Real factor);
@@ -102,6 +113,7 @@ class PhysicsThread {
   void publish_status(std::uint64_t batch_steps, double batch_wall_s, double batch_sim_s);
 
   render::SnapshotExchange& out_;
+  SharedContext context_;
   std::shared_ptr<DragState> drag_ = std::make_shared<DragState>();
   std::unique_ptr<Simulator> sim_;  // physics thread only, once started
 

@@ -16,6 +16,7 @@
 #include <iostream>
 #include <memory>
 
+#include "maille/render/gl_transfer.hpp"
 #include "maille/render/image.hpp"
 #include "maille/render/renderer.hpp"
 #include "maille/scene.hpp"
@@ -56,8 +57,13 @@ std::filesystem::path timestamped_png() {
 
 class Viewer {
  public:
-  Viewer(GLFWwindow* window, const ViewerOptions& o)
-      : window_(window), options_(o), examples_(list_scenes(o.examples)) {
+  // `physics_context`: a hidden window sharing `window`'s objects, for the physics thread (a GPU
+  // backend's positions are then drawn without a copy); nullptr: none could be made.
+  Viewer(GLFWwindow* window, GLFWwindow* physics_context, const ViewerOptions& o)
+      : window_(window),
+        physics_context_(physics_context),
+        options_(o),
+        examples_(list_scenes(o.examples)) {
     options_render_.smooth = o.smooth;
     options_render_.smooth_lod = o.lod;
   }
@@ -71,11 +77,12 @@ class Viewer {
     try {
       // The old physics stops before its exchange goes: it publishes into it until joined.
       physics_.reset();
-      exchange_ = std::make_unique<render::SnapshotExchange>();
+      exchange_ = std::make_unique<render::SnapshotExchange>(
+          physics_context_ ? render::make_gl_transfer() : nullptr);
       scene_ = std::move(loaded.value());
       if (!options_.backend.empty()) scene_.settings.backend = options_.backend;
       physics_ = std::make_unique<PhysicsThread>(scene_.model, scene_.settings, *exchange_,
-                                                 !options_.paused);
+                                                 !options_.paused, shared_context());
     } catch (const std::exception& e) {
       load_error_ = path.string() + ": " + e.what();
       return false;
@@ -98,10 +105,11 @@ class Viewer {
 
     bool fresh = false;
     if (const Snapshot* s = exchange_->take(&fresh);
-        s && fresh && s->positions.size() == renderer_.positions().size()) {
+        s && fresh && s->point_count() == renderer_.positions().size()) {
       renderer_.set_snapshot(*s);
       stage_overlay_ = s->overlay;  // contacts, cells: drawn with the drag spring on top
     }
+    if (renderer_.draws_device_positions()) ++device_frames_;
 
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
@@ -148,10 +156,17 @@ class Viewer {
   }
 
   bool screenshot_failed() const { return screenshot_failed_; }
+  int device_frames() const { return device_frames_; }  // drawn from a GPU's buffers
   PhysicsThread& physics() { return *physics_; }
   const std::string& load_error() const { return load_error_; }
 
  private:
+  SharedContext shared_context() const {
+    if (!physics_context_) return {};
+    GLFWwindow* w = physics_context_;
+    return {[w] { glfwMakeContextCurrent(w); }, [] { glfwMakeContextCurrent(nullptr); }};
+  }
+
   void frame_scene() {
     tuning_.auto_frame = true;
     auto_frame_.reset();
@@ -199,7 +214,8 @@ class Viewer {
     }
     if (io.WantCaptureMouse) return;
 
-    if (ImGui::IsMouseClicked(0) && !shift) {
+    // Positions left on the GPU are not on the host to pick from (and only the CPU drags).
+    if (ImGui::IsMouseClicked(0) && !shift && !renderer_.draws_device_positions()) {
       if (auto p = pick(mx, my, width, height, 12 * sx)) {
         grabbed_ = *p;
         grab_anchor_ = drag_target_ = renderer_.positions()[*p];
@@ -254,6 +270,7 @@ class Viewer {
   }
 
   GLFWwindow* window_;
+  GLFWwindow* physics_context_;
   std::vector<render::OverlaySegment> stage_overlay_;  // from the last snapshot
   ViewerOptions options_;
   std::vector<std::filesystem::path> examples_;  // the scene picker's list
@@ -270,6 +287,7 @@ class Viewer {
   std::optional<std::uint32_t> grabbed_;
   Vec3 grab_anchor_{}, drag_target_{};
   double frame_ms_ = 0;
+  int device_frames_ = 0;
   bool screenshot_requested_ = false, screenshot_failed_ = false;
 };
 
@@ -295,6 +313,14 @@ int run_viewer(const ViewerOptions& o) {
     glfwTerminate();
     return 1;
   }
+  // The physics thread's context: hidden, sharing the window's objects (a GPU backend's
+  // buffers are drawn from directly). Without it, GPU positions are read back per snapshot.
+  glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+  GLFWwindow* physics_context = glfwCreateWindow(1, 1, "Maille physics", nullptr, window);
+  glfwDefaultWindowHints();
+  if (!physics_context)
+    std::cerr << "maille-viewer: no shared context for the physics thread: GPU positions will be "
+                 "read back to draw\n";
   glfwMakeContextCurrent(window);
   glfwSwapInterval(1);
 
@@ -307,7 +333,7 @@ int run_viewer(const ViewerOptions& o) {
 
   int code = 0;
   {
-    Viewer viewer(window, o);
+    Viewer viewer(window, physics_context, o);
     if (!viewer.open(o.scene)) {
       std::cerr << viewer.load_error() << '\n';
       code = 1;
@@ -322,7 +348,8 @@ int run_viewer(const ViewerOptions& o) {
       if (o.frames > 0) {
         const PhysicsStatus st = viewer.physics().status();
         std::cout << "maille-viewer: " << o.frames << " frames, simulated " << st.time << " s in "
-                  << st.step << " steps on the " << st.backend << " backend\n";
+                  << st.step << " steps on the " << st.backend << " backend, "
+                  << viewer.device_frames() << " drawn from the GPU's buffers\n";
         if (!st.notice.empty()) std::cout << "maille-viewer: notice: " << st.notice << '\n';
       }
     }
@@ -330,6 +357,7 @@ int run_viewer(const ViewerOptions& o) {
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
+  if (physics_context) glfwDestroyWindow(physics_context);
   glfwDestroyWindow(window);
   glfwTerminate();
   return code;

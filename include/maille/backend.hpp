@@ -36,6 +36,10 @@ namespace maille {
 
 struct BackendOptions {
   int device = -1;  // which device (for "gpu": an EGL device index); -1: the platform's default
+  // Run in the OpenGL context current on the calling thread (any window system's: the viewer's
+  // hidden window shares the window's objects) rather than in one of the backend's own; the
+  // caller guarantees one is current. A device >= 0 still makes its own context on that device.
+  bool use_current_context = false;
 };
 
 class Backend {
@@ -61,6 +65,11 @@ class Backend {
   // x, v and f of the device into s (size checked by the caller); waits for the device.
   virtual void download(State& s) = 0;
   virtual void finish() = 0;  // waits until every submitted step has run (timing)
+  // The OpenGL buffer holding the device's positions (3 floats per point), when it lives in a
+  // context the caller shares (BackendOptions::use_current_context, or a context that was
+  // current when the backend started); 0 otherwise. Renderers draw from it without a copy
+  // back (Simulator::set_device_snapshots).
+  virtual std::uint32_t gl_positions() const { return 0; }
 };
 
 class BackendRegistry {

@@ -157,6 +157,12 @@ class Simulator : private ForceEvaluator {
   void set_stage_option(const std::string& stage, const std::string& option,
                         const std::string& value);
   void set_overlays(bool on) { overlays_ = on; }
+  // Snapshots leave the positions on the device when the backend offers them in a shared
+  // OpenGL context (Backend::gl_positions): Snapshot::device is set and `positions` stays
+  // empty, nothing is downloaded to publish. Stage overlays, which read the host state, are
+  // then left out. Off by default, and without effect on the CPU or a backend in a context of
+  // its own.
+  void set_device_snapshots(bool on) { device_snapshots_ = on; }
 
  private:
   struct Installed {
@@ -211,6 +217,7 @@ class Simulator : private ForceEvaluator {
   double energy_scale_ = 0;
   int threads_ = 1;
   bool overlays_ = false;
+  bool device_snapshots_ = false;
   struct StageIds;
   std::unique_ptr<StageIds> ids_;
   std::unique_ptr<Backend> backend_;

@@ -32,16 +32,28 @@ struct SurfaceInstance {
   std::array<float, 4> colour{0.55f, 0.6f, 0.7f, 0.45f};  // RGBA: translucent by default
 };
 
+// Positions left on the device (Simulator::set_device_snapshots): an OpenGL buffer object of 3
+// floats per point, in the share group of the context the backend runs in. Who receives it
+// reads it in that share group, with its own synchronisation (render::SnapshotExchange fences
+// it across threads); the simulator's buffer is valid only during the listener's call.
+struct DevicePositions {
+  std::uint32_t gl_buffer = 0;  // 0: none (the positions are on the host)
+  std::size_t count = 0;        // points
+};
+
 struct Snapshot {
-  std::uint64_t frame = 0;  // 0, 1, 2, ... one per publication
-  std::uint64_t step = 0;   // simulation step of the positions
-  double time = 0;          // s
-  std::vector<Vec3> positions;
+  std::uint64_t frame = 0;      // 0, 1, 2, ... one per publication
+  std::uint64_t step = 0;       // simulation step of the positions
+  double time = 0;              // s
+  std::vector<Vec3> positions;  // empty when `device` holds them
+  DevicePositions device;
   // What stages chose to show (self-collision contacts and cells...), only when the simulator
   // was asked for overlays (Simulator::set_overlays): empty otherwise, and free.
   std::vector<OverlaySegment> overlay;
   // Solids placed at the snapshot's time (always filled: obstacles are part of the scene).
   std::vector<SurfaceInstance> surfaces;
+
+  std::size_t point_count() const { return device.gl_buffer ? device.count : positions.size(); }
 };
 
 using SnapshotListener = std::function<void(const Snapshot&)>;

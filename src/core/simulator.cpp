@@ -345,12 +345,22 @@ bool Simulator::runaway(double e) {
 }
 
 void Simulator::publish() {
-  const auto x = state_.x();
   snapshot_.step = state_.step;
   snapshot_.time = state_.time;
-  snapshot_.positions.assign(x.begin(), x.end());
   snapshot_.overlay.clear();
-  if (overlays_)
+  // The device's buffer is current unless the host changed since the last load.
+  const std::uint32_t device =
+      device_snapshots_ && backend_ && !host_ahead_ ? backend_->gl_positions() : 0;
+  if (device != 0) {
+    snapshot_.positions.clear();
+    snapshot_.device = {device, model_.points.size()};
+  } else {
+    sync_host();
+    const auto x = state_.x();
+    snapshot_.positions.assign(x.begin(), x.end());
+    snapshot_.device = {};
+  }
+  if (overlays_ && device == 0)
     for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
       for (const auto& st : *list) st.stage->overlay(model_, state_, snapshot_.overlay);
   snapshot_.surfaces.clear();
@@ -361,8 +371,7 @@ void Simulator::publish() {
 }
 
 void Simulator::publish_now() {
-  sync_host();
-  publish();
+  publish();  // downloads the state unless it publishes the device's buffer
 }
 
 std::vector<Simulator::StageOptions> Simulator::stage_options() const {

@@ -118,8 +118,7 @@ bool Simulator::step_on_backend() {
   }
   if (publishing) {
     Timed t(profile_, ids.publish);
-    sync_host();
-    publish();
+    publish();  // downloads the state unless it publishes the device's buffer
   }
   if (pending_sample_) {
     for (const auto& l : sample_listeners_) l(*pending_sample_, profile_);

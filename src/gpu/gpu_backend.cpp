@@ -216,10 +216,11 @@ std::string too_big(const Model& m, double max_block) {
 class GpuBackend final : public Backend {
  public:
   explicit GpuBackend(const BackendOptions& o) {
-    // A context already current on this thread (the renderer's) is used as is, so that the
-    // renderer draws from the position buffer; otherwise the backend makes its own.
-    if (o.device >= 0 || eglGetCurrentContext() == EGL_NO_CONTEXT)
-      own_ = std::make_unique<render::HeadlessContext>(o.device);
+    // A context current on this thread (the renderer's EGL one, or any the caller names with
+    // use_current_context: the viewer's hidden GLX window) is used as is, so that renderers in
+    // its share group draw from the position buffer; otherwise the backend makes its own.
+    const bool current = o.use_current_context || eglGetCurrentContext() != EGL_NO_CONTEXT;
+    if (o.device >= 0 || !current) own_ = std::make_unique<render::HeadlessContext>(o.device);
     if (epoxy_gl_version() < 45)
       throw std::runtime_error("the GPU backend needs OpenGL 4.5 (this context has " +
                                std::to_string(epoxy_gl_version()) + ")");
@@ -418,6 +419,9 @@ class GpuBackend final : public Backend {
     current();
     glFinish();
   }
+
+  // Shared only when the backend runs in the caller's context.
+  std::uint32_t gl_positions() const override { return own_ ? 0 : buffer(Buf::x); }
 
   std::optional<SelfCollisionDebug> self_collision_debug() {
     if (self_collision_.empty()) return std::nullopt;

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 
@@ -18,6 +20,29 @@ namespace {
   std::snprintf(code, sizeof code, "0x%04x", eglGetError());
   throw std::runtime_error(std::string("headless OpenGL: ") + what + " failed (EGL error " + code +
                            "); Mesa's EGL (libegl-mesa0) and llvmpipe are needed");
+}
+
+// An EGL display is one per process and native display: every context on it shares its
+// initialisation, so it is terminated only when the last of them goes (a GPU backend's own
+// context must not end the renderer's).
+std::mutex displays_mutex;
+std::map<EGLDisplay, int> display_users;
+
+void use_display(EGLDisplay display) {
+  std::lock_guard lock(displays_mutex);
+  if (display_users[display]++ > 0) return;
+  EGLint major = 0, minor = 0;
+  if (!eglInitialize(display, &major, &minor)) {
+    display_users.erase(display);
+    fail("eglInitialize");
+  }
+}
+
+void leave_display(EGLDisplay display) {
+  std::lock_guard lock(displays_mutex);
+  if (--display_users[display] > 0) return;
+  display_users.erase(display);
+  eglTerminate(display);
 }
 
 }  // namespace
@@ -83,10 +108,9 @@ std::vector<std::string> egl_devices() {
   return out;
 }
 
-HeadlessContext::HeadlessContext(int device) {
-  EGLDisplay display = open_display(device);
-  EGLint major = 0, minor = 0;
-  if (!eglInitialize(display, &major, &minor)) fail("eglInitialize");
+HeadlessContext::HeadlessContext(int device, const HeadlessContext* share) {
+  EGLDisplay display = share ? share->display_ : open_display(device);
+  use_display(display);
   if (!eglBindAPI(EGL_OPENGL_API)) fail("eglBindAPI(OpenGL)");
   const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
                                4,
@@ -96,14 +120,15 @@ HeadlessContext::HeadlessContext(int device) {
                                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                EGL_NONE};
   // No config and no surface: everything is drawn into framebuffer objects.
-  EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
+  EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR,
+                                        share ? share->context_ : EGL_NO_CONTEXT, attributes);
   if (context == EGL_NO_CONTEXT) {
-    eglTerminate(display);
+    leave_display(display);
     fail("eglCreateContext(OpenGL 4.5 core)");
   }
   if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
     eglDestroyContext(display, context);
-    eglTerminate(display);
+    leave_display(display);
     fail("eglMakeCurrent(surfaceless)");
   }
   display_ = display;
@@ -111,9 +136,9 @@ HeadlessContext::HeadlessContext(int device) {
 }
 
 HeadlessContext::~HeadlessContext() {
-  eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  if (is_current()) release();  // another context current here stays so
   eglDestroyContext(display_, context_);
-  eglTerminate(display_);
+  leave_display(display_);
 }
 
 void HeadlessContext::make_current() {

@@ -38,6 +38,9 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
   for (const auto& [stage, option, value] : s.stage_options)
     sim.set_stage_option(stage, option, value);  // std::invalid_argument names what is unknown
   sim.set_overlays(!s.stage_options.empty());
+  // A GPU backend runs in this context: frames are drawn from its position buffer, only the
+  // pixels written come back (overlays read the host state, so they need the positions there).
+  sim.set_device_snapshots(s.stage_options.empty());
   // The only path from the physics to the renderer: a published snapshot.
   sim.on_publish([&](const Snapshot& snapshot) {
     renderer.set_snapshot(snapshot);
@@ -63,6 +66,7 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
     report.simulate_seconds += seconds_since(t0);
     if (report.blow_up) break;
     sim.publish_now();
+    renderer.wait_for_bounds();
     auto_frame.update(framed, renderer.bounds(), aspect);
     // A still has no motion to smooth: frame everything seen so far at once.
     if (s.last_frame_only && k == first_rendered) framed.frame(auto_frame.box(), aspect);

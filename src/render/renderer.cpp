@@ -18,14 +18,18 @@ namespace maille::render {
 // shared by every pass (storage buffer for links and points, vertex attribute for surfaces).
 struct Renderer::Gl {
   GLuint background = 0, lines = 0, surface = 0, links = 0, points = 0, solid = 0;  // programs
-  GLuint empty_vao = 0;    // passes that fetch everything from storage buffers
-  GLuint surface_vao = 0;  // positions + normals + triangle indices
-  GLuint lines_vao = 0;    // interleaved position, colour (grid, then overlay)
-  GLuint positions = 0, normals = 0, triangles = 0;
-  GLuint link_ends = 0, link_rest = 0, contacts = 0, styles = 0, line_vertices = 0;
+  GLuint normals_pass = 0, bounds_pass = 0;  // compute: vertex normals, a device's bounds
+  GLuint empty_vao = 0;                      // passes that fetch everything from storage buffers
+  GLuint surface_vao = 0;                    // positions + normals + triangle indices
+  GLuint lines_vao = 0;                      // interleaved position, colour (grid, then overlay)
+  GLuint positions = 0, normals = 0, triangles = 0, face_offset = 0, faces_of = 0;
+  GLuint link_ends = 0, link_rest = 0, styles = 0, line_vertices = 0;
+  GLuint contact_ends = 0, contact_threshold = 0;  // conditional links, drawn while active
+  GLuint box = 0;                                  // the bounds pass's result: 2 vec4
+  GLsync box_ready = nullptr;                      // set while a reduction is in flight
   GLsizei triangle_indices = 0;
   GLint links_off_surface = 0, links_total = 0;  // links [0, off) are not inside a cloth
-  GLsizei contact_count = 0;
+  GLsizei contact_total = 0;
   GLsizei grid_vertices = 0, overlay_vertices = 0;
   std::vector<float> grid;  // interleaved x y z r g b
 
@@ -58,13 +62,16 @@ struct Renderer::Gl {
   }
 
   ~Gl() {
-    for (GLuint p : {background, lines, surface, links, points, solid, smooth}) glDeleteProgram(p);
+    for (GLuint p :
+         {background, lines, surface, links, points, solid, smooth, normals_pass, bounds_pass})
+      glDeleteProgram(p);
+    if (box_ready) glDeleteSync(box_ready);
+    glDeleteBuffers(1, &box);
     const GLuint vaos[] = {empty_vao, surface_vao, lines_vao, smooth_vao};
     glDeleteVertexArrays(4, vaos);
     delete_smooth();
     delete_buffers();
     glDeleteBuffers(1, &line_vertices);
-    glDeleteBuffers(1, &contacts);
     for (Solid& s : solids) free(s);
   }
   static void free(Solid& s) {
@@ -78,9 +85,11 @@ struct Renderer::Gl {
     return nullptr;
   }
   void delete_buffers() {
-    const GLuint b[] = {positions, normals, triangles, link_ends, link_rest, styles};
-    glDeleteBuffers(6, b);
+    const GLuint b[] = {positions, normals,     triangles, link_ends,    link_rest,
+                        styles,    face_offset, faces_of,  contact_ends, contact_threshold};
+    glDeleteBuffers(10, b);
     positions = normals = triangles = link_ends = link_rest = styles = 0;
+    face_offset = faces_of = contact_ends = contact_threshold = 0;
   }
 };
 
@@ -188,6 +197,9 @@ Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
   g.points = link_program("points", shaders::points_vs, shaders::points_fs);
   g.solid = link_program("solid", shaders::solid_vs, shaders::solid_fs);
   g.smooth = link_compute_program("smooth surface", shaders::smooth_cs());
+  g.normals_pass = link_compute_program("vertex normals", shaders::normals_cs);
+  g.bounds_pass = link_compute_program("bounds", shaders::bounds_cs);
+  g.box = make_buffer(std::vector<float>(8, 0.0f));
   glCreateVertexArrays(1, &g.smooth_vao);
   for (GLuint attrib : {0u, 1u}) {  // interleaved position, normal (6 floats)
     glEnableVertexArrayAttrib(g.smooth_vao, attrib);
@@ -198,7 +210,6 @@ Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
   glCreateVertexArrays(1, &g.surface_vao);
   glCreateVertexArrays(1, &g.lines_vao);
   glCreateBuffers(1, &g.line_vertices);
-  glCreateBuffers(1, &g.contacts);
   for (GLuint attrib : {0u, 1u}) {
     glEnableVertexArrayAttrib(g.lines_vao, attrib);
     glVertexArrayAttribFormat(g.lines_vao, attrib, 3, GL_FLOAT, GL_FALSE, attrib * 3 * 4);
@@ -216,6 +227,8 @@ void Renderer::set_model(const Model& model) {
   topology_ = make_topology(model);
   positions_ = model.points.initial_position;
   info_ = Snapshot{};
+  device_positions_ = 0;
+  device_bounds_ = {};
   g.delete_buffers();
   g.delete_smooth();
   smooth_ = SmoothSurface(model);
@@ -241,9 +254,22 @@ void Renderer::set_model(const Model& model) {
       std::count(topology_.link_on_surface.begin(), topology_.link_on_surface.end(), 0));
 
   g.positions = make_buffer(std::vector<float>(positions_.size() * 3), GL_DYNAMIC_STORAGE_BIT);
-  g.normals = make_buffer(std::vector<float>(positions_.size() * 3), GL_DYNAMIC_STORAGE_BIT);
+  g.normals = make_buffer(std::vector<float>(positions_.size() * 3));
   g.triangles = make_buffer(topology_.triangles);
   g.triangle_indices = static_cast<GLsizei>(topology_.triangles.size());
+  // The faces around each point (CSR), for the normals pass's gather.
+  std::vector<std::uint32_t> face_offset(positions_.size() + 1, 0);
+  std::vector<std::uint32_t> faces_of(topology_.triangles.size());
+  for (std::uint32_t i : topology_.triangles) ++face_offset[i + 1];
+  for (std::size_t p = 0; p < positions_.size(); ++p) face_offset[p + 1] += face_offset[p];
+  std::vector<std::uint32_t> fill(face_offset.begin(), face_offset.end() - 1);
+  for (std::size_t k = 0; k < topology_.triangles.size(); ++k)
+    faces_of[fill[topology_.triangles[k]]++] = static_cast<std::uint32_t>(k / 3);
+  g.face_offset = make_buffer(face_offset);
+  g.faces_of = make_buffer(faces_of);
+  g.contact_ends = make_buffer(topology_.contact_ends);
+  g.contact_threshold = make_buffer(topology_.contact_threshold);
+  g.contact_total = static_cast<GLsizei>(topology_.contact_threshold.size());
   g.link_ends = make_buffer(ends);
   g.link_rest = make_buffer(rest);
   g.styles = make_buffer(topology_.point_style);
@@ -260,21 +286,29 @@ void Renderer::set_model(const Model& model) {
 }
 
 void Renderer::set_snapshot(const Snapshot& snapshot) {
-  if (snapshot.positions.size() != positions_.size())
-    throw std::invalid_argument("renderer: snapshot has " +
-                                std::to_string(snapshot.positions.size()) + " points, the model " +
-                                std::to_string(positions_.size()));
-  std::copy(snapshot.positions.begin(), snapshot.positions.end(), positions_.begin());
+  if (snapshot.point_count() != positions_.size())
+    throw std::invalid_argument("renderer: snapshot has " + std::to_string(snapshot.point_count()) +
+                                " points, the model " + std::to_string(positions_.size()));
   info_.frame = snapshot.frame;
   info_.step = snapshot.step;
   info_.time = snapshot.time;
-  upload_positions();
+  device_positions_ = snapshot.device.gl_buffer;
+  if (device_positions_ == 0) {
+    std::copy(snapshot.positions.begin(), snapshot.positions.end(), positions_.begin());
+    upload_positions();
+  } else {
+    positions_changed();
+  }
   solids_ = snapshot.surfaces;
   upload_solids();
-  // A chain swinging down or a net sagging goes below its initial box: the floor follows (by
-  // steps of 5% of the box, so that it does not creep every frame). Solids count too (open ones
-  // as well: a ground plane puts the grid under it, not through it).
-  Bounds now = bounds_of(positions_);
+  if (device_positions_ == 0) lower_grid(bounds_of(positions_));
+}
+
+// A chain swinging down or a net sagging goes below its initial box: the floor follows (by steps
+// of 5% of the box, so that it does not creep every frame). Solids count too (open ones as well:
+// a ground plane puts the grid under it, not through it).
+void Renderer::lower_grid(const Bounds& positions_box) {
+  Bounds now = positions_box;
   for (const SurfaceInstance& s : solids_)
     if (const Gl::Solid* solid = gl_->find(s.mesh.get())) now.add(placed_box(solid->box, s));
   if (!now.empty() && !grid_box_.empty() &&
@@ -296,17 +330,75 @@ void Renderer::upload_positions() {
   }
   if (!scratch_xyz_.empty())
     glNamedBufferSubData(g.positions, 0, GLsizeiptr(scratch_xyz_.size() * 4), scratch_xyz_.data());
-  if (g.triangle_indices > 0) {
-    surface_normals(topology_, positions_, scratch_normals_);
-    glNamedBufferSubData(g.normals, 0, GLsizeiptr(scratch_normals_.size() * 4),
-                         scratch_normals_.data());
+  positions_changed();
+}
+
+unsigned Renderer::drawn_positions() const {
+  return device_positions_ != 0 ? device_positions_ : gl_->positions;
+}
+
+void Renderer::positions_changed() {
+  Gl& g = *gl_;
+  const GLuint positions = drawn_positions();
+  // Bound again on every change: a buffer written in another context of the share group is
+  // seen here once it is bound again after the writer's fence (the exchange waited on it).
+  glVertexArrayVertexBuffer(g.surface_vao, 0, positions, 0, 12);
+  const auto n = static_cast<GLuint>(positions_.size());
+  if (g.triangle_indices > 0 && n > 0) {
+    glUseProgram(g.normals_pass);
+    glProgramUniform1ui(g.normals_pass, glGetUniformLocation(g.normals_pass, "u_points"), n);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.normals);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.triangles);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.face_offset);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.faces_of);
+    glDispatchCompute((n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
+                    GL_BUFFER_UPDATE_BARRIER_BIT);
   }
-  scratch_contacts_.clear();
-  active_contacts(topology_, positions_, scratch_contacts_);
-  g.contact_count = static_cast<GLsizei>(scratch_contacts_.size() / 2);
-  if (g.contact_count > 0)
-    glNamedBufferData(g.contacts, GLsizeiptr(scratch_contacts_.size() * 4),
-                      scratch_contacts_.data(), GL_STREAM_DRAW);
+  // A device's box: one reduction at a time, read when done (poll_device_bounds).
+  if (device_positions_ != 0 && n > 0 && !g.box_ready) {
+    glUseProgram(g.bounds_pass);
+    glProgramUniform1ui(g.bounds_pass, glGetUniformLocation(g.bounds_pass, "u_points"), n);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.box);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    g.box_ready = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  }
+  glUseProgram(0);
+}
+
+void Renderer::poll_device_bounds() {
+  Gl& g = *gl_;
+  if (!g.box_ready) return;
+  if (glClientWaitSync(g.box_ready, GL_SYNC_FLUSH_COMMANDS_BIT, 0) == GL_TIMEOUT_EXPIRED) return;
+  glDeleteSync(g.box_ready);
+  g.box_ready = nullptr;
+  float box[8];
+  glGetNamedBufferSubData(g.box, 0, sizeof box, box);
+  device_bounds_ = {};
+  if (box[3] > 0) {
+    device_bounds_.add(Vec3{box[0], box[1], box[2]});
+    device_bounds_.add(Vec3{box[4], box[5], box[6]});
+  }
+  if (device_positions_ != 0) lower_grid(device_bounds_);
+}
+
+void Renderer::wait_for_bounds() {
+  Gl& g = *gl_;
+  if (!g.box_ready) return;
+  constexpr GLuint64 kSecond = 1000000000;
+  while (glClientWaitSync(g.box_ready, GL_SYNC_FLUSH_COMMANDS_BIT, kSecond) == GL_TIMEOUT_EXPIRED) {
+  }
+  poll_device_bounds();
+}
+
+std::vector<float> Renderer::normals() const {
+  std::vector<float> out(positions_.size() * 3);
+  if (!out.empty())
+    glGetNamedBufferSubData(gl_->normals, 0, GLsizeiptr(out.size() * 4), out.data());
+  return out;
 }
 
 void Renderer::upload_solids() {
@@ -344,7 +436,7 @@ std::size_t Renderer::solid_meshes() const {
 }
 
 Bounds Renderer::bounds() const {
-  Bounds b = bounds_of(positions_);
+  Bounds b = device_positions_ != 0 ? device_bounds_ : bounds_of(positions_);
   for (const SurfaceInstance& s : solids_)
     if (const Gl::Solid* solid = gl_->find(s.mesh.get()); solid && solid->closed)
       b.add(placed_box(solid->box, s));
@@ -375,6 +467,8 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
   const Mat4 proj = camera.projection(aspect), view = camera.view();
   const Mat4 view_proj = proj * view;
 
+  poll_device_bounds();
+  const GLuint positions = drawn_positions();
   glViewport(0, 0, width, height);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -406,7 +500,7 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
   }
 
   glBindVertexArray(g.empty_vao);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions);
   glUseProgram(g.links);
   set_uniform(g.links, "u_view_proj", view_proj);
   glProgramUniform2f(g.links, glGetUniformLocation(g.links, "u_viewport"), float(width),
@@ -417,6 +511,8 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
   const GLint first = glGetUniformLocation(g.links, "u_first");
   const GLint strain = glGetUniformLocation(g.links, "u_strain");
   const GLint colour = glGetUniformLocation(g.links, "u_colour");
+  const GLint contact = glGetUniformLocation(g.links, "u_contact");
+  glProgramUniform1i(g.links, contact, 0);
   if (o.links) {
     // Without the surface, a cloth's mesh is all there is to see: draw it.
     const bool inner = o.links_on_surface || !o.surface;
@@ -429,12 +525,15 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
       glDrawArrays(GL_TRIANGLES, 0, count * 6);
     }
   }
-  if (o.contacts && g.contact_count > 0) {
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.contacts);
+  if (o.contacts && g.contact_total > 0) {
+    // Every conditional link; the shader draws those closer than their threshold.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.contact_ends);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.contact_threshold);
     glProgramUniform1i(g.links, first, 0);
     glProgramUniform1i(g.links, strain, 0);
+    glProgramUniform1i(g.links, contact, 1);
     glProgramUniform3f(g.links, colour, 0.95f, 0.85f, 0.10f);
-    glDrawArrays(GL_TRIANGLES, 0, g.contact_count * 6);
+    glDrawArrays(GL_TRIANGLES, 0, g.contact_total * 6);
   }
 
   if (o.points && !positions_.empty()) {
@@ -564,7 +663,7 @@ void Renderer::draw_smooth(const Mat4& view_proj, const Mat4& view, int lod) {
   glProgramUniform1ui(g.smooth, glGetUniformLocation(g.smooth, "u_grid_vertices"),
                       g.smooth_grid_vertices);
   glProgramUniform1ui(g.smooth, glGetUniformLocation(g.smooth, "u_total"), g.smooth_vertex_count);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, g.positions);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, drawn_positions());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.normals);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.smooth_grids);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.smooth_tris);

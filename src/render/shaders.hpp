@@ -126,6 +126,7 @@ uniform float u_width;       // pixels
 uniform float u_strain_range;
 uniform int u_first;         // first link drawn
 uniform int u_strain;        // 1: colour by strain; 0: u_colour
+uniform int u_contact;       // 1: Rest holds thresholds; a link at or beyond its own is not drawn
 uniform vec3 u_colour;
 out vec3 v_colour;
 vec3 point(uint i) { return vec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]); }
@@ -139,6 +140,11 @@ void main() {
   int corner = gl_VertexID % 6;
   vec3 a = point(ends[2 * link]);
   vec3 b = point(ends[2 * link + 1]);
+  if (u_contact == 1 && !(length(b - a) < rest[link])) {  // an inactive conditional link
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);               // outside the clip volume
+    v_colour = vec3(0.0);
+    return;
+  }
   vec4 ca = u_view_proj * vec4(a, 1.0);
   vec4 cb = u_view_proj * vec4(b, 1.0);
   vec2 sa = ca.xy / ca.w * u_viewport, sb = cb.xy / cb.w * u_viewport;
@@ -196,6 +202,77 @@ void main() {
   vec3 n = vec3(q.x, -q.y, sqrt(1.0 - r2));
   float light = 0.45 + 0.55 * max(dot(n, normalize(vec3(0.4, 0.6, 0.7))), 0.0);
   colour = vec4(v_colour * light + vec3(0.08) * pow(n.z, 8.0), 1.0);
+}
+)";
+
+// --- vertex normals: per point, the area-weighted sum of the normals of its faces, normalised --
+// (vertex_normals in smooth_surface.cpp, in float). A gather over each point's faces (CSR), so
+// no atomics; points on no face get a zero normal.
+inline constexpr std::string_view normals_cs = R"(#version 450 core
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Positions { float pos[]; };
+layout(std430, binding = 1) writeonly buffer Normals { float normal[]; };
+layout(std430, binding = 2) readonly buffer Triangles { uint tri[]; };      // 3 per face
+layout(std430, binding = 3) readonly buffer FaceOffset { uint face_offset[]; };  // n + 1
+layout(std430, binding = 4) readonly buffer FacesOf { uint face_of[]; };
+uniform uint u_points;
+vec3 point(uint i) { return vec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]); }
+void main() {
+  uint p = gl_GlobalInvocationID.x;
+  if (p >= u_points) return;
+  vec3 sum = vec3(0.0);
+  for (uint k = face_offset[p]; k < face_offset[p + 1]; ++k) {
+    uint f = face_of[k];
+    vec3 a = point(tri[3 * f]), b = point(tri[3 * f + 1]), c = point(tri[3 * f + 2]);
+    sum += cross(b - a, c - a);  // twice the area, along the normal
+  }
+  float l = length(sum);
+  vec3 n = l > 0.0 && !isinf(l) && !isnan(l) ? sum / l : vec3(0.0);
+  normal[3 * p] = n.x;
+  normal[3 * p + 1] = n.y;
+  normal[3 * p + 2] = n.z;
+}
+)";
+
+// --- bounds of the finite positions: one work group, a strided loop then a tree in shared memory.
+// Written as (lo.xyz, any, hi.xyz, 0): any = 0 when no position is finite. For framing a
+// device's positions without reading them back; one work group is plenty for a bound read
+// once a frame.
+inline constexpr std::string_view bounds_cs = R"(#version 450 core
+layout(local_size_x = 256) in;
+layout(std430, binding = 0) readonly buffer Positions { float pos[]; };
+layout(std430, binding = 1) writeonly buffer Box { vec4 box[2]; };
+uniform uint u_points;
+shared vec3 s_lo[256];
+shared vec3 s_hi[256];
+shared uint s_count[256];
+void main() {
+  uint t = gl_LocalInvocationID.x;
+  vec3 lo = vec3(3.0e38), hi = vec3(-3.0e38);
+  uint count = 0u;
+  for (uint i = t; i < u_points; i += 256u) {
+    vec3 p = vec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
+    if (any(isnan(p)) || any(isinf(p))) continue;
+    lo = min(lo, p);
+    hi = max(hi, p);
+    ++count;
+  }
+  s_lo[t] = lo;
+  s_hi[t] = hi;
+  s_count[t] = count;
+  barrier();
+  for (uint half_size = 128u; half_size > 0u; half_size >>= 1) {
+    if (t < half_size) {
+      s_lo[t] = min(s_lo[t], s_lo[t + half_size]);
+      s_hi[t] = max(s_hi[t], s_hi[t + half_size]);
+      s_count[t] += s_count[t + half_size];
+    }
+    barrier();
+  }
+  if (t == 0u) {
+    box[0] = vec4(s_lo[0], s_count[0] > 0u ? 1.0 : 0.0);
+    box[1] = vec4(s_hi[0], 0.0);
+  }
 }
 )";
 

@@ -14,9 +14,12 @@ namespace maille::render {
 // saying which EGL call failed. device < 0: Mesa's surfaceless platform (a GPU when Mesa drives
 // one, llvmpipe else); device >= 0: that EGL device (EGL_EXT_device_enumeration: the NVIDIA
 // driver's GPUs, Mesa's devices), an error naming how many there are when out of range.
+// `share`: a context whose objects (buffers, programs, fences) this one shares, on its display
+// (`device` is then ignored). Contexts on one display share its initialisation: the last one
+// destroyed terminates it.
 class HeadlessContext {
  public:
-  explicit HeadlessContext(int device = -1);
+  explicit HeadlessContext(int device = -1, const HeadlessContext* share = nullptr);
   ~HeadlessContext();
   HeadlessContext(const HeadlessContext&) = delete;
   HeadlessContext& operator=(const HeadlessContext&) = delete;

@@ -65,6 +65,9 @@ class Renderer {
   // Positions and solids to draw. Throws std::invalid_argument when the snapshot's point count
   // differs from the model's (a stale snapshot from before a reload). A solid's mesh is uploaded
   // the first time its pointer is seen and freed with the first snapshot that no longer holds it.
+  // A snapshot whose positions are on the device (Snapshot::device, a buffer of this context's
+  // share group, ready to read) is drawn straight from that buffer until the next snapshot:
+  // nothing is read back; normals, contacts and bounds are computed on the GPU.
   void set_snapshot(const Snapshot& snapshot);
   void set_overlay(std::span<const OverlaySegment> segments);
 
@@ -72,18 +75,27 @@ class Renderer {
   void draw(const Camera& camera, int width, int height, const RenderOptions& options);
 
   const RenderTopology& topology() const { return topology_; }
-  // The positions drawn (initial ones until the first snapshot), for picking and framing.
+  // The positions drawn (initial ones until the first snapshot), for picking and framing; with
+  // device snapshots, the last host ones (device positions are never read back).
   std::span<const Vec3> positions() const { return positions_; }
+  bool draws_device_positions() const { return device_positions_ != 0; }
   const Snapshot& snapshot_info() const { return info_; }  // frame, step, time; no positions
   // What framing should keep in view: the finite positions and the boxes of the closed solids
   // placed as in the last snapshot. Open ones (a ground plane's square) are left out: they
-  // stand for unbounded surfaces, and their drawn size is arbitrary.
+  // stand for unbounded surfaces, and their drawn size is arbitrary. With device snapshots, the
+  // positions' box is a GPU reduction read once it is done (a frame or so late), never a copy.
   Bounds bounds() const;
+  // Waits until bounds() includes the last device snapshot (the GPU's reduction done, 32 bytes
+  // read): for offline rendering, whose framing must not lag. No effect on host snapshots.
+  void wait_for_bounds();
   std::size_t solid_meshes() const;  // meshes on the GPU now (one per distinct pointer)
   // The smooth surface's vertices as the GPU last evaluated them (6 floats each: position,
   // normal; SmoothSurface's layout), read back: for tests against the CPU evaluation. Empty
   // before the first smooth draw.
   std::vector<float> smooth_vertices() const;
+  // The vertex normals drawn (3 floats per point, computed on the GPU from the positions drawn),
+  // read back: for tests against surface_normals.
+  std::vector<float> normals() const;
   const SmoothSurface& smooth_surface() const { return smooth_; }
 
  private:
@@ -92,13 +104,18 @@ class Renderer {
   RenderTopology topology_;
   std::vector<Vec3> positions_;
   Snapshot info_;
-  std::vector<float> scratch_xyz_, scratch_normals_;
-  std::vector<std::uint32_t> scratch_contacts_;
-  Bounds grid_box_;  // the grid lies under it, at its lowest height
+  std::vector<float> scratch_xyz_;
+  std::uint32_t device_positions_ = 0;  // the snapshot's device buffer drawn; 0: our own
+  Bounds device_bounds_;                // the device positions' box, as last read
+  Bounds grid_box_;                     // the grid lies under it, at its lowest height
   std::vector<OverlaySegment> overlay_;
   std::vector<SurfaceInstance> solids_;  // the last snapshot's surfaces
   SmoothSurface smooth_;                 // the model's faces as smooth patches
   void upload_positions();
+  unsigned drawn_positions() const;  // the buffer the passes read positions from
+  void positions_changed();          // normals (and a device's bounds) from the positions drawn
+  void poll_device_bounds();         // the reduction's result, once the GPU has it
+  void lower_grid(const Bounds& now);
   void upload_solids();  // meshes not seen before; frees those no longer held
   void draw_solids(const Camera& camera, const Mat4& view_proj, const Mat4& view);
   void upload_lines();           // grid and overlay
