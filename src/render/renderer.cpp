@@ -18,15 +18,16 @@ namespace maille::render {
 // shared by every pass (storage buffer for links and points, vertex attribute for surfaces).
 struct Renderer::Gl {
   GLuint background = 0, lines = 0, surface = 0, links = 0, points = 0, solid = 0;  // programs
-  GLuint normals_pass = 0, bounds_pass = 0;  // compute: vertex normals, a device's bounds
-  GLuint empty_vao = 0;                      // passes that fetch everything from storage buffers
-  GLuint surface_vao = 0;                    // positions + normals + triangle indices
-  GLuint lines_vao = 0;                      // interleaved position, colour (grid, then overlay)
+  GLuint normals_pass = 0, bounds_pass = 0, contacts_pass = 0;                      // compute
+  GLuint empty_vao = 0;    // passes that fetch everything from storage buffers
+  GLuint surface_vao = 0;  // positions + normals + triangle indices
+  GLuint lines_vao = 0;    // interleaved position, colour (grid, then overlay)
   GLuint positions = 0, normals = 0, triangles = 0, face_offset = 0, faces_of = 0;
   GLuint link_ends = 0, link_rest = 0, styles = 0, line_vertices = 0;
-  GLuint contact_ends = 0, contact_threshold = 0;  // conditional links, drawn while active
-  GLuint box = 0;                                  // the bounds pass's result: 2 vec4
-  GLsync box_ready = nullptr;                      // set while a reduction is in flight
+  GLuint contact_ends = 0, contact_threshold = 0;    // conditional links
+  GLuint contacts_active = 0, contacts_command = 0;  // the active ones, and their draw command
+  GLuint box = 0;                                    // the bounds pass's result: 2 vec4
+  GLsync box_ready = nullptr;                        // set while a reduction is in flight
   GLsizei triangle_indices = 0;
   GLint links_off_surface = 0, links_total = 0;  // links [0, off) are not inside a cloth
   GLsizei contact_total = 0;
@@ -62,8 +63,8 @@ struct Renderer::Gl {
   }
 
   ~Gl() {
-    for (GLuint p :
-         {background, lines, surface, links, points, solid, smooth, normals_pass, bounds_pass})
+    for (GLuint p : {background, lines, surface, links, points, solid, smooth, normals_pass,
+                     bounds_pass, contacts_pass})
       glDeleteProgram(p);
     if (box_ready) glDeleteSync(box_ready);
     glDeleteBuffers(1, &box);
@@ -88,8 +89,11 @@ struct Renderer::Gl {
     const GLuint b[] = {positions, normals,     triangles, link_ends,    link_rest,
                         styles,    face_offset, faces_of,  contact_ends, contact_threshold};
     glDeleteBuffers(10, b);
+    const GLuint c[] = {contacts_active, contacts_command};
+    glDeleteBuffers(2, c);
     positions = normals = triangles = link_ends = link_rest = styles = 0;
     face_offset = faces_of = contact_ends = contact_threshold = 0;
+    contacts_active = contacts_command = 0;
   }
 };
 
@@ -199,6 +203,7 @@ Renderer::Renderer() : gl_(std::make_unique<Gl>()) {
   g.smooth = link_compute_program("smooth surface", shaders::smooth_cs());
   g.normals_pass = link_compute_program("vertex normals", shaders::normals_cs);
   g.bounds_pass = link_compute_program("bounds", shaders::bounds_cs);
+  g.contacts_pass = link_compute_program("active contacts", shaders::contacts_cs);
   g.box = make_buffer(std::vector<float>(8, 0.0f));
   glCreateVertexArrays(1, &g.smooth_vao);
   for (GLuint attrib : {0u, 1u}) {  // interleaved position, normal (6 floats)
@@ -270,6 +275,8 @@ void Renderer::set_model(const Model& model) {
   g.contact_ends = make_buffer(topology_.contact_ends);
   g.contact_threshold = make_buffer(topology_.contact_threshold);
   g.contact_total = static_cast<GLsizei>(topology_.contact_threshold.size());
+  g.contacts_active = make_buffer(std::vector<std::uint32_t>(topology_.contact_ends.size()));
+  g.contacts_command = make_buffer(std::vector<std::uint32_t>{0, 1, 0, 0}, GL_DYNAMIC_STORAGE_BIT);
   g.link_ends = make_buffer(ends);
   g.link_rest = make_buffer(rest);
   g.styles = make_buffer(topology_.point_style);
@@ -355,6 +362,20 @@ void Renderer::positions_changed() {
     glDispatchCompute((n + 63) / 64, 1, 1);
     glMemoryBarrier(GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT |
                     GL_BUFFER_UPDATE_BARRIER_BIT);
+  }
+  if (g.contact_total > 0 && n > 0) {
+    const std::uint32_t empty[4] = {0, 1, 0, 0};
+    glNamedBufferSubData(g.contacts_command, 0, sizeof empty, empty);
+    glUseProgram(g.contacts_pass);
+    glProgramUniform1ui(g.contacts_pass, glGetUniformLocation(g.contacts_pass, "u_links"),
+                        GLuint(g.contact_total));
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, positions);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.contact_ends);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.contact_threshold);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, g.contacts_active);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, g.contacts_command);
+    glDispatchCompute((GLuint(g.contact_total) + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   }
   // A device's box: one reduction at a time, read when done (poll_device_bounds).
   if (device_positions_ != 0 && n > 0 && !g.box_ready) {
@@ -511,8 +532,6 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
   const GLint first = glGetUniformLocation(g.links, "u_first");
   const GLint strain = glGetUniformLocation(g.links, "u_strain");
   const GLint colour = glGetUniformLocation(g.links, "u_colour");
-  const GLint contact = glGetUniformLocation(g.links, "u_contact");
-  glProgramUniform1i(g.links, contact, 0);
   if (o.links) {
     // Without the surface, a cloth's mesh is all there is to see: draw it.
     const bool inner = o.links_on_surface || !o.surface;
@@ -526,14 +545,14 @@ void Renderer::draw(const Camera& camera, int width, int height, const RenderOpt
     }
   }
   if (o.contacts && g.contact_total > 0) {
-    // Every conditional link; the shader draws those closer than their threshold.
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.contact_ends);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, g.contact_threshold);
+    // The active ones, as the contacts pass left them: their count is on the GPU.
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, g.contacts_active);
     glProgramUniform1i(g.links, first, 0);
     glProgramUniform1i(g.links, strain, 0);
-    glProgramUniform1i(g.links, contact, 1);
     glProgramUniform3f(g.links, colour, 0.95f, 0.85f, 0.10f);
-    glDrawArrays(GL_TRIANGLES, 0, g.contact_total * 6);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, g.contacts_command);
+    glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   }
 
   if (o.points && !positions_.empty()) {

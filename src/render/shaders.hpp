@@ -126,7 +126,6 @@ uniform float u_width;       // pixels
 uniform float u_strain_range;
 uniform int u_first;         // first link drawn
 uniform int u_strain;        // 1: colour by strain; 0: u_colour
-uniform int u_contact;       // 1: Rest holds thresholds; a link at or beyond its own is not drawn
 uniform vec3 u_colour;
 out vec3 v_colour;
 vec3 point(uint i) { return vec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]); }
@@ -140,11 +139,6 @@ void main() {
   int corner = gl_VertexID % 6;
   vec3 a = point(ends[2 * link]);
   vec3 b = point(ends[2 * link + 1]);
-  if (u_contact == 1 && !(length(b - a) < rest[link])) {  // an inactive conditional link
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);               // outside the clip volume
-    v_colour = vec3(0.0);
-    return;
-  }
   vec4 ca = u_view_proj * vec4(a, 1.0);
   vec4 cb = u_view_proj * vec4(b, 1.0);
   vec2 sa = ca.xy / ca.w * u_viewport, sb = cb.xy / cb.w * u_viewport;
@@ -231,6 +225,30 @@ void main() {
   normal[3 * p] = n.x;
   normal[3 * p + 1] = n.y;
   normal[3 * p + 2] = n.z;
+}
+)";
+
+// --- active contacts: the conditional links closer than their threshold, compacted into a list of
+// ends and an indirect draw command (6 vertices each) for the links pass. A scene may hold
+// all-pairs contact links, of which a handful are active: only those are drawn.
+inline constexpr std::string_view contacts_cs = R"(#version 450 core
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Positions { float pos[]; };
+layout(std430, binding = 1) readonly buffer Ends { uint ends[]; };            // 2 per link
+layout(std430, binding = 2) readonly buffer Threshold { float threshold[]; };
+layout(std430, binding = 3) writeonly buffer Active { uint active_ends[]; };       // 2 per contact
+// glDrawArraysIndirect's command: vertices (6 per contact, from 0), instances (1), first, base.
+layout(std430, binding = 4) buffer Command { uint vertices; uint rest_of_command[3]; };
+uniform uint u_links;
+vec3 point(uint i) { return vec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]); }
+void main() {
+  uint c = gl_GlobalInvocationID.x;
+  if (c >= u_links) return;
+  uint a = ends[2 * c], b = ends[2 * c + 1];
+  if (!(length(point(b) - point(a)) < threshold[c])) return;
+  uint k = atomicAdd(vertices, 6u) / 6u;
+  active_ends[2 * k] = a;
+  active_ends[2 * k + 1] = b;
 }
 )";
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -258,6 +259,61 @@ Image draw_snapshot(Renderer& renderer, const Snapshot& s, const Camera& camera,
 
 bool is_reddish(Image::Pixel p) {
   return int(p.r) - int(p.g) > 40;
+}
+
+// Conditional links are drawn (yellow) exactly while closer than their threshold: the GPU's
+// compacting pass and indirect draw, against the CPU's active_contacts on the same positions.
+// Three of four links are active at first; moving the points apart leaves one.
+TEST_F(HeadlessRender, ActiveContactsAreDrawnAndOnlyThem) {
+  Model m;
+  std::vector<std::uint32_t> p;
+  for (int k = 0; k < 8; ++k)
+    p.push_back(m.points.add(PointKind::fixed, 1, {Real(k % 4), Real(k / 4) * Real(0.5), 0}));
+  // Threshold 0.6: the vertical pairs (0.5 apart) are active, a diagonal one (1.12) is not.
+  for (int k = 0; k < 3; ++k)
+    m.links.pool<ConditionalSpringDamper>().add({p[std::size_t(k)], p[std::size_t(k) + 4]},
+                                                {10, 0, Real(0.6), Real(0.6)});
+  m.links.pool<ConditionalSpringDamper>().add({p[3], p[4]}, {10, 0, Real(0.6), Real(0.6)});
+  Renderer renderer;
+  renderer.set_model(m);
+  Camera camera;
+  camera.yaw = camera.pitch = 0;
+  camera.frame(bounds_of(renderer.positions()), double(kWidth) / kHeight);
+  RenderOptions o;
+  o.grid = o.points = false;
+  o.link_width = 6;
+  // Yellow pixels in each quarter of the picture's width (one per column of points).
+  auto yellow_columns = [&](const std::vector<Vec3>& x) {
+    Snapshot s;
+    s.positions = x;
+    renderer.set_snapshot(s);
+    OffscreenTarget target(kWidth, kHeight, 1);
+    target.bind();
+    renderer.draw(camera, kWidth, kHeight, o);
+    const Image image = target.read();
+    std::array<int, 4> columns{};
+    for (int y = 0; y < kHeight; ++y)
+      for (int x0 = 0; x0 < kWidth; ++x0) {
+        const auto px = image.at(x0, y);
+        if (px.r > 200 && px.g > 170 && px.b < 80) ++columns[std::size_t(x0 * 4 / kWidth)];
+      }
+    return columns;
+  };
+  std::vector<Vec3> x = m.points.initial_position;
+  const std::array<int, 4> before = yellow_columns(x);
+  std::vector<std::uint32_t> active;
+  active_contacts(renderer.topology(), x, active);
+  ASSERT_EQ(active.size(), 6u);
+  for (int c = 0; c < 3; ++c) EXPECT_GT(before[std::size_t(c)], 20) << "column " << c;
+  EXPECT_EQ(before[3], 0) << "the diagonal link is beyond its threshold";
+  // The first two columns' lower points move 0.2 m down: 0.7 apart, no longer in contact.
+  x[0].y -= Real(0.2);
+  x[1].y -= Real(0.2);
+  const std::array<int, 4> after = yellow_columns(x);
+  EXPECT_EQ(after[0], 0);
+  EXPECT_EQ(after[1], 0);
+  EXPECT_GT(after[2], 20);
+  EXPECT_EQ(after[3], 0);
 }
 
 TEST_F(HeadlessRender, SolidIsPlacedShadedAndTranslucent) {
