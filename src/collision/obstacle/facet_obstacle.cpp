@@ -112,7 +112,7 @@ class FacetObstacleStage final : public Stage {
     const shapes::Affine next = frame_at(ctx.t + ctx.h);
     // Distances in the mesh frame are world distances times |M_i^T n| (per facet); the query
     // box is grown by eps times the largest stretch so it holds every facet within eps.
-    const Real band = 2 * o_.epsilon * stretch_bound(now.inverse);
+    const Step step{ctx, h, now, next, 2 * o_.epsilon * stretch_bound(now.inverse)};
     const int threads = std::max(1, ctx.threads);
     if (scratch_.size() < std::size_t(threads)) scratch_.resize(threads);
     counts_.assign(threads, Counts{});
@@ -127,8 +127,7 @@ class FacetObstacleStage final : public Stage {
     for (std::int64_t i = 0; i < n; ++i) {
       const std::uint32_t p = set_[i];
       const int t = threads > 1 ? thread_index() : 0;
-      particle(x[p], v[p], f[p], inv_mass[p], h, ctx, now, next, band, scratch_[t], row_[i],
-               clearance_[i], counts[t]);
+      particle(x[p], v[p], f[p], inv_mass[p], step, scratch_[t], row_[i], clearance_[i], counts[t]);
     }
     Counts total;
     for (const Counts& c : counts) total.add(c);
@@ -223,22 +222,47 @@ class FacetObstacleStage final : public Stage {
     return above * above > reach2;
   }
 
-  void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, Real h, const StageContext& ctx,
-                const shapes::Affine& now, const shapes::Affine& next, Real band,
+  // What every particle of a step shares.
+  struct Step {
+    const StageContext& ctx;
+    Real h;
+    const shapes::Affine& now;   // the grid's frame at t
+    const shapes::Affine& next;  // and at t + h
+    Real band;                   // the query box's growth: it holds every facet within eps
+  };
+
+  // Where the particle ends this step as it moves now, in the grid's frame at t + h.
+  Vec3 end_point(const Vec3& x, const Vec3& v, const Vec3& f, Real inv_mass, const Step& s) const {
+    const Vec3 kicked = s.ctx.drift_after_kick ? v + f * (s.h * inv_mass) : v;
+    return to_frame(s.next, x + kicked * s.h);
+  }
+
+  // One particle: the query and the clearance test, which settle most particles of a draped
+  // cloth (far from the mesh, or hovering over it), stay small enough to be inlined in the
+  // loop; the others go to collide().
+  void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
                 std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Clearance& clear,
                 Counts& c) const {
-    const Vec3 p = to_frame(now, x);
-    auto end_point = [&] {
-      const Vec3 kicked = ctx.drift_after_kick ? v + f * (h * inv_mass) : v;
-      return to_frame(next, x + kicked * h);
-    };
-    Vec3 q = end_point();
+    const Vec3 p = to_frame(s.now, x);
+    const Vec3 q = end_point(x, v, f, inv_mass, s);
     const std::uint64_t cell = row.cell;
-    const std::span<const std::uint32_t> near = grid_.candidates(
-        lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band, scratch, row);
+    const Vec3 band = Vec3{1, 1, 1} * s.band;
+    const std::span<const std::uint32_t> near =
+        grid_.candidates(lower(p, q) - band, upper(p, q) + band, scratch, row);
     if (near.empty()) return;  // far from the obstacle: one box test
     if (row.cell != cell) clear.below = -std::numeric_limits<Real>::infinity();  // other facets
     if (row.in_cell && clear.out_of_reach(p, q, widest_eps_)) return;  // clear of every facet
+    collide(x, v, f, inv_mass, s, p, q, near, row.in_cell, clear, c);
+  }
+
+  // The brief's test and response for a particle near facets (`near`), from p to q. Kept out of
+  // line: its frame (the first pass's records, the response) would otherwise be set up for
+  // every particle, most of which never come here.
+  [[gnu::noinline]] void collide(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
+                                 const Vec3& p, Vec3 q, std::span<const std::uint32_t> near,
+                                 bool in_cell, Clearance& clear, Counts& c) const {
+    const StageContext& ctx = s.ctx;
+    const shapes::Affine& now = s.now;
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
     bool touched = false, stuck = false, behind = false;
     // What the first pass learns of the nearby facets, kept for the next ones.
@@ -246,15 +270,15 @@ class FacetObstacleStage final : public Stage {
     for (int pass = 0; pass < kPasses; ++pass) {
       const Contact hit =
           pass == 0 ? first_contact(p, q, near, seen) : next_contact(p, q, near, seen);
-      if (pass == 0 && row.in_cell) clear = {p, seen.lowest - rounding_};
+      if (pass == 0 && in_cell) clear = {p, seen.lowest - rounding_};
       behind |= hit.behind;
       if (!hit.found) break;
       c.hits += pass == 0 && hit.swept;
       touched = true;
-      stuck = facets::respond(v, f, normal_at(now, hit.facet), surface_v, inv_mass, h, o_.alpha,
+      stuck = facets::respond(v, f, normal_at(now, hit.facet), surface_v, inv_mass, s.h, o_.alpha,
                               o_.beta, ctx.drift_after_kick)
                   .stuck;
-      q = end_point();
+      q = end_point(x, v, f, inv_mass, s);
       if (q == p) break;  // held still (a resting, sticking particle): nothing left to cross
       if (pass == kPasses - 1 && next_contact(p, q, near, seen).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
