@@ -86,14 +86,12 @@ class FacetObstacleStage final : public Stage {
       throw std::invalid_argument("obstacle '" + o_.name + "': the mesh has no facet");
     // The brief's eps in each facet's own units: a world distance d along the facet's world
     // normal is d |M_i^T n| in the mesh frame (a rigid motion on top does not change it).
-    eps_.reserve(grid_.facets().size());
-    normals_.reserve(grid_.facets().size());
+    terms_.reserve(grid_.facets().size());
     for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi) {
       const auto [n, stretch] = world_normal(world_ ? shapes::Affine{} : o_.place, fi);
-      eps_.push_back(o_.epsilon * stretch);
-      normals_.push_back(n);
+      terms_.push_back({n, o_.epsilon * stretch});
+      widest_eps_ = std::max(widest_eps_, terms_.back().eps);
     }
-    widest_eps_ = *std::max_element(eps_.begin(), eps_.end());
     // Rounding of N.AP (a difference, then a dot product) in this frame: a few units of
     // 2^-53 of |P| + |A|, both within the grid's box; 1e-12 of its size is generous.
     const Vec3 lo = grid_.lo(), hi = grid_.hi();
@@ -161,8 +159,8 @@ class FacetObstacleStage final : public Stage {
   // World normal of facet fi at the placement `now`: the one at rest turned by the motion's
   // rotation (the rigid motion keeps normals unit: no square root per contact).
   Vec3 normal_at(const shapes::Affine& now, std::uint32_t fi) const {
-    if (!o_.motion.moves()) return normals_[fi];
-    return now.direct * (o_.place.inverse * normals_[fi]);
+    if (!o_.motion.moves()) return terms_[fi].normal;
+    return now.direct * (o_.place.inverse * terms_[fi].normal);
   }
 
   // World normal of facet fi under placement a, and the factor from world to mesh-frame
@@ -185,9 +183,13 @@ class FacetObstacleStage final : public Stage {
     Vec3 anchor;
     Real below = -std::numeric_limits<Real>::infinity();
     bool out_of_reach(const Vec3& p, const Vec3& q, Real eps) const {
-      // |P - anchor| rounded up by far more than its rounding; squares compared for the reach
-      // (reach2 carries the scan's margin), so a NaN anywhere keeps the scan.
-      const Real clear = below - norm(p - anchor) * (1 + Real(1e-12));
+      // |P - anchor| bounded above by the sum of its coordinates' magnitudes (no square root on
+      // this path, which most particles near the mesh take), rounded up by far more than its
+      // rounding; squares compared for the reach (reach2 carries the scan's margin), so a NaN
+      // anywhere keeps the scan.
+      const Vec3 d = p - anchor;
+      const Real moved = (std::abs(d.x) + std::abs(d.y) + std::abs(d.z)) * (1 + Real(1e-12));
+      const Real clear = below - moved;
       return clear > eps && clear * clear > reach2(p, q);
     }
   };
@@ -315,7 +317,7 @@ class FacetObstacleStage final : public Stage {
     for (std::size_t k = 0; k < near.size(); ++k) {
       const std::uint32_t fi = near[k];
       const facets::Facet& fa = grid_.facets()[fi];
-      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      const Real above = dot(fa.n, p - fa.a), eps = terms_[fi].eps;
       seen.above[k] = above;
       lowest = above >= lowest ? lowest : above;  // a NaN sticks: no clearance then
       const bool is_over = above > eps;
@@ -335,11 +337,12 @@ class FacetObstacleStage final : public Stage {
       const auto k = static_cast<std::size_t>(std::countr_zero(crossing));
       const std::uint32_t fi = near[k];
       Real u;
-      if (grid_.crosses_above(fi, seen.above[k], p, q, eps_[fi], u) &&
+      if (grid_.crosses_above(fi, seen.above[k], p, q, terms_[fi].eps, u) &&
           (u < first || (u == first && fi < hit.facet)))
         first = u, hit = {true, true, false, fi};
     }
-    if (nearest_above < -eps_[nearest_facet]) hit.behind = grid_.projects_inside(nearest_facet, p);
+    if (nearest_above < -terms_[nearest_facet].eps)
+      hit.behind = grid_.projects_inside(nearest_facet, p);
     if (hit.found) return hit;
     Contact rest;
     const Vec3 pq = q - p;
@@ -362,7 +365,7 @@ class FacetObstacleStage final : public Stage {
     std::uint32_t nearest_facet = 0;
     for (const std::uint32_t fi : near) {
       const facets::Facet& fa = grid_.facets()[fi];
-      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      const Real above = dot(fa.n, p - fa.a), eps = terms_[fi].eps;
       Real u;
       if (above > eps) {
         if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, eps, u) &&
@@ -376,7 +379,8 @@ class FacetObstacleStage final : public Stage {
       if (std::abs(above) < nearest)
         nearest = std::abs(above), nearest_above = above, nearest_facet = fi;
     }
-    if (nearest_above < -eps_[nearest_facet]) hit.behind = grid_.projects_inside(nearest_facet, p);
+    if (nearest_above < -terms_[nearest_facet].eps)
+      hit.behind = grid_.projects_inside(nearest_facet, p);
     if (!hit.found && rest.found) rest.behind = hit.behind, hit = rest;
     return hit;
   }
@@ -389,7 +393,7 @@ class FacetObstacleStage final : public Stage {
     Real first = 2;
     auto test = [&](std::uint32_t fi, Real above) {
       Real u;
-      if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, eps_[fi], u) &&
+      if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, terms_[fi].eps, u) &&
           (u < first || (u == first && fi < hit.facet)))
         first = u, hit = {true, true, false, fi};
     };
@@ -403,7 +407,7 @@ class FacetObstacleStage final : public Stage {
       for (const std::uint32_t fi : near) {
         const facets::Facet& fa = grid_.facets()[fi];
         const Real above = dot(fa.n, p - fa.a);
-        if (above > eps_[fi]) test(fi, above);
+        if (above > terms_[fi].eps) test(fi, above);
       }
     }
     return hit;
@@ -483,10 +487,15 @@ class FacetObstacleStage final : public Stage {
   ObstacleSurface surface_;
   bool world_;  // static: the grid holds the placed mesh, in the world's frame
   facets::FacetGrid grid_;
-  std::vector<Real> eps_;      // per facet, in the mesh frame
+  // Per facet, beside the grid's record: what the scan reads of every facet (eps) and the
+  // response of the one it meets (its world normal), in one cache line (aligned: never two).
+  struct alignas(32) Terms {
+    Vec3 normal;  // in the world at rest (placement `place`)
+    Real eps;     // the brief's eps, in the mesh frame
+  };
+  std::vector<Terms> terms_;
   Real widest_eps_ = 0;        // the largest of them
   Real rounding_ = 0;          // bound on the rounding of a facet's N.AP (Clearance)
-  std::vector<Vec3> normals_;  // per facet, in the world at rest (placement `place`)
   bool swept_inside_ = false;  // the first step's full inside test was made
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
