@@ -282,6 +282,9 @@ class FacetObstacleStage final : public Stage {
                   .stuck;
       q = end_point(x, v, f, inv_mass, s);
       if (q == p) break;  // held still (a resting, sticking particle): nothing left to cross
+      // No facet above its plane (a resting particle, most often): p does not move, so no
+      // later pass can find a crossing; the scan would say so after a call.
+      if (seen.kept && seen.over == 0) break;
       if (pass == kPasses - 1 && next_contact(p, q, near, seen).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
         f = {};
