@@ -168,6 +168,22 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
     each_cell(f, [&](std::uint64_t cell) { entries_[fill[cell]++] = std::uint32_t(f); });
 }
 
+void FacetGrid::inner_box(const std::array<int, 3>& c, Row& row) const {
+  std::array<Real, 3> l{}, h{};
+  for (int d = 0; d < 3; ++d) {
+    const Real start = lo_[d] + Real(c[d]) * cell_;
+    l[d] = std::max(start + margin_, lo_[d]);
+    h[d] = std::min(start + cell_ - margin_, hi_[d]);
+  }
+  const Vec3 lo{l[0], l[1], l[2]}, hi{h[0], h[1], h[2]};
+  bool found = true;
+  for (int d = 0; d < 3; ++d)
+    found = found && lo[d] <= hi[d] && axis_cell(lo, d) == c[d] && axis_cell(hi, d) == c[d];
+  const Real inf = std::numeric_limits<Real>::infinity();
+  row.inner_lo = found ? lo : Vec3{inf, inf, inf};
+  row.inner_hi = found ? hi : Vec3{-inf, -inf, -inf};
+}
+
 std::span<const std::uint32_t> FacetGrid::candidates_in_cells(
     const std::array<int, 3>& c0, const std::array<int, 3>& c1,
     std::vector<std::uint32_t>& scratch) const {

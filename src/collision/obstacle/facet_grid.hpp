@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -61,15 +62,24 @@ class FacetGrid {
   // caller's memory of the single cell its last query fell in and of that cell's facets: a
   // query in the same cell again (a settled cloth, most steps) reads them from there, in the
   // caller's sequential memory, rather than from the grid (cache misses over a large mesh).
+  // A query box inside the row's `inner` box is in that cell, found with six comparisons.
   static constexpr std::uint64_t kNoCell = ~std::uint64_t(0);
   struct Row {
     std::uint64_t cell = kNoCell;
     std::uint32_t begin = 0, end = 0;    // the row in the grid
     std::array<std::uint32_t, 6> ids{};  // a copy of it when it is that short
     bool in_cell = false;  // the last query fell in this one cell (its result is the row)
+    // Points that cell_of puts in `cell` (and inside the grid's box): empty until a cell is set.
+    Vec3 inner_lo{Vec3{1, 1, 1} * std::numeric_limits<Real>::infinity()};
+    Vec3 inner_hi{Vec3{1, 1, 1} * -std::numeric_limits<Real>::infinity()};
   };
   std::span<const std::uint32_t> candidates(const Vec3& lo, const Vec3& hi,
                                             std::vector<std::uint32_t>& scratch, Row& row) const {
+    if (lo.x >= row.inner_lo.x && lo.y >= row.inner_lo.y && lo.z >= row.inner_lo.z &&
+        hi.x <= row.inner_hi.x && hi.y <= row.inner_hi.y && hi.z <= row.inner_hi.z) {
+      row.in_cell = true;  // what the test below finds, without it
+      return row_facets(row);
+    }
     if (facets_.empty()) return {};
     for (int d = 0; d < 3; ++d)
       if (!(hi[d] >= lo_[d] && lo[d] <= hi_[d])) return {};  // NaN misses too
@@ -81,9 +91,9 @@ class FacetGrid {
       row.cell = c, row.begin = starts_[c], row.end = starts_[c + 1];
       if (row.end - row.begin <= row.ids.size())
         std::copy(entries_.begin() + row.begin, entries_.begin() + row.end, row.ids.begin());
+      inner_box(c0, row);
     }
-    if (row.end - row.begin <= row.ids.size()) return {row.ids.data(), row.end - row.begin};
-    return {entries_.data() + row.begin, entries_.data() + row.end};
+    return row_facets(row);
   }
 
   // The brief's test of the segment p -> q against facet f, with `eps` the "above" threshold
@@ -130,11 +140,21 @@ class FacetGrid {
     return (std::uint64_t(k) * dims_[1] + std::uint64_t(j)) * dims_[0] + std::uint64_t(i);
   }
   std::array<int, 3> cell_of(const Vec3& x) const {
-    // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
-    return {static_cast<int>(std::clamp<Real>((x.x - lo_.x) * inv_cell_, 0, top_.x)),
-            static_cast<int>(std::clamp<Real>((x.y - lo_.y) * inv_cell_, 0, top_.y)),
-            static_cast<int>(std::clamp<Real>((x.z - lo_.z) * inv_cell_, 0, top_.z))};
+    return {axis_cell(x, 0), axis_cell(x, 1), axis_cell(x, 2)};
   }
+  int axis_cell(const Vec3& x, int d) const {
+    // Clamped in floating point first: the conversion of a far (or huge) value is then defined.
+    return static_cast<int>(std::clamp<Real>((x[d] - lo_[d]) * inv_cell_, 0, top_[d]));
+  }
+  std::span<const std::uint32_t> row_facets(const Row& row) const {
+    if (row.end - row.begin <= row.ids.size()) return {row.ids.data(), row.end - row.begin};
+    return {entries_.data() + row.begin, entries_.data() + row.end};
+  }
+  // The row's inner box for cell c: the cell less the rounding margin, within the grid's box,
+  // kept only if cell_of puts both its corners in c. cell_of is monotone on each axis, so it
+  // then puts every point between them in c too: a query box inside (lo <= hi) has both
+  // corners in c and meets the grid's box, as the full test requires. Else the box is empty.
+  void inner_box(const std::array<int, 3>& c, Row& row) const;
   // A query over several cells: their facets gathered into scratch (or every facet, beyond
   // kMaxQueryCells cells).
   std::span<const std::uint32_t> candidates_in_cells(const std::array<int, 3>& c0,

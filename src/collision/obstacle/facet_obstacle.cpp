@@ -86,14 +86,12 @@ class FacetObstacleStage final : public Stage {
       throw std::invalid_argument("obstacle '" + o_.name + "': the mesh has no facet");
     // The brief's eps in each facet's own units: a world distance d along the facet's world
     // normal is d |M_i^T n| in the mesh frame (a rigid motion on top does not change it).
-    eps_.reserve(grid_.facets().size());
-    normals_.reserve(grid_.facets().size());
+    terms_.reserve(grid_.facets().size());
     for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi) {
       const auto [n, stretch] = world_normal(world_ ? shapes::Affine{} : o_.place, fi);
-      eps_.push_back(o_.epsilon * stretch);
-      normals_.push_back(n);
+      terms_.push_back({n, o_.epsilon * stretch});
+      widest_eps_ = std::max(widest_eps_, terms_.back().eps);
     }
-    widest_eps_ = *std::max_element(eps_.begin(), eps_.end());
     // Rounding of N.AP (a difference, then a dot product) in this frame: a few units of
     // 2^-53 of |P| + |A|, both within the grid's box; 1e-12 of its size is generous.
     const Vec3 lo = grid_.lo(), hi = grid_.hi();
@@ -112,7 +110,7 @@ class FacetObstacleStage final : public Stage {
     const shapes::Affine next = frame_at(ctx.t + ctx.h);
     // Distances in the mesh frame are world distances times |M_i^T n| (per facet); the query
     // box is grown by eps times the largest stretch so it holds every facet within eps.
-    const Real band = 2 * o_.epsilon * stretch_bound(now.inverse);
+    const Step step{ctx, h, now, next, 2 * o_.epsilon * stretch_bound(now.inverse)};
     const int threads = std::max(1, ctx.threads);
     if (scratch_.size() < std::size_t(threads)) scratch_.resize(threads);
     counts_.assign(threads, Counts{});
@@ -127,8 +125,7 @@ class FacetObstacleStage final : public Stage {
     for (std::int64_t i = 0; i < n; ++i) {
       const std::uint32_t p = set_[i];
       const int t = threads > 1 ? thread_index() : 0;
-      particle(x[p], v[p], f[p], inv_mass[p], h, ctx, now, next, band, scratch_[t], row_[i],
-               clearance_[i], counts[t]);
+      particle(x[p], v[p], f[p], inv_mass[p], step, scratch_[t], row_[i], clearance_[i], counts[t]);
     }
     Counts total;
     for (const Counts& c : counts) total.add(c);
@@ -162,8 +159,8 @@ class FacetObstacleStage final : public Stage {
   // World normal of facet fi at the placement `now`: the one at rest turned by the motion's
   // rotation (the rigid motion keeps normals unit: no square root per contact).
   Vec3 normal_at(const shapes::Affine& now, std::uint32_t fi) const {
-    if (!o_.motion.moves()) return normals_[fi];
-    return now.direct * (o_.place.inverse * normals_[fi]);
+    if (!o_.motion.moves()) return terms_[fi].normal;
+    return now.direct * (o_.place.inverse * terms_[fi].normal);
   }
 
   // World normal of facet fi under placement a, and the factor from world to mesh-frame
@@ -186,9 +183,13 @@ class FacetObstacleStage final : public Stage {
     Vec3 anchor;
     Real below = -std::numeric_limits<Real>::infinity();
     bool out_of_reach(const Vec3& p, const Vec3& q, Real eps) const {
-      // |P - anchor| rounded up by far more than its rounding; squares compared for the reach
-      // (reach2 carries the scan's margin), so a NaN anywhere keeps the scan.
-      const Real clear = below - norm(p - anchor) * (1 + Real(1e-12));
+      // |P - anchor| bounded above by the sum of its coordinates' magnitudes (no square root on
+      // this path, which most particles near the mesh take), rounded up by far more than its
+      // rounding; squares compared for the reach (reach2 carries the scan's margin), so a NaN
+      // anywhere keeps the scan.
+      const Vec3 d = p - anchor;
+      const Real moved = (std::abs(d.x) + std::abs(d.y) + std::abs(d.z)) * (1 + Real(1e-12));
+      const Real clear = below - moved;
       return clear > eps && clear * clear > reach2(p, q);
     }
   };
@@ -223,22 +224,47 @@ class FacetObstacleStage final : public Stage {
     return above * above > reach2;
   }
 
-  void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, Real h, const StageContext& ctx,
-                const shapes::Affine& now, const shapes::Affine& next, Real band,
+  // What every particle of a step shares.
+  struct Step {
+    const StageContext& ctx;
+    Real h;
+    const shapes::Affine& now;   // the grid's frame at t
+    const shapes::Affine& next;  // and at t + h
+    Real band;                   // the query box's growth: it holds every facet within eps
+  };
+
+  // Where the particle ends this step as it moves now, in the grid's frame at t + h.
+  Vec3 end_point(const Vec3& x, const Vec3& v, const Vec3& f, Real inv_mass, const Step& s) const {
+    const Vec3 kicked = s.ctx.drift_after_kick ? v + f * (s.h * inv_mass) : v;
+    return to_frame(s.next, x + kicked * s.h);
+  }
+
+  // One particle: the query and the clearance test, which settle most particles of a draped
+  // cloth (far from the mesh, or hovering over it), stay small enough to be inlined in the
+  // loop; the others go to collide().
+  void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
                 std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Clearance& clear,
                 Counts& c) const {
-    const Vec3 p = to_frame(now, x);
-    auto end_point = [&] {
-      const Vec3 kicked = ctx.drift_after_kick ? v + f * (h * inv_mass) : v;
-      return to_frame(next, x + kicked * h);
-    };
-    Vec3 q = end_point();
+    const Vec3 p = to_frame(s.now, x);
+    const Vec3 q = end_point(x, v, f, inv_mass, s);
     const std::uint64_t cell = row.cell;
-    const std::span<const std::uint32_t> near = grid_.candidates(
-        lower(p, q) - Vec3{1, 1, 1} * band, upper(p, q) + Vec3{1, 1, 1} * band, scratch, row);
+    const Vec3 band = Vec3{1, 1, 1} * s.band;
+    const std::span<const std::uint32_t> near =
+        grid_.candidates(lower(p, q) - band, upper(p, q) + band, scratch, row);
     if (near.empty()) return;  // far from the obstacle: one box test
     if (row.cell != cell) clear.below = -std::numeric_limits<Real>::infinity();  // other facets
     if (row.in_cell && clear.out_of_reach(p, q, widest_eps_)) return;  // clear of every facet
+    collide(x, v, f, inv_mass, s, p, q, near, row.in_cell, clear, c);
+  }
+
+  // The brief's test and response for a particle near facets (`near`), from p to q. Kept out of
+  // line: its frame (the first pass's records, the response) would otherwise be set up for
+  // every particle, most of which never come here.
+  [[gnu::noinline]] void collide(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
+                                 const Vec3& p, Vec3 q, std::span<const std::uint32_t> near,
+                                 bool in_cell, Clearance& clear, Counts& c) const {
+    const StageContext& ctx = s.ctx;
+    const shapes::Affine& now = s.now;
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
     bool touched = false, stuck = false, behind = false;
     // What the first pass learns of the nearby facets, kept for the next ones.
@@ -246,16 +272,19 @@ class FacetObstacleStage final : public Stage {
     for (int pass = 0; pass < kPasses; ++pass) {
       const Contact hit =
           pass == 0 ? first_contact(p, q, near, seen) : next_contact(p, q, near, seen);
-      if (pass == 0 && row.in_cell) clear = {p, seen.lowest - rounding_};
+      if (pass == 0 && in_cell) clear = {p, seen.lowest - rounding_};
       behind |= hit.behind;
       if (!hit.found) break;
       c.hits += pass == 0 && hit.swept;
       touched = true;
-      stuck = facets::respond(v, f, normal_at(now, hit.facet), surface_v, inv_mass, h, o_.alpha,
+      stuck = facets::respond(v, f, normal_at(now, hit.facet), surface_v, inv_mass, s.h, o_.alpha,
                               o_.beta, ctx.drift_after_kick)
                   .stuck;
-      q = end_point();
+      q = end_point(x, v, f, inv_mass, s);
       if (q == p) break;  // held still (a resting, sticking particle): nothing left to cross
+      // No facet above its plane (a resting particle, most often): p does not move, so no
+      // later pass can find a crossing; the scan would say so after a call.
+      if (seen.kept && seen.over == 0) break;
       if (pass == kPasses - 1 && next_contact(p, q, near, seen).found) {
         v = surface_v;  // cornered: stay where it is (outside) for this step
         f = {};
@@ -291,7 +320,7 @@ class FacetObstacleStage final : public Stage {
     for (std::size_t k = 0; k < near.size(); ++k) {
       const std::uint32_t fi = near[k];
       const facets::Facet& fa = grid_.facets()[fi];
-      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      const Real above = dot(fa.n, p - fa.a), eps = terms_[fi].eps;
       seen.above[k] = above;
       lowest = above >= lowest ? lowest : above;  // a NaN sticks: no clearance then
       const bool is_over = above > eps;
@@ -311,11 +340,12 @@ class FacetObstacleStage final : public Stage {
       const auto k = static_cast<std::size_t>(std::countr_zero(crossing));
       const std::uint32_t fi = near[k];
       Real u;
-      if (grid_.crosses_above(fi, seen.above[k], p, q, eps_[fi], u) &&
+      if (grid_.crosses_above(fi, seen.above[k], p, q, terms_[fi].eps, u) &&
           (u < first || (u == first && fi < hit.facet)))
         first = u, hit = {true, true, false, fi};
     }
-    if (nearest_above < -eps_[nearest_facet]) hit.behind = grid_.projects_inside(nearest_facet, p);
+    if (nearest_above < -terms_[nearest_facet].eps)
+      hit.behind = grid_.projects_inside(nearest_facet, p);
     if (hit.found) return hit;
     Contact rest;
     const Vec3 pq = q - p;
@@ -338,7 +368,7 @@ class FacetObstacleStage final : public Stage {
     std::uint32_t nearest_facet = 0;
     for (const std::uint32_t fi : near) {
       const facets::Facet& fa = grid_.facets()[fi];
-      const Real above = dot(fa.n, p - fa.a), eps = eps_[fi];
+      const Real above = dot(fa.n, p - fa.a), eps = terms_[fi].eps;
       Real u;
       if (above > eps) {
         if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, eps, u) &&
@@ -352,7 +382,8 @@ class FacetObstacleStage final : public Stage {
       if (std::abs(above) < nearest)
         nearest = std::abs(above), nearest_above = above, nearest_facet = fi;
     }
-    if (nearest_above < -eps_[nearest_facet]) hit.behind = grid_.projects_inside(nearest_facet, p);
+    if (nearest_above < -terms_[nearest_facet].eps)
+      hit.behind = grid_.projects_inside(nearest_facet, p);
     if (!hit.found && rest.found) rest.behind = hit.behind, hit = rest;
     return hit;
   }
@@ -365,7 +396,7 @@ class FacetObstacleStage final : public Stage {
     Real first = 2;
     auto test = [&](std::uint32_t fi, Real above) {
       Real u;
-      if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, eps_[fi], u) &&
+      if (!out_of_reach(above, reach) && grid_.crosses_above(fi, above, p, q, terms_[fi].eps, u) &&
           (u < first || (u == first && fi < hit.facet)))
         first = u, hit = {true, true, false, fi};
     };
@@ -379,7 +410,7 @@ class FacetObstacleStage final : public Stage {
       for (const std::uint32_t fi : near) {
         const facets::Facet& fa = grid_.facets()[fi];
         const Real above = dot(fa.n, p - fa.a);
-        if (above > eps_[fi]) test(fi, above);
+        if (above > terms_[fi].eps) test(fi, above);
       }
     }
     return hit;
@@ -459,10 +490,15 @@ class FacetObstacleStage final : public Stage {
   ObstacleSurface surface_;
   bool world_;  // static: the grid holds the placed mesh, in the world's frame
   facets::FacetGrid grid_;
-  std::vector<Real> eps_;      // per facet, in the mesh frame
+  // Per facet, beside the grid's record: what the scan reads of every facet (eps) and the
+  // response of the one it meets (its world normal), in one cache line (aligned: never two).
+  struct alignas(32) Terms {
+    Vec3 normal;  // in the world at rest (placement `place`)
+    Real eps;     // the brief's eps, in the mesh frame
+  };
+  std::vector<Terms> terms_;
   Real widest_eps_ = 0;        // the largest of them
   Real rounding_ = 0;          // bound on the rounding of a facet's N.AP (Clearance)
-  std::vector<Vec3> normals_;  // per facet, in the world at rest (placement `place`)
   bool swept_inside_ = false;  // the first step's full inside test was made
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
