@@ -8,14 +8,24 @@
 #include <algorithm>
 #include <cmath>
 #include <span>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "maille/gpu.hpp"
+#include "maille/scene.hpp"
 #include "maille/state.hpp"
 
 namespace maille::test {
 
 inline constexpr double kFloatEps = 5.96e-8;  // float's unit roundoff, 2^-24
+
+// An example scene (examples/NAME.toml) with `--set` overrides; throws its error when it fails.
+inline Scene example_scene(const std::string& name, const std::vector<std::string>& sets = {}) {
+  auto s = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml", sets);
+  if (!s) throw std::runtime_error(s.error().to_string());
+  return std::move(s.value());
+}
 
 class GpuTest : public ::testing::Test {
  protected:

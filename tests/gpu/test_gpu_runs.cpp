@@ -26,12 +26,6 @@ namespace {
 
 using GpuRun = test::GpuTest;
 
-Scene scene_of(const std::string& name, const std::vector<std::string>& sets = {}) {
-  auto s = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml", sets);
-  if (!s) throw std::runtime_error(s.error().to_string());
-  return std::move(s.value());
-}
-
 std::vector<Vec3> run(const Scene& scene, const std::string& backend, std::uint64_t steps,
                       bool float_storage = false) {
   SimulationSettings settings = scene.settings;
@@ -64,14 +58,15 @@ std::vector<Vec3> expect_within_float_storage_drift(const Scene& scene, std::uin
 }
 
 TEST_F(GpuRun, FlagInWindStaysWithinTheFloatStorageDriftOfTheCpu) {
-  expect_within_float_storage_drift(scene_of("flag_in_wind"), 500);
+  expect_within_float_storage_drift(test::example_scene("flag_in_wind"), 500);
 }
 
 // A lattice falling on a floor of conditional links (contacts made and broken every step).
 TEST_F(GpuRun, LatticeOnAConditionalFloorStaysWithinTheFloatStorageDrift) {
   // Its bottom starts inside the floor's reach (0.06 m < threshold 0.1 m): contacts push it up
   // while it falls, made and broken from the first steps.
-  const Scene s = scene_of("jelly_cube_bounce", {"lattice[0].origin=[-0.25,0.06,-0.25]"});
+  const Scene s =
+      test::example_scene("jelly_cube_bounce", {"lattice[0].origin=[-0.25,0.06,-0.25]"});
   const auto x = expect_within_float_storage_drift(s, 600);
   // The floor acts: in free fall the cube's centre would drop g t^2 / 2 = 17.7 mm in these
   // 0.06 s; its compressed contacts (4 cm into their 10 cm threshold at 3000 N/m) throw it up.
@@ -87,7 +82,7 @@ TEST_F(GpuRun, LatticeOnAConditionalFloorStaysWithinTheFloatStorageDrift) {
 
 // Driven points: the shaken flag's pole follows its path on the GPU too.
 TEST_F(GpuRun, ShakenFlagStaysWithinTheFloatStorageDrift) {
-  expect_within_float_storage_drift(scene_of("shaken_flag"), 600);
+  expect_within_float_storage_drift(test::example_scene("shaken_flag"), 600);
 }
 
 // Physics on the GPU: a mass on a spring from a fixed point oscillates with period
@@ -130,7 +125,7 @@ TEST_F(GpuRun, SpringOscillatorPeriodOnTheGpu) {
 // No atomics on floats: the same steps give the same bits, and a run resumed from a downloaded
 // state continues exactly (float -> double -> float is exact).
 TEST_F(GpuRun, RunsAreDeterministicAndResumable) {
-  const Scene scene = scene_of("flag_in_wind");
+  const Scene scene = test::example_scene("flag_in_wind");
   SimulationSettings settings = scene.settings;
   settings.backend = "gpu";
   Simulator a(scene.model, settings);
@@ -164,7 +159,7 @@ TEST_F(GpuRun, BlowUpIsDetectedWithItsStep) {
 
 TEST_F(GpuRun, WhatTheGpuCannotRunIsRefusedByName) {
   auto refused = [](const std::string& example, const std::string& integrator = {}) {
-    Scene s = scene_of(example);
+    Scene s = test::example_scene(example);
     s.settings.backend = "gpu";
     if (!integrator.empty()) s.settings.integrator = integrator;
     try {
@@ -185,7 +180,7 @@ TEST_F(GpuRun, WhatTheGpuCannotRunIsRefusedByName) {
 
 // The host copy is refreshed only when asked, and edits reach the device.
 TEST_F(GpuRun, EditsBetweenStepsReachTheDevice) {
-  const Scene scene = scene_of("pendulum_chain");
+  const Scene scene = test::example_scene("pendulum_chain");
   SimulationSettings settings = scene.settings;
   settings.backend = "gpu";
   Simulator sim(scene.model, settings);

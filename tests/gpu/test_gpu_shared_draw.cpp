@@ -28,12 +28,6 @@ namespace {
 
 using SharedDraw = test::GpuTest;
 
-Scene scene_of(const std::string& name, const std::vector<std::string>& sets = {}) {
-  auto s = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml", sets);
-  if (!s) throw std::runtime_error(s.error().to_string());
-  return std::move(s.value());
-}
-
 SimulationSettings gpu_settings(const Scene& scene, bool current_context) {
   SimulationSettings settings = scene.settings;
   settings.backend = "gpu";
@@ -76,7 +70,7 @@ render::Image draw(render::Renderer& r, const render::Camera& camera) {
 // backend's buffer, not positions, and that buffer holds the state's positions exactly.
 TEST_F(SharedDraw, DeviceSnapshotsLeaveThePositionsOnTheDevice) {
   render::HeadlessContext context;
-  const Scene scene = scene_of("flag_in_wind");
+  const Scene scene = test::example_scene("flag_in_wind");
   Simulator sim(scene.model, gpu_settings(scene, true));
   sim.set_device_snapshots(true);
   Snapshot last;
@@ -102,7 +96,7 @@ TEST_F(SharedDraw, DeviceSnapshotsLeaveThePositionsOnTheDevice) {
 
 // A backend in a context of its own has no buffer to share: host positions, as before.
 TEST_F(SharedDraw, OwnContextPublishesHostPositions) {
-  const Scene scene = scene_of("flag_in_wind");
+  const Scene scene = test::example_scene("flag_in_wind");
   Simulator own(scene.model, gpu_settings(scene, false));
   own.set_device_snapshots(true);
   Snapshot mine;
@@ -122,7 +116,7 @@ TEST_F(SharedDraw, ExchangeHandsDevicePositionsToAnotherContext) {
   physics.release();
   drawing.make_current();
 
-  const Scene scene = scene_of("flag_in_wind");
+  const Scene scene = test::example_scene("flag_in_wind");
   const std::size_t n = scene.model.points.size();
   render::SnapshotExchange exchange(render::make_gl_transfer());
   std::atomic<bool> done{false};

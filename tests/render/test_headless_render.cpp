@@ -174,6 +174,20 @@ TEST_F(HeadlessRender, FlagInWindStaysInViewThroughSnapshots) {
 }
 
 // A stretched spring is drawn red, a compressed one blue; links coloured by strain.
+// The model's points seen from the front (along -z), framed; links drawn wide, alone.
+Camera facing(const Renderer& renderer) {
+  Camera camera;
+  camera.yaw = camera.pitch = 0;
+  camera.frame(bounds_of(renderer.positions()), double(kWidth) / kHeight);
+  return camera;
+}
+RenderOptions links_only() {
+  RenderOptions o;
+  o.grid = o.points = false;
+  o.link_width = 6;
+  return o;
+}
+
 TEST_F(HeadlessRender, LinksAreColouredByStrain) {
   for (const Real length : {Real(1.3), Real(0.7)}) {
     Model m;
@@ -183,12 +197,8 @@ TEST_F(HeadlessRender, LinksAreColouredByStrain) {
     OffscreenTarget target(kWidth, kHeight, 1);
     Renderer renderer;
     renderer.set_model(m);
-    Camera camera;
-    camera.yaw = camera.pitch = 0;
-    camera.frame(bounds_of(renderer.positions()), double(kWidth) / kHeight);
-    RenderOptions o;
-    o.grid = o.points = false;
-    o.link_width = 6;
+    const Camera camera = facing(renderer);
+    const RenderOptions o = links_only();
     target.bind();
     renderer.draw(camera, kWidth, kHeight, o);
     const Image image = target.read();
@@ -269,19 +279,15 @@ TEST_F(HeadlessRender, ActiveContactsAreDrawnAndOnlyThem) {
   std::vector<std::uint32_t> p;
   for (int k = 0; k < 8; ++k)
     p.push_back(m.points.add(PointKind::fixed, 1, {Real(k % 4), Real(k / 4) * Real(0.5), 0}));
-  // Threshold 0.6: the vertical pairs (0.5 apart) are active, a diagonal one (1.12) is not.
+  // Threshold 0.6: the vertical pairs (0.5 apart) are active, the long diagonal (3.04) is not.
   for (int k = 0; k < 3; ++k)
     m.links.pool<ConditionalSpringDamper>().add({p[std::size_t(k)], p[std::size_t(k) + 4]},
                                                 {10, 0, Real(0.6), Real(0.6)});
   m.links.pool<ConditionalSpringDamper>().add({p[3], p[4]}, {10, 0, Real(0.6), Real(0.6)});
   Renderer renderer;
   renderer.set_model(m);
-  Camera camera;
-  camera.yaw = camera.pitch = 0;
-  camera.frame(bounds_of(renderer.positions()), double(kWidth) / kHeight);
-  RenderOptions o;
-  o.grid = o.points = false;
-  o.link_width = 6;
+  const Camera camera = facing(renderer);
+  const RenderOptions o = links_only();
   // Yellow pixels in each quarter of the picture's width (one per column of points).
   auto yellow_columns = [&](const std::vector<Vec3>& x) {
     Snapshot s;
