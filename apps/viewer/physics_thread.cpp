@@ -125,13 +125,9 @@ void PhysicsThread::set_integrator(const std::string& name) {
     // synchronised first) and keeps its model, tuned parameters and stages.
     try {
       sim.set_integrator(name);
-      std::lock_guard lock(mutex_);
-      status_.notice.clear();
-      status_.notice_stage.clear();
+      set_notice({});
     } catch (const std::exception& e) {
-      std::lock_guard lock(mutex_);
-      status_.notice = "integrator " + name + ": " + e.what();
-      status_.notice_stage.clear();
+      set_notice("integrator " + name + ": " + e.what());
     }
   });
 }
@@ -146,13 +142,9 @@ void PhysicsThread::set_backend(const std::string& name) {
       std::unique_ptr<Simulator> next = make_simulator(sim.model(), settings);
       next->restore(sim.state(), sim.frames_published());
       sim_ = std::move(next);  // `sim` is gone from here on
-      std::lock_guard lock(mutex_);
-      status_.notice.clear();
-      status_.notice_stage.clear();
+      set_notice({});
     } catch (const std::exception& e) {
-      std::lock_guard lock(mutex_);
-      status_.notice = "backend " + name + ": " + e.what();
-      status_.notice_stage.clear();
+      set_notice("backend " + name + ": " + e.what());
     }
   });
 }
@@ -179,16 +171,20 @@ void PhysicsThread::set_stage_option(const std::string& stage, const std::string
     try {
       sim.set_stage_option(stage, option, value);
       sim.publish_now();  // show the change (drawing options, a new method's colour) when paused
+      auto options = sim.stage_options();
+      set_notice({});
       std::lock_guard lock(mutex_);
-      status_.stage_options = sim.stage_options();
-      status_.notice.clear();
-      status_.notice_stage.clear();
+      status_.stage_options = std::move(options);
     } catch (const std::exception& e) {
-      std::lock_guard lock(mutex_);
-      status_.notice = option + " = " + value + " refused: " + e.what();
-      status_.notice_stage = stage;
+      set_notice(option + " = " + value + " refused: " + e.what(), stage);
     }
   });
+}
+
+void PhysicsThread::set_notice(std::string notice, std::string stage) {
+  std::lock_guard lock(mutex_);
+  status_.notice = std::move(notice);
+  status_.notice_stage = std::move(stage);
 }
 
 PhysicsStatus PhysicsThread::status() const {

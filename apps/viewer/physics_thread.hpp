@@ -108,6 +108,8 @@ class PhysicsThread {
  private:
   using Command = std::function<void(Simulator&)>;
   void send(Command c);
+  // The last command's refusal (empty: it was applied), and the stage it was about.
+  void set_notice(std::string notice, std::string stage = {});
   void run();
   std::unique_ptr<Simulator> make_simulator(Model model, SimulationSettings settings);
   void publish_status(std::uint64_t batch_steps, double batch_wall_s, double batch_sim_s);
