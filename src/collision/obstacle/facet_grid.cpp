@@ -58,6 +58,25 @@ std::vector<PseudoNormals> pseudo_normals(const TriMesh& mesh, const std::vector
   return out;
 }
 
+// Whether the triangle (a, b, c), with unit normal n, meets the cube [-half, half]^3: the
+// separating-axis test (Akenine-Moeller 2001) on the axes the caller's box overlap leaves, the
+// triangle's normal and the nine products of its edges with the cube's axes. A rounding error
+// only keeps a triangle the exact test would drop: the caller grows `half` by a margin far
+// above the projections' rounding.
+bool triangle_meets_cube(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n, Real half) {
+  auto separated = [&](const Vec3& axis) {
+    const Real pa = dot(axis, a), pb = dot(axis, b), pc = dot(axis, c);
+    const Real r = half * (std::abs(axis.x) + std::abs(axis.y) + std::abs(axis.z));
+    return std::min({pa, pb, pc}) > r || std::max({pa, pb, pc}) < -r;
+  };
+  if (separated(n)) return false;
+  for (const Vec3& e : {b - a, c - b, a - c}) {
+    if (separated({0, -e.z, e.y}) || separated({e.z, 0, -e.x}) || separated({-e.y, e.x, 0}))
+      return false;
+  }
+  return true;
+}
+
 // Interleaves the low 10 bits of x, y, z (a Morton code).
 std::uint32_t morton(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
   auto spread = [](std::uint32_t v) {
@@ -146,17 +165,17 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
     const Vec3 b = f.a + f.e1, c = f.a + f.e2;
     const auto c0 = cell_of(component_min(component_min(f.a, b), c));
     const auto c1 = cell_of(component_max(component_max(f.a, b), c));
-    // Of the cells its box overlaps, those its plane crosses (the plane-box axis of the
-    // triangle-box separation test; cells grown by the rounding margin): on a curved surface
-    // that halves the facets a query meets, and a facet through a cell is never left out.
+    // Of the cells its box overlaps, those the triangle meets (cells grown by the rounding
+    // margin): a query in one cell then meets about two facets on a tessellated sphere, not
+    // the six whose boxes and planes reach it, and a facet through a cell is never left out.
     const Real half = cell_ / 2 + margin_;
-    const Real reach = half * (std::abs(f.n.x) + std::abs(f.n.y) + std::abs(f.n.z));
     for (int k = c0[2]; k <= c1[2]; ++k)
       for (int j = c0[1]; j <= c1[1]; ++j)
         for (int i = c0[0]; i <= c1[0]; ++i) {
           const Vec3 centre =
               lo_ + Vec3{Real(i) + Real(0.5), Real(j) + Real(0.5), Real(k) + Real(0.5)} * cell_;
-          if (std::abs(dot(f.n, centre - f.a)) <= reach) visit(cell_index(i, j, k));
+          if (triangle_meets_cube(f.a - centre, b - centre, c - centre, f.n, half))
+            visit(cell_index(i, j, k));
         }
   };
   for (std::size_t f = 0; f < facets_.size(); ++f)
