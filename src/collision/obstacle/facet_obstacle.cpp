@@ -35,6 +35,9 @@ namespace maille {
 namespace {
 
 constexpr int kPasses = 4;
+// Particles per block of the stage's loop (the resting contacts they find, at most one each,
+// are answered at the end of the block).
+constexpr std::int64_t kBlock = 256;
 // Nearby facets whose N.AP the first pass keeps for the next ones (more: recomputed).
 constexpr std::size_t kKeptAbove = 64;
 // A facet more than the segment's length above p cannot be crossed by it (reach(), below).
@@ -121,11 +124,21 @@ class FacetObstacleStage final : public Stage {
     Vec3* v = s.v().data();
     Vec3* f = s.f().data();
     const Real* inv_mass = m.points.inv_mass.data();
-#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
-    for (std::int64_t i = 0; i < n; ++i) {
-      const std::uint32_t p = set_[i];
+    if (resting_.size() < std::size_t(threads)) resting_.resize(threads);
+    // In blocks: the particles' tests first, then the responses of the resting contacts they
+    // found (Resting), in one loop.
+    const std::int64_t blocks = (n + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (threads > 1)
+    for (std::int64_t b = 0; b < blocks; ++b) {
       const int t = threads > 1 ? thread_index() : 0;
-      particle(x[p], v[p], f[p], inv_mass[p], step, scratch_[t], row_[i], clearance_[i], counts[t]);
+      Resting& resting = resting_[t];
+      resting.count = 0;
+      for (std::int64_t i = b * kBlock, end = std::min(n, (b + 1) * kBlock); i < end; ++i) {
+        const std::uint32_t p = set_[i];
+        particle(p, x[p], v[p], f[p], inv_mass[p], step, scratch_[t], row_[i], clearance_[i],
+                 resting, counts[t]);
+      }
+      respond_resting(resting, v, f, inv_mass, step, counts[t]);
     }
     Counts total;
     for (const Counts& c : counts) total.add(c);
@@ -194,6 +207,18 @@ class FacetObstacleStage final : public Stage {
     }
   };
 
+  // The resting contacts a block of particles found: (point, facet) pairs answered in one loop
+  // after the block's tests (respond_resting), where consecutive responses, independent of one
+  // another, overlap their square roots and divisions instead of waiting on each in turn.
+  struct Resting {
+    std::array<std::uint32_t, kBlock> point, facet;
+    std::size_t count = 0;
+    void add(std::uint32_t p, std::uint32_t fi) {
+      point[count] = p, facet[count] = fi;
+      ++count;
+    }
+  };
+
   struct Contact {
     bool found = false;
     bool swept = false;   // the brief's crossing (else: resting on the facet)
@@ -242,9 +267,9 @@ class FacetObstacleStage final : public Stage {
   // One particle: the query and the clearance test, which settle most particles of a draped
   // cloth (far from the mesh, or hovering over it), stay small enough to be inlined in the
   // loop; the others go to collide().
-  void particle(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
+  void particle(std::uint32_t point, Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
                 std::vector<std::uint32_t>& scratch, facets::FacetGrid::Row& row, Clearance& clear,
-                Counts& c) const {
+                Resting& resting, Counts& c) const {
     const Vec3 p = to_frame(s.now, x);
     const Vec3 q = end_point(x, v, f, inv_mass, s);
     const std::uint64_t cell = row.cell;
@@ -254,15 +279,16 @@ class FacetObstacleStage final : public Stage {
     if (near.empty()) return;  // far from the obstacle: one box test
     if (row.cell != cell) clear.below = -std::numeric_limits<Real>::infinity();  // other facets
     if (row.in_cell && clear.out_of_reach(p, q, widest_eps_)) return;  // clear of every facet
-    collide(x, v, f, inv_mass, s, p, q, near, row.in_cell, clear, c);
+    collide(point, x, v, f, inv_mass, s, p, q, near, row.in_cell, clear, resting, c);
   }
 
   // The brief's test and response for a particle near facets (`near`), from p to q. Kept out of
   // line: its frame (the first pass's records, the response) would otherwise be set up for
   // every particle, most of which never come here.
-  [[gnu::noinline]] void collide(Vec3& x, Vec3& v, Vec3& f, Real inv_mass, const Step& s,
-                                 const Vec3& p, Vec3 q, std::span<const std::uint32_t> near,
-                                 bool in_cell, Clearance& clear, Counts& c) const {
+  [[gnu::noinline]] void collide(std::uint32_t point, Vec3& x, Vec3& v, Vec3& f, Real inv_mass,
+                                 const Step& s, const Vec3& p, Vec3 q,
+                                 std::span<const std::uint32_t> near, bool in_cell,
+                                 Clearance& clear, Resting& resting, Counts& c) const {
     const StageContext& ctx = s.ctx;
     const shapes::Affine& now = s.now;
     const Vec3 surface_v = o_.motion.moves() ? o_.motion.velocity_at(x, ctx.t) : Vec3{};
@@ -275,6 +301,14 @@ class FacetObstacleStage final : public Stage {
       if (pass == 0 && in_cell) clear = {p, seen.lowest - rounding_};
       behind |= hit.behind;
       if (!hit.found) break;
+      // The most common contact, a particle resting on a static surface with no facet above
+      // its plane: its response is the last thing this step does to it (no later pass, no
+      // inside check), so it is left to respond_resting, with the block's others.
+      if (pass == 0 && !hit.swept && seen.kept && seen.over == 0 && !behind &&
+          !o_.motion.moves()) {
+        resting.add(point, hit.facet);
+        return;
+      }
       c.hits += pass == 0 && hit.swept;
       touched = true;
       stuck = facets::respond(v, f, normal_at(now, hit.facet), surface_v, inv_mass, s.h, o_.alpha,
@@ -295,6 +329,21 @@ class FacetObstacleStage final : public Stage {
       stuck ? ++c.sticks : ++c.slides;
     }
     if (behind && grid_.closed()) push_out_if_inside(p, x, v, f, surface_v, now, near, c);
+  }
+
+  // The responses of a block's resting contacts (collide: a static surface, the first pass),
+  // counted as collide counts them.
+  void respond_resting(const Resting& resting, Vec3* v, Vec3* f, const Real* inv_mass,
+                       const Step& s, Counts& c) const {
+    for (std::size_t k = 0; k < resting.count; ++k) {
+      const std::uint32_t p = resting.point[k];
+      const bool stuck = facets::respond(v[p], f[p], terms_[resting.facet[k]].normal, Vec3{},
+                                         inv_mass[p], s.h, o_.alpha, o_.beta,
+                                         s.ctx.drift_after_kick)
+                             .stuck;
+      ++c.contacts;
+      stuck ? ++c.sticks : ++c.slides;
+    }
   }
 
   // The first scan of the nearby facets: the earliest one the segment p -> q crosses (ties:
@@ -502,6 +551,7 @@ class FacetObstacleStage final : public Stage {
   bool swept_inside_ = false;  // the first step's full inside test was made
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
+  std::vector<Resting> resting_;                     // per thread: its block's resting contacts
   std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
 };
 
