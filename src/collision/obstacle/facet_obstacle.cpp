@@ -9,7 +9,9 @@
 //      response rewrites F and V (facet_response.hpp) and the new segment is tested again, up to
 //      kPasses times (a particle driven into a concave corner meets both faces);
 //   3. no crossing, but resting on a facet (|N.AP| <= eps, the brief's test (a) fails) and
-//      heading into it: the same response, so a resting particle is held;
+//      heading into it: the same response, so a resting particle is held (on a static surface
+//      with no facet above its plane, the most common contact, at the end of its block of
+//      particles, with the block's other such responses);
 //   4. a closed mesh: a particle found behind its closest facet (by pseudo-normals) is inside:
 //      it is put back on the surface, its inward velocity removed, and counted in facet_leaks.
 #include <algorithm>
@@ -304,8 +306,7 @@ class FacetObstacleStage final : public Stage {
       // The most common contact, a particle resting on a static surface with no facet above
       // its plane: its response is the last thing this step does to it (no later pass, no
       // inside check), so it is left to respond_resting, with the block's others.
-      if (pass == 0 && !hit.swept && seen.kept && seen.over == 0 && !behind &&
-          !o_.motion.moves()) {
+      if (pass == 0 && !hit.swept && seen.kept && seen.over == 0 && !behind && !o_.motion.moves()) {
         resting.add(point, hit.facet);
         return;
       }
@@ -337,10 +338,10 @@ class FacetObstacleStage final : public Stage {
                        const Step& s, Counts& c) const {
     for (std::size_t k = 0; k < resting.count; ++k) {
       const std::uint32_t p = resting.point[k];
-      const bool stuck = facets::respond(v[p], f[p], terms_[resting.facet[k]].normal, Vec3{},
-                                         inv_mass[p], s.h, o_.alpha, o_.beta,
-                                         s.ctx.drift_after_kick)
-                             .stuck;
+      const bool stuck =
+          facets::respond(v[p], f[p], terms_[resting.facet[k]].normal, Vec3{}, inv_mass[p], s.h,
+                          o_.alpha, o_.beta, s.ctx.drift_after_kick)
+              .stuck;
       ++c.contacts;
       stuck ? ++c.sticks : ++c.slides;
     }
