@@ -59,10 +59,11 @@ std::vector<PseudoNormals> pseudo_normals(const TriMesh& mesh, const std::vector
 }
 
 // Whether the triangle (a, b, c), with unit normal n, meets the cube [-half, half]^3: the
-// separating-axis test (Akenine-Moeller 2001) on the axes the caller's box overlap leaves, the
-// triangle's normal and the nine products of its edges with the cube's axes. A rounding error
-// only keeps a triangle the exact test would drop: the caller grows `half` by a margin far
-// above the projections' rounding.
+// separating-axis test (Akenine-Moeller 2001) on the axes the caller's box overlap does not
+// test, the triangle's normal and the nine products of its edges with the cube's axes. The
+// caller grows `half` by a margin far above the projections' rounding, so a triangle that
+// meets the cell itself (its boundary included) is always kept; rounding can only decide for
+// one that meets the grown cube but not the cell.
 bool triangle_meets_cube(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n, Real half) {
   auto separated = [&](const Vec3& axis) {
     const Real pa = dot(axis, a), pb = dot(axis, b), pc = dot(axis, c);

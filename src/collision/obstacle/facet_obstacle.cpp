@@ -48,6 +48,11 @@ constexpr Real kReachMargin = Real(1) + Real(1e-7);
 struct Counts {
   std::uint64_t contacts = 0, hits = 0, sticks = 0, slides = 0, leaks = 0;
   Real deepest = 0;
+  // A particle's contact this step, whether it ends stuck or sliding.
+  void contact(bool stuck) {
+    ++contacts;
+    stuck ? ++sticks : ++slides;
+  }
   void add(const Counts& o) {
     contacts += o.contacts, hits += o.hits, sticks += o.sticks, slides += o.slides;
     leaks += o.leaks;
@@ -325,10 +330,7 @@ class FacetObstacleStage final : public Stage {
         f = {};
       }
     }
-    if (touched) {
-      ++c.contacts;
-      stuck ? ++c.sticks : ++c.slides;
-    }
+    if (touched) c.contact(stuck);
     if (behind && grid_.closed()) push_out_if_inside(p, x, v, f, surface_v, now, near, c);
   }
 
@@ -338,12 +340,9 @@ class FacetObstacleStage final : public Stage {
                        const Step& s, Counts& c) const {
     for (std::size_t k = 0; k < resting.count; ++k) {
       const std::uint32_t p = resting.point[k];
-      const bool stuck =
-          facets::respond(v[p], f[p], terms_[resting.facet[k]].normal, Vec3{}, inv_mass[p], s.h,
-                          o_.alpha, o_.beta, s.ctx.drift_after_kick)
-              .stuck;
-      ++c.contacts;
-      stuck ? ++c.sticks : ++c.slides;
+      c.contact(facets::respond(v[p], f[p], normal_at(s.now, resting.facet[k]), Vec3{}, inv_mass[p],
+                                s.h, o_.alpha, o_.beta, s.ctx.drift_after_kick)
+                    .stuck);
     }
   }
 
