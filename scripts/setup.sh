@@ -16,6 +16,9 @@ packages=(
   # The report pipeline (cli.report_quick: figures with Debian's matplotlib) and the peer engine
   # of its comparison (bench/peer_bullet: Bullet's soft-body cloth; built only when present).
   python3-matplotlib libbullet-dev
+  # The Python module (python/: pybind11 over NumPy views, tested with pytest) and sweeps across
+  # machines (`maille sweep` under mpirun: Open MPI, built in when present).
+  pybind11-dev python3-dev python3-numpy python3-pytest libopenmpi-dev openmpi-bin
   "$@"
 )
 
