@@ -41,10 +41,12 @@ struct GeometricContact {
 
 // The contact law, written once for the bricks and the geometric obstacle. `v` is the mass's
 // velocity relative to the shape's surface. Returns the force on the mass (zero outside) and
-// sets `depth` to the world penetration (0 outside).
+// sets `depth` to the world penetration (0 outside) and, when `normal` is given and the mass is
+// inside, *normal to the unit world normal there (implicit solvers' stiffness k n n^T: through
+// M_d the world stiffness is k whatever the scale, see GeometricObstacleStage).
 Vec3 geometric_contact_force(const GeometricPoint& g, const shapes::Affine& place, const Vec3& x,
                              const Vec3& v, Real stiffness, Real damping, bool world_normal,
-                             Real& depth);
+                             Real& depth, Vec3* normal = nullptr);
 
 // The stage "geometric_contacts" that evaluates the model's geometric contact bricks
 // (Phase::forces). Counters geometric_contacts_active, gauge geometric_contacts_depth.

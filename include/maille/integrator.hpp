@@ -27,15 +27,24 @@ class ForceEvaluator {
   // Links that exist only for this step (contacts found by stages), valid after evaluate():
   // implicit schemes add their Jacobian blocks beside the model's pools.
   virtual std::span<const LinkPoolBase* const> transient_links() const { return {}; }
+  // Per-point contacts that stages offer to implicit solvers (stage.hpp), valid after
+  // evaluate(): their forces are in s.f() at the evaluated state.
+  virtual std::span<PointContacts* const> point_contacts() const { return {}; }
 };
 
 // Settings of the implicit scheme ([simulation.implicit] in scene files).
 struct ImplicitSettings {
-  std::string solver = "matrix_free";  // "matrix_free" (link blocks) or "eigen" (assembled CSR)
-  Real tolerance = Real(1e-6);         // CG stops when |r| <= tolerance |b|
-  int max_iterations = 1000;           // CG iterations per solve
-  int newton_iterations = 1;           // linearisations per step (1: Baraff-Witkin)
+  // "matrix_free" (CG over link blocks), "eigen" (CG on an assembled CSR matrix) or "vbd"
+  // (vertex block descent: Gauss-Seidel Newton steps per point, colour by colour).
+  std::string solver = "matrix_free";
+  Real tolerance = Real(1e-6);    // CG stops when |r| <= tolerance |b|
+  int max_iterations = 1000;      // CG iterations per solve
+  int newton_iterations = 1;      // CG: linearisations per step (1: Baraff-Witkin)
+  int iterations = 10;            // vbd: sweeps over every free point per step, >= 1
+  Real acceleration = Real(0.9);  // vbd: Chebyshev factor rho in [0, 1); 0 = off
 };
+// The implicit solvers' names, for messages and the scene reader.
+inline constexpr std::array<std::string_view, 3> kImplicitSolvers{"matrix_free", "eigen", "vbd"};
 
 // For the test equation x'' = -w2 x - c x' (one mass on a damped spring), a scheme maps
 // (x_n, v_n) to (x_n+1, v_n+1) = (I + N) (x_n, v_n). Schemes return the increment N rather than

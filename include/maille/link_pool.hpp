@@ -73,6 +73,20 @@ class LinkPoolBase {
   virtual void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const = 0;
   // Adds every C_l to the diagonal blocks of its two points (block-Jacobi preconditioner).
   virtual void add_block_diagonal(const Mat3* blocks, Mat3* diagonal) const = 0;
+
+  // Vertex block descent (src/integrators/implicit_vbd.cpp). For each point i of `points`, the
+  // links of this pool at i are the storage slots slots[row[i]] .. slots[row[i + 1] - 1]: adds
+  // their forces on i into f[i] and the block -d f_i / d x_i into hessian[i], with velocities
+  // that follow positions as in implicit Euler (v = (x - x_n) / h, hence J_x + J_v / h),
+  // definite-mode Jacobians (the block stays positive semi-definite). Inactive conditional
+  // links add nothing. Points are independent: threads may run disjoint point sets at once.
+  virtual void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
+                               const std::uint32_t* slots, const Vec3* x, const Vec3* v, Real inv_h,
+                               Vec3* f, Mat3* hessian) const = 0;
+  // Conditional kinds: appends the storage slots of the links whose ends are closer than their
+  // distance scale (threshold) plus `margin` (the contact candidates of a step whose points
+  // move less than margin / 2). Always-active kinds append nothing.
+  virtual void near_slots(const Vec3* x, Real margin, std::vector<std::uint32_t>& out) const = 0;
 };
 
 template <LinkKind K>
@@ -222,6 +236,40 @@ class LinkPool final : public LinkPoolBase {
     for (std::size_t l = 0; l < ends_.size(); ++l) {
       diagonal[ends_[l].a] += blocks[l];
       diagonal[ends_[l].b] += blocks[l];
+    }
+  }
+
+  void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
+                       const std::uint32_t* slots, const Vec3* x, const Vec3* v, Real inv_h,
+                       Vec3* f, Mat3* hessian) const override {
+    if constexpr (kHasJacobian) {
+      for (const std::uint32_t i : points) {
+        Vec3 fi{};
+        Mat3 hi;
+        for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) {
+          const std::uint32_t l = slots[k];
+          const auto [a, b] = ends_[l];
+          if constexpr (!kAlwaysActive)
+            if (!K::is_active(x[a], x[b], params_[l])) continue;
+          const Vec3 fa = K::force(x[a], x[b], v[a], v[b], params_[l]);
+          const LinkJacobian j =
+              K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
+          fi += a == i ? fa : -fa;
+          hi += j.dx + j.dv * inv_h;
+        }
+        f[i] += fi;
+        hessian[i] += hi;
+      }
+    }
+  }
+
+  void near_slots(const Vec3* x, Real margin, std::vector<std::uint32_t>& out) const override {
+    if constexpr (!kAlwaysActive) {
+      for (std::size_t l = 0; l < ends_.size(); ++l) {
+        const Real reach = rest_hint(l) + margin;
+        if (norm2(x[ends_[l].b] - x[ends_[l].a]) < reach * reach)
+          out.push_back(static_cast<std::uint32_t>(l));
+      }
     }
   }
 

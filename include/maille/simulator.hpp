@@ -174,6 +174,7 @@ class Simulator : private ForceEvaluator {
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
   std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
+  std::span<PointContacts* const> point_contacts() const override { return point_contacts_; }
   void respond();  // response stages, once per step
   void build_integrator(const std::string& name);
   void install_model_stages();
@@ -214,6 +215,7 @@ class Simulator : private ForceEvaluator {
   Snapshot snapshot_;
   std::vector<Vec3> scratch_velocity_;
   std::vector<const LinkPoolBase*> transient_;  // stages' implicit links after the last evaluate
+  std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
   double energy_scale_ = 0;
   int threads_ = 1;
   bool overlays_ = false;

@@ -34,6 +34,7 @@ struct Model;
 struct State;
 class Profile;
 class LinkPoolBase;
+struct Mat3;
 
 enum class Phase : std::uint8_t { forces, response, after_integration };
 std::string_view to_string(Phase p);
@@ -67,6 +68,25 @@ struct StageOption {
   std::string value;
 };
 
+// Contacts of points with something an implicit solve does not move (an obstacle), offered to
+// implicit solvers so that they enter the solve instead of staying the explicit force of the
+// step's start: vertex block descent evaluates them at every iterate (force and 3x3 stiffness per
+// point), matrix-free CG adds their stiffness to its diagonal blocks.
+class PointContacts {
+ public:
+  virtual ~PointContacts() = default;
+  // The obstacle's placement at time t: the end of the step for the solve, its start when a
+  // solver takes the stage's explicit force of the step's start back out of the forces.
+  virtual void set_time(double t) = 0;
+  // For each point i of `points` that the stage collides: adds the contact force at x[i], v[i]
+  // into f[i] and its stiffness -d f / d x - (1/h) d f / d v (positive semi-definite) into
+  // hessian[i], and sets touching[i] = 1 where a contact acts (when `touching` is not null:
+  // solvers watch steps that start or end a contact, where the force jumps). Points are
+  // independent: threads may run disjoint point sets at once.
+  virtual void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v,
+                         Real inv_h, Vec3* f, Mat3* hessian, std::uint8_t* touching) const = 0;
+};
+
 class Stage {
  public:
   virtual ~Stage() = default;
@@ -90,6 +110,10 @@ class Stage {
   // links), when ctx.jacobians asked for them: implicit schemes add their Jacobian blocks (the
   // stage still adds the forces). Null: the stage's forces stay explicit.
   virtual const LinkPoolBase* implicit_links() const { return nullptr; }
+  // Per-point contacts that implicit solvers take inside the solve, when ctx.jacobians asked for
+  // them (the stage still adds its force at the step's start; solvers take it back out). Null:
+  // the stage's forces stay explicit.
+  virtual PointContacts* point_contacts() { return nullptr; }
   // Segments to draw over the scene at the state of the last step (contacts, cells...).
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.

@@ -278,6 +278,7 @@ void Simulator::evaluate(State& s) {
     profile_.set_count(ids.wind_faces, stages::field_forces(model_, s, threads_));
   }
   transient_.clear();
+  point_contacts_.clear();
   if (force_stages_.empty()) return;
   const StageContext ctx = context(s);
   for (auto& st : force_stages_) {
@@ -285,6 +286,8 @@ void Simulator::evaluate(State& s) {
     st.stage->apply(model_, s, ctx);
     if (ctx.jacobians)
       if (const LinkPoolBase* links = st.stage->implicit_links()) transient_.push_back(links);
+    if (ctx.jacobians)
+      if (PointContacts* contacts = st.stage->point_contacts()) point_contacts_.push_back(contacts);
   }
 }
 

@@ -18,11 +18,13 @@
 // force stages are taken explicitly.
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "implicit_system.hpp"
+#include "implicit_vbd.hpp"
 #include "integrators.hpp"
 
 namespace maille {
@@ -31,7 +33,8 @@ namespace {
 
 class ImplicitEuler final : public Integrator {
  public:
-  explicit ImplicitEuler(const ImplicitSettings& settings) : settings_(settings) {}
+  explicit ImplicitEuler(const ImplicitSettings& settings)
+      : settings_(settings), vbd_(settings, 1) {}
 
   std::string_view name() const override { return "implicit_euler"; }
 
@@ -40,13 +43,35 @@ class ImplicitEuler final : public Integrator {
       if (!pool->has_jacobian())
         return "link kind '" + std::string(pool->keyword()) +
                "' provides no Jacobian: implicit_euler cannot integrate it";
-    if (settings_.solver != "matrix_free" && settings_.solver != "eigen")
-      return "unknown implicit solver '" + settings_.solver + "' (matrix_free, eigen)";
+    if (std::find(kImplicitSolvers.begin(), kImplicitSolvers.end(), settings_.solver) ==
+        kImplicitSolvers.end())
+      return "unknown implicit solver '" + settings_.solver + "' (matrix_free, eigen, vbd)";
     return {};
   }
 
   void advance(const Model& m, State& s, Real h, ForceEvaluator& forces,
                Profile& profile) override {
+    if (solver_iterations_ < 0) {
+      solver_iterations_ = profile.counter("solver_iterations");
+      solver_residual_ = profile.gauge("solver_residual");
+      vbd_ = VertexBlockDescent(settings_, threads_);
+    }
+    // Every solver reports the residual of the nonlinear step, measured the VBD way.
+    vbd_.begin(m, s, h, s.time + h, forces);
+    if (settings_.solver == "vbd") {
+      if (vbd_colours_ < 0) vbd_colours_ = profile.counter("vbd_colours");
+      const VbdResult r = vbd_.solve(m, s, h);
+      profile.set_count(solver_iterations_, std::uint64_t(r.sweeps));
+      profile.set_count(vbd_colours_, std::uint64_t(r.colours));
+    } else {
+      profile.set_count(solver_iterations_, advance_cg(m, s, h, forces, profile));
+    }
+    profile.set_gauge(solver_residual_, vbd_.residual(m, s, h));
+  }
+
+  // Baraff-Witkin by conjugate gradients (matrix_free or eigen); returns the CG iterations.
+  std::uint64_t advance_cg(const Model& m, State& s, Real h, ForceEvaluator& forces,
+                           Profile& profile) {
     if (!system_) {
       system_ = make_implicit_system(settings_.solver, m, threads_);
       cg_iterations_ = profile.counter("cg_iterations");
@@ -88,6 +113,7 @@ class ImplicitEuler final : public Integrator {
     profile.set_count(cg_iterations_, iterations);
     profile.set_gauge(cg_residual_, residual);
     profile.set_gauge(newton_residual_, newton_residual_value_);
+    return iterations;
   }
 
   // (I - hA)^-1 - I = (I - hA)^-1 hA with A = [[0, 1], [-w2, -c]]: every step is stable.
@@ -95,7 +121,13 @@ class ImplicitEuler final : public Integrator {
     const double det = 1 + h * c + h * h * w2;
     return {{{-h * h * w2 / det, h / det}, {-h * w2 / det, (-h * h * w2 - h * c) / det}}};
   }
-  int force_evaluations() const override { return settings_.newton_iterations; }
+  int force_evaluations() const override {
+    return settings_.solver == "vbd" ? 1 : settings_.newton_iterations;
+  }
+  void reset() override {
+    system_.reset();
+    vbd_.reset();
+  }
   bool uses_jacobians() const override { return true; }
   // A response stage zeroes a velocity into a facet, then the solve adds a dv that couples it to
   // every neighbour and undoes the rewrite: refused rather than run wrong.
@@ -126,6 +158,8 @@ class ImplicitEuler final : public Integrator {
 
   ImplicitSettings settings_;
   std::unique_ptr<ImplicitSystem> system_;
+  VertexBlockDescent vbd_;
+  int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1;
   std::vector<Vec3> x0_, v0_, rhs_, dv_;
   int cg_iterations_ = 0, cg_residual_ = 0, newton_residual_ = 0;
   double newton_residual_value_ = 0;

@@ -119,12 +119,17 @@ class SceneReader {
     s.runaway_factor =
         t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
     if (auto i = t.table("implicit")) {
-      s.implicit.solver = i->text("solver", s.implicit.solver, {"matrix_free", "eigen"});
+      s.implicit.solver = i->text("solver", s.implicit.solver, {"matrix_free", "eigen", "vbd"});
       s.implicit.tolerance = i->real("tolerance", s.implicit.tolerance, Bound::positive);
       s.implicit.max_iterations =
           static_cast<int>(i->integer("max_iterations", s.implicit.max_iterations, 1, 1 << 20));
       s.implicit.newton_iterations =
           static_cast<int>(i->integer("newton_iterations", s.implicit.newton_iterations, 1, 100));
+      s.implicit.iterations =
+          static_cast<int>(i->integer("iterations", s.implicit.iterations, 1, 100000));
+      s.implicit.acceleration =
+          i->real("acceleration", s.implicit.acceleration, Bound::non_negative);
+      i->check_range("acceleration", s.implicit.acceleration, 0, Real(0.999999), "");
       i->finish();
     }
     t.finish();

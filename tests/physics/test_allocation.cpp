@@ -42,7 +42,7 @@ void operator delete(void* p, std::size_t) noexcept {
 namespace maille {
 namespace {
 
-long allocations_in_steps(const char* scheme, int threads) {
+long allocations_in_steps(const char* scheme, int threads, const char* solver = "matrix_free") {
   Model m;
   FlagParams p;
   p.nx = 64;  // 4096 points: large enough that two threads are used when asked
@@ -53,6 +53,7 @@ long allocations_in_steps(const char* scheme, int threads) {
   SimulationSettings s =
       test::settings(scheme == std::string("implicit_euler") ? 2e-3 : 1e-4, scheme);
   s.threads = threads;
+  s.implicit.solver = solver;
   s.sample_every = 5;
   s.publish_every = 5;
   Simulator sim(std::move(m), s);
@@ -79,6 +80,9 @@ TEST(Allocation, NoneInTheStepAfterTheFirst) {
     for (int threads : {1, 2})
       EXPECT_EQ(allocations_in_steps(scheme, threads), 0)
           << scheme << " on " << threads << " threads";
+  for (int threads : {1, 2})
+    EXPECT_EQ(allocations_in_steps("implicit_euler", threads, "vbd"), 0)
+        << "implicit_euler (vbd) on " << threads << " threads";
 }
 
 }  // namespace

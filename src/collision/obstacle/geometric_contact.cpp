@@ -12,12 +12,16 @@ namespace maille {
 
 Vec3 geometric_contact_force(const GeometricPoint& g, const shapes::Affine& place, const Vec3& x,
                              const Vec3& v, Real stiffness, Real damping, bool world_normal,
-                             Real& depth) {
+                             Real& depth, Vec3* normal) {
   depth = 0;
   const Vec3 c = place.to_canonical(x);  // (A) into the canonical frame through M_i
   const shapes::Distance d = shapes::canonical(g.shape, c, g.top, g.tube);  // (B)
   if (!d.inside()) return {};
   const Vec3 pen_c = d.penetration();  // (C) the canonical penetration vector
+  if (normal) {
+    const Vec3 n = place.normal_to_world(d.normal);
+    *normal = n * (Real(1) / (norm(n) + Real(1e-300)));
+  }
   if (!world_normal) {
     // The brief's mapping: the spring-damper on the canonical penetration, back through M_d.
     const Vec3 vc = place.vector_to_canonical(v);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "maille/geometric_point.hpp"
+#include "maille/mat3.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
@@ -36,7 +37,7 @@ Real canonical_reach(const Obstacle& o) {
   return std::numeric_limits<Real>::infinity();
 }
 
-class GeometricObstacleStage final : public Stage {
+class GeometricObstacleStage final : public Stage, public PointContacts {
  public:
   GeometricObstacleStage(const Model& m, Obstacle o)
       : o_(std::move(o)),
@@ -53,6 +54,8 @@ class GeometricObstacleStage final : public Stage {
       stretch = std::max(stretch, norm(o_.place.vector_to_world(e)));
     reach_ = canonical_reach(o_) * stretch * Real(1 + 1e-9);
     point_ = {"obstacle:" + o_.name, o_.shape, o_.top, o_.tube, o_.place};
+    member_.assign(m.points.size(), 0);
+    for (const std::uint32_t p : set_) member_[p] = 1;
   }
 
   std::string name() const override { return "obstacle:" + o_.name; }
@@ -93,6 +96,35 @@ class GeometricObstacleStage final : public Stage {
     ctx.profile->set_gauge(ids_[1], deepest);
   }
 
+  // Implicit solvers: the same law at their iterate, with the stiffness (k + z / h) n n^T along
+  // the world normal (exact for the world-normal variant and for uniform scales; the force,
+  // which decides where the solve converges, is always the brief's).
+  PointContacts* point_contacts() override {
+    return this;
+  }
+  void set_time(double t) override {
+    time_ = t;
+    place_now_ = o_.motion.at(o_.place, t);
+  }
+  void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v, Real inv_h,
+                 Vec3* f, Mat3* hessian, std::uint8_t* touching) const override {
+    const Real reach2 = reach_ * reach_;
+    for (const std::uint32_t p : points) {
+      if (!member_[p]) continue;
+      const Vec3 rel = x[p] - place_now_.translation;
+      if (dot(rel, rel) > reach2) continue;
+      const Vec3 vr = o_.motion.moves() ? v[p] - o_.motion.velocity_at(x[p], time_) : v[p];
+      Real depth = 0;
+      Vec3 n;
+      const Vec3 force = geometric_contact_force(point_, place_now_, x[p], vr, o_.stiffness,
+                                                 o_.damping, o_.world_normal, depth, &n);
+      if (depth <= 0) continue;
+      f[p] += force;
+      hessian[p] += Mat3::outer(n, n) * (o_.stiffness + o_.damping * inv_h);
+      if (touching) touching[p] = 1;
+    }
+  }
+
   void surfaces(double t, std::vector<SurfaceInstance>& out) const override {
     surface_.add(o_, t, out);
   }
@@ -114,6 +146,9 @@ class GeometricObstacleStage final : public Stage {
   GeometricPoint point_;  // the obstacle's geometric fixed point (placed by the motion per step)
   Real reach_ = 0;
   std::array<int, 2> ids_{-1, -1};
+  std::vector<std::uint8_t> member_;  // [points] 1 for the colliding points
+  double time_ = 0;                   // of place_now_ (implicit solvers)
+  shapes::Affine place_now_;
 };
 
 }  // namespace

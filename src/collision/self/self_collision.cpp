@@ -195,6 +195,14 @@ class SelfCollision {
     return st;
   }
 
+  // Every close, non-excluded pair (global ids, a < b) at positions x, without allocating once
+  // the buffers have grown.
+  template <class F>
+  void for_each_close_pair(const Vec3* x, int threads, F&& f) {
+    find(x, threads);
+    for_each_contact(f);
+  }
+
   std::vector<std::pair<std::uint32_t, std::uint32_t>> close_pairs(const Vec3* x, int threads) {
     find(x, threads);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
@@ -387,6 +395,7 @@ class SelfCollisionStage final : public Stage {
   Phase phase() const override { return Phase::forces; }
   void model_changed(const Model& m) override {
     engine_ = SelfCollision(m, settings_);
+    wide_.reset();
     last_cell_ = 0;
   }
 
@@ -401,12 +410,12 @@ class SelfCollisionStage final : public Stage {
     }
   }
 
-  void apply(const Model&, State& s, const StageContext& ctx) override {
+  void apply(const Model& m, State& s, const StageContext& ctx) override {
     if (!enabled_) return;
     const SelfCollisionStats st =
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
-    if (ctx.jacobians) contacts_as_links(s.size());
+    if (ctx.jacobians) contacts_as_links(m, s, ctx);
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0) {
@@ -501,17 +510,45 @@ class SelfCollisionStage final : public Stage {
   SelfCollision engine_;
   std::array<int, 8> ids_{-1, -1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
-  // This step's contacts as conditional links (same law), for implicit schemes' Jacobians.
+  // This step's contact candidates as conditional links (same law), for implicit schemes: the
+  // pairs within s + margin, margin covering the step's motion, so that a solve that moves
+  // points by a whole step (vertex block descent) still sees every pair that comes within s.
   LinkPool<ConditionalSpringDamper> contacts_;
+  std::unique_ptr<SelfCollision> wide_;  // the same particles and exclusion, radius s + margin
+  Real wide_margin_ = 0;
 
-  void contacts_as_links(std::size_t points) {
+  // How much closer two particles can come during a step: at most h times twice the largest
+  // speed relative to the particles' mean velocity (a common motion, a fall under gravity
+  // included, brings no pair closer), with a quarter more for the solve's corrections.
+  static Real motion_margin(const State& s, const std::vector<std::uint32_t>& set, Real h) {
+    const auto v = s.v();
+    Vec3 mean{};
+    for (const std::uint32_t p : set) mean += v[p];
+    mean = mean * (Real(1) / Real(std::max<std::size_t>(set.size(), 1)));
+    Real dv2 = 0;
+    for (const std::uint32_t p : set) dv2 = std::max(dv2, norm2(v[p] - mean));
+    return Real(2.5) * std::sqrt(dv2) * h;
+  }
+
+  void contacts_as_links(const Model& m, const State& s, const StageContext& ctx) {
     contacts_.clear();
-    if (!enabled_) return;
-    const auto& s = engine_.settings();
-    engine_.for_each_contact([&](std::uint32_t a, std::uint32_t b) {
-      contacts_.add({a, b}, {s.stiffness, s.damping, s.radius, s.radius});
+    const auto& st = engine_.settings();
+    const Real needed = motion_margin(s, engine_.set(), Real(ctx.h));
+    // Grown to twice what is needed when too small, shrunk when four times too large (a cloth
+    // come to rest): the wide engine (grid and exclusion) is rebuilt rarely, never per step.
+    const Real target = std::max(needed, Real(0.25) * st.radius);
+    if (!wide_ || needed > wide_margin_ || wide_margin_ > 4 * target) {
+      SelfCollisionSettings ws = st;
+      wide_margin_ = 2 * target;
+      ws.radius = st.radius + wide_margin_;
+      ws.cell_size = ws.radius;
+      ws.primitive = Primitive::points;
+      wide_ = std::make_unique<SelfCollision>(m, ws);
+    }
+    wide_->for_each_close_pair(s.x().data(), ctx.threads, [&](std::uint32_t a, std::uint32_t b) {
+      contacts_.add({a, b}, {st.stiffness, st.damping, st.radius, st.radius});
     });
-    contacts_.prepare(std::uint32_t(points));
+    contacts_.prepare(std::uint32_t(s.size()));
   }
   double last_cell_ = 0;
 };

@@ -1,0 +1,398 @@
+// Vertex block descent for implicit Euler (implicit_vbd.hpp has the formulation).
+//
+//   begin     x_n, v_n; f_ext = f - links - implicit contacts - drag, all at the step's start;
+//             y = x_n + h v_n + h^2 f_ext / m
+//   guess     x = x_n + h v_n + h^2 a~ (the paper's adaptive guess: the external acceleration
+//             kept only as far as last step's acceleration went along it)
+//   candidates  conditional links closer than threshold + margin at x_n, margin = twice the
+//             guess's largest motion (found again when a point moves more than margin / 2);
+//             contact links that stages found this step
+//   colour    greedy colouring of the free points' graph (links and candidates)
+//   sweeps    colour by colour: g_i, H_i, x_i += H_i^-1 g_i; then Chebyshev acceleration
+//             x = w (x - x_prev2) + x_prev2, turned off for the step when a sweep's residual
+//             rises (the fallback)
+//   end       v = (x - x_n) / h
+//
+// Determinism: a point's g and H sum its links in a fixed order (pool by pool, slot by slot)
+// and a colour's points depend only on other colours, so the result does not depend on how
+// threads split a colour; the residual is a maximum, which does not depend on the order.
+#include "implicit_vbd.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "implicit_system.hpp"
+#include "maille/link_set.hpp"
+#include "maille/stage.hpp"
+
+namespace maille {
+
+namespace {
+
+constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
+constexpr std::int64_t kBlock = 64;            // points per thread task in a colour
+constexpr std::size_t kParallelPoints = 2048;  // fewer free points: one thread
+constexpr int kHalvings = 6;                   // a contact-changing step shrinks to 1/64 at most
+// The guess's largest motion times this is the contact margin (2: two points moving toward
+// each other; 1.25: room before a refresh is needed).
+constexpr Real kMarginFactor = Real(2.5);
+// The smallest margin, m: a resting model (no motion) would otherwise find its candidates again
+// at the first sub-micron move.
+constexpr Real kMinMargin = Real(1e-4);
+// State memory: v_n of the last step's start (the adaptive guess needs last step's
+// acceleration); in the State so that checkpoints resume bit for bit.
+const std::string kMemory = "implicit_euler.vbd";
+
+}  // namespace
+
+void VertexBlockDescent::reset() {
+  points_ = 0;
+  static_ready_ = false;
+  coloured_ = false;
+  rows_.clear();
+  free_.clear();
+}
+
+void VertexBlockDescent::rows_from_slots(PoolRows& r, std::size_t n,
+                                         std::span<const std::uint32_t> slots) {
+  const auto ends = r.pool->slot_ends();
+  r.row.assign(n + 1, 0);
+  for (const std::uint32_t l : slots) {
+    ++r.row[ends[l].a + 1];
+    ++r.row[ends[l].b + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) r.row[i + 1] += r.row[i];
+  r.slots.resize(r.row[n]);
+  // Fill in slot order with a moving cursor per point (the row's start), then restore.
+  for (const std::uint32_t l : slots) {
+    r.slots[r.row[ends[l].a]++] = l;
+    r.slots[r.row[ends[l].b]++] = l;
+  }
+  for (std::size_t i = n; i > 0; --i) r.row[i] = r.row[i - 1];
+  r.row[0] = 0;
+}
+
+void VertexBlockDescent::build_static_rows(const Model& m) {
+  const std::size_t n = points_;
+  const auto pools = m.links.pools();
+  rows_.resize(pools.size());
+  model_dynamic_ = false;
+  for (std::size_t p = 0; p < pools.size(); ++p) {
+    PoolRows& r = rows_[p];
+    r.pool = pools[p].get();
+    r.fixed = !r.pool->conditional();
+    model_dynamic_ = model_dynamic_ || !r.fixed;
+    if (!r.fixed) continue;
+    scratch_.resize(r.pool->size());
+    for (std::size_t l = 0; l < scratch_.size(); ++l) scratch_[l] = std::uint32_t(l);
+    rows_from_slots(r, n, scratch_);
+  }
+  free_.clear();
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (m.points.inv_mass[i] > 0) free_.push_back(i);
+  static_ready_ = true;
+  coloured_ = false;
+}
+
+// Conditional links near enough to act this step (model pools); stages' contact links all act.
+void VertexBlockDescent::find_candidates(const Model& m, const Vec3* x, Real margin) {
+  const std::size_t model_pools = m.links.pools().size();
+  for (std::size_t p = 0; p < rows_.size(); ++p) {
+    PoolRows& r = rows_[p];
+    if (r.fixed) continue;
+    scratch_.clear();
+    if (p < model_pools) {
+      r.pool->near_slots(x, margin, scratch_);
+    } else {
+      for (std::size_t l = 0; l < r.pool->size(); ++l) scratch_.push_back(std::uint32_t(l));
+    }
+    rows_from_slots(r, points_, scratch_);
+  }
+  margin_ = margin;
+}
+
+// Greedy colouring in point order: a point takes the smallest colour none of its coloured
+// neighbours holds. Fixed points are never moved, so links to them constrain nothing.
+void VertexBlockDescent::colour(const Model& m) {
+  const std::size_t n = points_;
+  colour_of_.assign(n, kUncoloured);
+  std::uint32_t colours = 0;
+  for (const std::uint32_t i : free_) {
+    for (const PoolRows& r : rows_) {
+      const auto ends = r.pool->slot_ends();
+      for (std::uint32_t k = r.row[i]; k < r.row[i + 1]; ++k) {
+        const LinkEnds e = ends[r.slots[k]];
+        const std::uint32_t j = e.a == i ? e.b : e.a;
+        if (colour_of_[j] != kUncoloured) stamp_[colour_of_[j]] = i;
+      }
+    }
+    std::uint32_t c = 0;
+    while (c < colours && stamp_[c] == i) ++c;
+    if (c == colours) {
+      ++colours;
+      if (stamp_.size() < colours) stamp_.push_back(kUncoloured);
+      stamp_[c] = kUncoloured;
+    }
+    colour_of_[i] = c;
+  }
+  (void)m;
+  colour_row_.assign(colours + 1, 0);
+  for (const std::uint32_t i : free_) ++colour_row_[colour_of_[i] + 1];
+  for (std::uint32_t c = 0; c < colours; ++c) colour_row_[c + 1] += colour_row_[c];
+  by_colour_.resize(free_.size());
+  for (const std::uint32_t i : free_) by_colour_[colour_row_[colour_of_[i]]++] = i;
+  for (std::uint32_t c = colours; c > 0; --c) colour_row_[c] = colour_row_[c - 1];
+  colour_row_[0] = 0;
+}
+
+void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_next,
+                               ForceEvaluator& forces) {
+  const std::size_t n = s.size();
+  if (n != points_) {
+    points_ = n;
+    static_ready_ = false;
+    for (auto* a :
+         {&xn_, &vn_, &y_, &fext_, &prev1_, &prev2_, &g_, &trial_x_, &trial_v_, &trial_g_})
+      a->assign(n, Vec3{});
+    hess_.assign(n, Mat3{});
+    trial_h_.assign(n, Mat3{});
+    touching_.assign(n, 0);
+    trial_touch_.assign(n, 0);
+  }
+  if (!static_ready_) build_static_rows(m);
+  // This step's transient pools (stages' contacts) after the model's pools.
+  const std::size_t model_pools = m.links.pools().size();
+  const auto transient = forces.transient_links();
+  rows_.resize(model_pools + transient.size());
+  for (std::size_t p = 0; p < transient.size(); ++p) {
+    rows_[model_pools + p].pool = transient[p];
+    rows_[model_pools + p].fixed = false;
+  }
+  dynamic_ = model_dynamic_ || !transient.empty();
+  const auto pc = forces.point_contacts();
+  contacts_.assign(pc.begin(), pc.end());
+  margin_ = -1;  // no candidates yet this step
+
+  const Vec3* x = s.x().data();
+  const Vec3* v = s.v().data();
+  std::copy(x, x + n, xn_.begin());
+  std::copy(v, v + n, vn_.begin());
+  // f_ext: the evaluated forces without the ones the solve takes implicitly.
+  std::fill(g_.begin(), g_.end(), Vec3{});
+  LinkCounters counters;
+  for (const PoolRows& r : rows_) r.pool->accumulate(x, v, g_.data(), counters);
+  for (PointContacts* c : contacts_) {
+    c->set_time(s.time);
+    c->add_terms(free_, x, v, Real(1) / h, g_.data(), hess_.data(), nullptr);
+    c->set_time(t_next);
+  }
+  const auto f = s.f();
+  const Real drag = m.fields.air_drag;
+  for (std::size_t i = 0; i < n; ++i) {
+    fext_[i] = f[i] - g_[i];
+    if (m.points.inv_mass[i] > 0) {
+      fext_[i] += v[i] * (drag * m.points.mass[i]);
+      y_[i] = x[i] + v[i] * h + fext_[i] * (h * h * m.points.inv_mass[i]);
+    } else {
+      y_[i] = x[i];
+    }
+  }
+  gravity_ = norm(m.fields.gravity);
+}
+
+// g_i = m_i/h^2 (y_i - x_i) - gamma m_i v_i + links + contacts; H_i likewise.
+void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, const Model& m,
+                                     const Vec3* x, const Vec3* v, Real h) {
+  const Real inv_h = Real(1) / h, inv_h2 = inv_h * inv_h;
+  const Real drag = m.fields.air_drag;
+  for (const std::uint32_t i : points) {
+    const Real mass = m.points.mass[i];
+    g_[i] = (y_[i] - x[i]) * (mass * inv_h2) - v[i] * (drag * mass);
+    hess_[i] = Mat3::identity() * (mass * (inv_h2 + drag * inv_h));
+    touching_[i] = 0;
+  }
+  for (const PoolRows& r : rows_)
+    r.pool->add_point_terms(points, r.row.data(), r.slots.data(), x, v, inv_h, g_.data(),
+                            hess_.data());
+  for (const PointContacts* c : contacts_)
+    c->add_terms(points, x, v, inv_h, g_.data(), hess_.data(), touching_.data());
+}
+
+// One Gauss-Seidel sweep, colour by colour; returns the largest |g_i| seen (each point's
+// imbalance just before its own update).
+//
+// A contact's force (its damper above all) jumps where the contact starts, so a Newton step
+// that starts or ends a contact can land on the other side of the jump and the next one come
+// back: a point would bounce between deep inside and just outside. A step that changes whether
+// the point touches is therefore halved until it lowers |g| (at most kHalvings times; else the
+// point stays): the point settles on the surface.
+Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
+  const std::size_t colours = colour_row_.size() - 1;
+  Real merit = 0;
+  const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
+#pragma omp parallel num_threads(threads_) if (parallel) reduction(max : merit)
+  for (std::size_t c = 0; c < colours; ++c) {
+    const std::int64_t begin = colour_row_[c], end = colour_row_[c + 1];
+    const std::int64_t blocks = (end - begin + kBlock - 1) / kBlock;
+#pragma omp for schedule(static)
+    for (std::int64_t b = 0; b < blocks; ++b) {
+      const std::int64_t lo = begin + b * kBlock, hi = std::min(end, lo + kBlock);
+      const std::span<const std::uint32_t> pts(by_colour_.data() + lo, std::size_t(hi - lo));
+      merit = std::max(merit, update_block(pts, m, x, v, h));
+    }
+  }
+  return merit;
+}
+
+Real VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const Model& m, Vec3* x,
+                                      Vec3* v, Real h) {
+  const Real inv_h = Real(1) / h;
+  Real merit = 0;
+  point_terms(pts, m, x, v, h);
+  for (const std::uint32_t i : pts) {
+    const Vec3 dx = inverse_spd(hess_[i]) * g_[i];
+    trial_x_[i] = is_finite(dx) ? x[i] + dx : x[i];  // non-finite: left to the health check
+    trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
+    trial_touch_[i] = 0;
+    trial_g_[i] = Vec3{};
+    trial_h_[i] = Mat3{};
+    merit = std::max(merit, norm(g_[i]));
+  }
+  for (const PointContacts* c : contacts_)
+    c->add_terms(pts, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                 trial_touch_.data());
+  for (const std::uint32_t i : pts) {
+    if (trial_touch_[i] == touching_[i]) {
+      x[i] = trial_x_[i];
+      v[i] = trial_v_[i];
+      continue;
+    }
+    const Vec3 x0 = x[i], dx = trial_x_[i] - x0;
+    const Real g0 = norm(g_[i]);
+    const std::span<const std::uint32_t> one(&i, 1);
+    Real t = 1;
+    for (int k = 0; k <= kHalvings; ++k, t *= Real(0.5)) {
+      x[i] = x0 + dx * t;
+      v[i] = (x[i] - xn_[i]) * inv_h;
+      point_terms(one, m, x, v, h);
+      if (norm(g_[i]) < g0) break;
+    }
+    if (!(norm(g_[i]) < g0)) {
+      x[i] = x0;
+      v[i] = (x0 - xn_[i]) * inv_h;
+    }
+  }
+  return merit;
+}
+
+void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
+  std::vector<double>& last = s.memory(kMemory);  // v at the last step's start
+  const bool history = last.size() == 3 * points_;
+  Vec3* x = s.x().data();
+  Vec3* v = s.v().data();
+  for (const std::uint32_t i : free_) {
+    const Vec3 a_ext = fext_[i] * m.points.inv_mass[i];
+    Vec3 a = a_ext;
+    if (history) {
+      const Vec3 v_last{last[3 * i], last[3 * i + 1], last[3 * i + 2]};
+      const Vec3 a_last = (vn_[i] - v_last) * (Real(1) / h);
+      const Real len = norm(a_ext);
+      a = len > 0 ? a_ext * (std::clamp(dot(a_last, a_ext) / len, Real(0), len) / len) : Vec3{};
+    }
+    x[i] = xn_[i] + vn_[i] * h + a * (h * h);
+    v[i] = (x[i] - xn_[i]) * (Real(1) / h);
+  }
+  last.resize(3 * points_);
+  for (std::size_t i = 0; i < points_; ++i) {
+    last[3 * i] = vn_[i].x;
+    last[3 * i + 1] = vn_[i].y;
+    last[3 * i + 2] = vn_[i].z;
+  }
+}
+
+Real VertexBlockDescent::largest_motion(const Model&, const Vec3* x) const {
+  Real d2 = 0;
+  for (const std::uint32_t i : free_) d2 = std::max(d2, norm2(x[i] - xn_[i]));
+  return std::sqrt(d2);
+}
+
+Real VertexBlockDescent::margin_for(const Model& m, const Vec3* x) const {
+  return std::max(kMarginFactor * largest_motion(m, x), kMinMargin);
+}
+
+VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
+  VbdResult result;
+  initial_guess(m, s, h);
+  Vec3* x = s.x().data();
+  Vec3* v = s.v().data();
+  if (dynamic_) {
+    find_candidates(m, xn_.data(), margin_for(m, x));
+    colour(m);
+  } else if (!coloured_) {
+    colour(m);
+    coloured_ = true;
+  }
+  result.colours = int(colour_row_.size()) - 1;
+
+  const Real rho = settings_.acceleration;
+  bool accelerate = rho > 0;
+  Real omega = 1, last_merit = std::numeric_limits<Real>::infinity();
+  if (accelerate)
+    for (const std::uint32_t i : free_) prev1_[i] = x[i];  // x^(0): the k = 2 update needs it
+  for (int k = 1; k <= settings_.iterations; ++k) {
+    const Real merit = sweep(m, x, v, h);
+    ++result.sweeps;
+    if (accelerate && k >= 3 && merit > last_merit) {
+      accelerate = false;  // the extrapolation overshot: plain sweeps from here
+      ++result.acceleration_resets;
+    }
+    last_merit = merit;
+    if (accelerate) {
+      omega = k == 1 ? 1 : k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega);
+      if (k >= 2)
+        for (const std::uint32_t i : free_) {
+          x[i] = (x[i] - prev2_[i]) * omega + prev2_[i];
+          v[i] = (x[i] - xn_[i]) * (Real(1) / h);
+        }
+      std::swap(prev1_, prev2_);
+      for (const std::uint32_t i : free_) prev1_[i] = x[i];
+    }
+    // Contacts found for a smaller motion: find them again (and colour again) before going on.
+    if (dynamic_ && k < settings_.iterations && 2 * largest_motion(m, x) > margin_) {
+      find_candidates(m, xn_.data(), margin_for(m, x));
+      colour(m);
+      ++result.candidate_refreshes;
+    }
+  }
+  return result;
+}
+
+double VertexBlockDescent::residual(const Model& m, const State& s, Real h) {
+  const Vec3* x = s.x().data();
+  const Vec3* v = s.v().data();
+  if (dynamic_ && 2 * largest_motion(m, x) > margin_)
+    find_candidates(m, xn_.data(), margin_for(m, x));
+  Real worst = 0, heaviest = 0;
+  const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
+  const auto count = static_cast<std::int64_t>(free_.size());
+  const std::int64_t blocks = (count + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel) \
+    reduction(max                                                             \
+              : worst, heaviest)
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    const std::int64_t lo = b * kBlock, hi = std::min(count, lo + kBlock);
+    const std::span<const std::uint32_t> pts(free_.data() + lo, std::size_t(hi - lo));
+    point_terms(pts, m, x, v, h);
+    for (const std::uint32_t i : pts) {
+      worst = std::max(worst, norm(g_[i]));
+      heaviest = std::max(heaviest, m.points.mass[i]);
+    }
+  }
+  const Real g = gravity_ > 0 ? gravity_ : Real(9.81);
+  return heaviest > 0 ? double(worst / (heaviest * g)) : 0.0;
+}
+
+}  // namespace maille

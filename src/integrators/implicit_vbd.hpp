@@ -1,0 +1,104 @@
+// Internal: vertex block descent (VBD) for the implicit Euler step, and the step's force
+// residual that every implicit solver reports (implicit_vbd.cpp).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "maille/integrator.hpp"
+#include "maille/mat3.hpp"
+#include "maille/model.hpp"
+#include "maille/state.hpp"
+
+namespace maille {
+
+struct VbdResult {
+  int sweeps = 0;               // sweeps run this step
+  int acceleration_resets = 0;  // sweeps whose residual rose: acceleration turned off
+  int colours = 0;              // colours of the point graph (links and this step's contacts)
+  int candidate_refreshes = 0;  // contact candidates found again because points moved far
+};
+
+// The implicit Euler step as a minimisation (Chen, Macklin et al., "Vertex Block Descent",
+// SIGGRAPH 2024; Martin et al. 2011 for the variational form):
+//
+//   x_n+1 = argmin G(x),  G(x) = sum_i m_i / (2 h^2) |x_i - y_i|^2 + E(x),
+//   y_i = x_n,i + h v_n,i + h^2 f_ext,i / m_i,   v_n+1 = (x_n+1 - x_n) / h
+//
+// E holds every link (and the stages' contacts): a link's force and its Jacobian are the
+// gradient and Hessian of its energy, and its dampers see v = (x - x_n) / h, so damping enters
+// as the paper's (Rayleigh-like) term through J_v / h with no code of its own. Forces that stay
+// explicit (gravity, wind, stages that offer no implicit terms) make up f_ext, taken at the
+// step's start; air drag is implicit (a diagonal term). One sweep visits the free points colour
+// by colour (no two points of a colour share a link or a contact, so a colour's points are
+// updated at once, by threads, without atomics) and moves each by one Newton step on G
+// restricted to it: dx_i = H_i^-1 g_i, with g_i = -dG/dx_i = m_i/h^2 (y_i - x_i) + f_i(x) and
+// H_i = m_i/h^2 I + sum of its links' blocks (definite mode: positive definite).
+class VertexBlockDescent {
+ public:
+  VertexBlockDescent(const ImplicitSettings& settings, int threads)
+      : settings_(settings), threads_(threads) {}
+
+  // Takes the step's start: x_n, v_n and the explicit forces f_ext = s.f() minus the links',
+  // the stages' implicit contacts' and the air drag's forces at the start. Called by every
+  // implicit solver (the residual needs it); t_next is the time of the end of the step.
+  void begin(const Model& m, const State& s, Real h, double t_next, ForceEvaluator& forces);
+  // Solves the step by VBD from s (x, v at the step's start): on exit s.x, s.v hold x_n+1,
+  // v_n+1 on free points (fixed points untouched). Needs begin() first.
+  VbdResult solve(const Model& m, State& s, Real h);
+  // Largest force imbalance |m (v_n+1 - v_n) / h - f(x_n+1, v_n+1)| over free points, divided by
+  // m g of the heaviest free point (g = |gravity|, or 9.81 m/s^2 when gravity is off): the
+  // residual of the nonlinear implicit Euler equations at s, after a solve.
+  double residual(const Model& m, const State& s, Real h);
+  // Drops everything sized for a model.
+  void reset();
+
+ private:
+  struct PoolRows {
+    const LinkPoolBase* pool = nullptr;
+    std::vector<std::uint32_t> row;    // [points + 1] offsets into slots
+    std::vector<std::uint32_t> slots;  // storage slots of the pool's links, by point
+    bool fixed = false;                // always-active model pool: rows built once
+  };
+
+  void build_static_rows(const Model& m);
+  void find_candidates(const Model& m, const Vec3* x, Real margin);
+  void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
+  void colour(const Model& m);
+  void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
+                   const Vec3* v, Real h);
+  Real sweep(const Model& m, Vec3* x, Vec3* v, Real h);
+  Real update_block(std::span<const std::uint32_t> points, const Model& m, Vec3* x, Vec3* v,
+                    Real h);
+  void initial_guess(const Model& m, State& s, Real h);
+  Real largest_motion(const Model& m, const Vec3* x) const;
+  Real margin_for(const Model& m, const Vec3* x) const;
+
+  ImplicitSettings settings_;
+  int threads_ = 1;
+  std::size_t points_ = 0;
+  bool static_ready_ = false;
+  bool coloured_ = false;       // static models: colours found once
+  bool model_dynamic_ = false;  // the model has conditional links
+  bool dynamic_ = false;        // conditional or transient links: candidates and colours per step
+  std::vector<PoolRows> rows_;  // model pools, then this step's transient pools
+  std::vector<std::uint32_t> scratch_;  // candidate slots of one pool
+  std::vector<PointContacts*> contacts_;
+  std::vector<std::uint32_t> free_;        // free points, increasing
+  std::vector<std::uint32_t> colour_of_;   // [points]
+  std::vector<std::uint32_t> colour_row_;  // [colours + 1] offsets into by_colour_
+  std::vector<std::uint32_t> by_colour_;   // free points by colour, increasing in each
+  std::vector<std::uint32_t> stamp_;       // [colours] last point that saw the colour
+  std::vector<Vec3> xn_, vn_, y_, fext_, prev1_, prev2_, g_;  // [points]
+  std::vector<Mat3> hess_;                                    // [points]
+  // A block's Newton steps before they are taken: position, velocity, and the contacts there
+  // (trial_g_, trial_h_ only receive the contact terms; touching flags say who is in contact).
+  std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]
+  std::vector<Mat3> trial_h_;                         // [points]
+  std::vector<std::uint8_t> touching_, trial_touch_;  // [points]
+  Real margin_ = 0;  // contact search radius beyond each link's threshold, m
+  Real gravity_ = 0;
+};
+
+}  // namespace maille

@@ -1,0 +1,237 @@
+// Implicit Euler by vertex block descent (src/integrators/implicit_vbd.cpp) against the physics
+// it must reproduce: the same step as a converged Newton solve, the static sag of a hanging
+// cloth, forces that are the gradients of the energies VBD minimises, determinism across thread
+// counts, bit-identical resume, and large steps with contacts inside the solve.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "intersections.hpp"
+#include "maille/builders.hpp"
+#include "maille/checkpoint.hpp"
+#include "maille/links/conditional.hpp"
+#include "maille/scene.hpp"
+#include "test_support.hpp"
+
+namespace maille {
+namespace {
+
+// A 16 x 16 cloth, 0.6 m square, hanging from its top edge, no wind: every force but gravity is
+// a link, so VBD and Newton solve exactly the same equations.
+Model hanging_cloth() {
+  Model m;
+  FlagParams p;
+  p.nx = 16;
+  p.ny = 16;
+  p.width = 0.6;
+  p.height = 0.6;
+  p.mass = 0.2;
+  build_flag(m, p, "cloth");
+  return m;
+}
+
+SimulationSettings vbd(double h, int iterations, double acceleration) {
+  SimulationSettings s = test::settings(h, "implicit_euler");
+  s.implicit.solver = "vbd";
+  s.implicit.iterations = iterations;
+  s.implicit.acceleration = acceleration;
+  return s;
+}
+
+std::vector<Vec3> positions(const Simulator& sim) {
+  return {sim.state().x().begin(), sim.state().x().end()};
+}
+
+double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, double(norm(a[i] - b[i])));
+  return worst;
+}
+
+// The reference step: Newton iterations (matrix-free CG) to convergence of the nonlinear
+// backward-Euler equations M (v - v_n) = h f(x_n + h v, v).
+std::vector<Vec3> newton_step(const Model& m, double h) {
+  SimulationSettings s = test::settings(h, "implicit_euler");
+  s.implicit.newton_iterations = 100;
+  s.implicit.tolerance = 1e-13;
+  Simulator sim(m, s);
+  EXPECT_TRUE(sim.run_steps(3));
+  return positions(sim);
+}
+
+// VBD approaches the converged Newton step as sweeps grow: the error after three steps of
+// 1/60 s falls with every quadrupling of the sweeps (plain Gauss-Seidel converges linearly, so
+// the curve is monotone) and ends below 1e-4 of the distance the cloth moved; Chebyshev
+// acceleration reaches a given error in fewer sweeps.
+TEST(Vbd, ConvergesToTheNewtonStep) {
+  const Model m = hanging_cloth();
+  const double h = 1.0 / 60;
+  const std::vector<Vec3> reference = newton_step(m, h);
+  const double moved = largest_distance(reference, m.points.initial_position);
+  ASSERT_GT(moved, 1e-3);
+  double last = 1e300;
+  std::vector<double> errors;
+  for (int sweeps : {1, 4, 16, 64, 256, 1024}) {
+    Simulator sim(m, vbd(h, sweeps, 0));
+    ASSERT_TRUE(sim.run_steps(3));
+    const double e = largest_distance(positions(sim), reference);
+    errors.push_back(e);
+    EXPECT_LT(e, last) << sweeps << " sweeps";
+    last = e;
+  }
+  EXPECT_LT(errors.back(), 1e-4 * moved);
+  Simulator fast(m, vbd(h, 64, 0.9));
+  ASSERT_TRUE(fast.run_steps(3));
+  EXPECT_LT(largest_distance(positions(fast), reference), errors[3]);  // 64 plain sweeps
+}
+
+// At rest, the implicit step's fixed point is the static equilibrium f(x) = 0: a cloth hanging
+// under its weight, run with VBD at 1/60 s, rests where leapfrog (at half its stability limit)
+// rests, within 1 % of the sag. Air drag (which does not move the equilibrium) brings both to
+// rest within the 8 s simulated.
+TEST(Vbd, HangingClothRestsAtTheStaticSag) {
+  Model m = hanging_cloth();
+  m.fields.air_drag = 3;
+  Simulator probe(m, test::settings(1e-4));
+  const double h_lf = 0.5 * probe.stability().max_step;
+  Simulator leapfrog(m, test::settings(h_lf));
+  ASSERT_TRUE(leapfrog.run_steps(static_cast<std::uint64_t>(8.0 / h_lf)));
+  Simulator implicit(m, vbd(1.0 / 60, 50, 0.9));
+  ASSERT_TRUE(implicit.run_steps(8 * 60)) << implicit.blow_up()->message;
+  EXPECT_LT(implicit.energies().kinetic, 1e-6);
+  double sag = 0;
+  for (std::size_t i = 0; i < m.points.size(); ++i)
+    sag = std::max(sag, double(m.points.initial_position[i].y - leapfrog.state().x()[i].y));
+  EXPECT_GT(sag, 1e-3);
+  EXPECT_LT(largest_distance(positions(implicit), positions(leapfrog)), 0.01 * sag)
+      << "sag " << sag;
+}
+
+// VBD minimises sum of energies: each kind's force must be minus the gradient of its energy
+// (central differences, step 1e-6 m: truncation ~1e-12, rounding ~1e-10 of the force scale).
+template <class K>
+void expect_force_is_energy_gradient(const typename K::Params& p, Vec3 xa, Vec3 xb) {
+  const Vec3 zero{};
+  const Vec3 fa = K::force(xa, xb, zero, zero, p);
+  const Real eps = 1e-6;
+  const Vec3 axes[3] = {{eps, 0, 0}, {0, eps, 0}, {0, 0, eps}};
+  Real g[3];
+  for (int c = 0; c < 3; ++c)
+    g[c] = (K::energy(xa + axes[c], xb, p) - K::energy(xa - axes[c], xb, p)) / (2 * eps);
+  const Vec3 grad{g[0], g[1], g[2]};
+  const double scale = std::max(1.0, double(norm(fa)));
+  EXPECT_LT(norm(fa + grad), 1e-6 * scale) << K::keyword;
+}
+
+TEST(Vbd, EveryKindsForceIsMinusItsEnergyGradient) {
+  const Vec3 a{0.1, -0.2, 0.3}, stretched{0.9, 0.4, -0.1}, compressed{0.2, -0.1, 0.35};
+  for (const Vec3& b : {stretched, compressed}) {
+    expect_force_is_energy_gradient<Spring>({250, 0.5}, a, b);
+    expect_force_is_energy_gradient<SpringDamper>({250, 0.5, 3}, a, b);
+    expect_force_is_energy_gradient<Damper>({3}, a, b);
+  }
+  // Conditional: inside its threshold (compressed toward rest) and beyond it (no force).
+  expect_force_is_energy_gradient<ConditionalSpringDamper>({400, 0.2, 0.3, 0.3}, a, compressed);
+  expect_force_is_energy_gradient<ConditionalSpringDamper>({400, 0.2, 0.3, 0.3}, a, stretched);
+}
+
+// The result does not depend on how threads split a colour: 1 and 2 threads, bit for bit.
+TEST(Vbd, SameResultOnOneAndTwoThreads) {
+  std::uint64_t hash[2];
+  for (int t = 0; t < 2; ++t) {
+    Model m;
+    FlagParams p;
+    p.nx = 64;  // 4096 points: two threads are used when asked
+    p.ny = 64;
+    build_flag(m, p, "flag");
+    m.fields.wind.velocity = {5, 0, 1};
+    m.fields.wind.turbulence = 0.3;
+    SimulationSettings s = vbd(1.0 / 120, 10, 0.9);
+    s.threads = t + 1;
+    Simulator sim(std::move(m), s);
+    ASSERT_TRUE(sim.run_steps(10));
+    hash[t] = state_hash(sim.state());
+  }
+  EXPECT_EQ(hash[0], hash[1]);
+}
+
+// The adaptive guess's history lives in the State: a checkpoint resumes bit for bit.
+TEST(Vbd, CheckpointThenResumeIsBitIdentical) {
+  Model m = hanging_cloth();
+  m.fields.wind.velocity = {3, 0, 1};
+  m.fields.wind.turbulence = 0.4;
+  const SimulationSettings s = vbd(1.0 / 120, 8, 0.9);
+  Simulator whole(m, s);
+  ASSERT_TRUE(whole.run_steps(40));
+  Simulator first(m, s);
+  ASSERT_TRUE(first.run_steps(20));
+  const auto path = std::filesystem::temp_directory_path() / "maille_test_vbd_checkpoint.bin";
+  write_checkpoint(path, {first.state(), "implicit_euler", s.step, first.frames_published(), 0,
+                          model_fingerprint(first.model())});
+  Simulator second(m, s);
+  auto c = read_checkpoint(path, second.model());
+  ASSERT_TRUE(c) << c.error().to_string();
+  second.restore(std::move(c->state), c->frames_published);
+  ASSERT_TRUE(second.run_steps(20));
+  EXPECT_EQ(state_hash(second.state()), state_hash(whole.state()));
+  std::filesystem::remove(path);
+}
+
+// A scene of examples/ with implicit Euler by VBD at step h, run for `duration`.
+struct LargeStepRun {
+  Scene scene;
+  std::unique_ptr<Simulator> sim;
+  double deepest_ball = 0;             // deepest penetration into the obstacle "ball" seen, m
+  std::size_t most_intersections = 0;  // intersecting triangle pairs, worst frame (every 5 steps)
+};
+
+LargeStepRun run_large_steps(const std::string& name, double h, double duration) {
+  LargeStepRun r;
+  auto loaded = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
+  if (!loaded) throw std::runtime_error(loaded.error().to_string());
+  r.scene = std::move(loaded.value());
+  SimulationSettings s = r.scene.settings;
+  s.integrator = "implicit_euler";
+  s.implicit.solver = "vbd";
+  s.step = h;
+  s.threads = 1;
+  s.publish_every = 1 << 30;
+  s.sample_every = 1 << 30;
+  r.sim = std::make_unique<Simulator>(r.scene.model, s);
+  const auto steps = static_cast<std::uint64_t>(std::llround(duration / h));
+  for (std::uint64_t k = 0; k < steps; ++k) {
+    if (!r.sim->step()) break;
+    for (const auto& g : r.sim->profile().gauges())
+      if (g.name == "obstacle_ball_depth") r.deepest_ball = std::max(r.deepest_ball, g.last);
+    if (k % 5 == 4)
+      r.most_intersections = std::max(
+          r.most_intersections,
+          test::count_self_intersections(r.sim->state().x(), r.scene.model.surface.triangles));
+  }
+  return r;
+}
+
+// Large steps: the cloth falls on the ball at 1/60 s and 1/240 s, stays finite, and never sinks
+// into the ball deeper than a bound from the penalty law. A point pressed by its own weight
+// sinks m g / k (1.2 um here); the cloth's tension over the curved ball presses a point harder,
+// by the tension's normal share, at most the cloth's whole weight on one point (M g / k =
+// 1.2 mm): the bound. Self-collision keeps the folds apart: at 1/240 s no triangle pair ever
+// intersects. At 1/60 s with 10 sweeps folds still cross during the fall (tens of pairs; the
+// contacts' solve is not converged there: docs/implicit.md), which this test does not hide.
+TEST(Vbd, ClothOnSphereAtLargeSteps) {
+  for (const double h : {1.0 / 60, 1.0 / 240}) {
+    LargeStepRun r = run_large_steps("cloth_on_sphere", h, 2.0);
+    ASSERT_FALSE(r.sim->blow_up()) << r.sim->blow_up()->message;
+    const double bound = 0.25 * 9.81 / 2000;
+    EXPECT_LT(r.deepest_ball, bound) << "h = " << h;
+    if (h < 1.0 / 100) {
+      EXPECT_EQ(r.most_intersections, 0u) << "h = " << h;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace maille
