@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "maille/audio.hpp"
+#include "maille/links/friction.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 #include "maille/spectrum.hpp"
@@ -287,6 +288,52 @@ TEST(sound, ResamplingMatchesTheExactPath) {
     EXPECT_LT(linear_odd[q], bound * 1.05);
   }
   EXPECT_GT(linear_odd[0], bound * 0.3);  // the bound is the right size, not vacuous
+}
+
+// The friction law: it pulls a along b's relative velocity (b held back by the opposite), is
+// viscous below the stick velocity, and falls from N mu_s toward N mu_d as the sliding speed
+// grows.
+TEST(sound, FrictionLinkOpposesSlidingAndFallsWithSpeed) {
+  const Friction::Params p{2.0, 0.8, 0.3, 0.2, 0.05};
+  const Vec3 x{}, still{};
+  auto f = [&](Vec3 vb) { return Friction::force(x, x, still, vb, p); };
+  const Vec3 slow = f({0, 0, 1e-4}), fast = f({0, 0, 100}), mid = f({0, 0, 0.2});
+  EXPECT_GT(slow.z, 0);                                        // on a: along w = v_b - v_a
+  EXPECT_NEAR(slow.z, 2.0 * 0.8 * 1e-4 / 0.05, 1e-5);          // viscous, slope N mu_s / eps
+  EXPECT_NEAR(fast.z, 2.0 * (0.3 + 0.5 * 0.2 / 100.2), 1e-4);  // toward N mu_d
+  EXPECT_GT(mid.z, fast.z);                                    // a falling curve
+  EXPECT_NEAR(norm(f({3, 0, 4})), norm(f({0, 5, 0})), 1e-12);  // isotropic
+  EXPECT_EQ(Friction::damping(p), 2.0 * 0.8 / 0.05);           // the stability estimate's term
+}
+
+// The bowed string keeps sounding at the string's fundamental (a little flat, as a bowed
+// string under a heavy bow is) with a sawtooth's harmonics at the bridge: Helmholtz motion.
+TEST(sound, BowedStringSustainsItsFundamentalWithAllHarmonics) {
+  const WavData w = run_example_to_wav("sound_bowed_string");
+  ASSERT_EQ(w.channels.size(), 2u);
+  const auto& bridge = w.channels[1];
+  const double f1 = 219.8855;  // the plucked string's (same string)
+  const spectrum::Peak p = spectrum::dominant(from(bridge, 0.5, w.rate), w.rate, 50, 400);
+  std::printf("bowed: fundamental %.3f Hz (the string's %.3f Hz)\n", p.frequency, f1);
+  EXPECT_LT(std::abs(p.frequency - f1) / f1, 0.02);
+  double bin = 0;
+  const auto mag = spectrum::magnitude(from(bridge, 0.5, w.rate), w.rate, 8, bin);
+  for (int n = 2; n <= 4; ++n) {
+    const auto h = spectrum::peaks(mag, bin, n * p.frequency * 0.98, n * p.frequency * 1.02, 0, 0);
+    ASSERT_FALSE(h.empty()) << "harmonic " << n;
+    const double db = 20 * std::log10(h.front().magnitude / p.magnitude);
+    std::printf("bowed: harmonic %d at %.3f Hz, %.1f dB (a sawtooth: %.1f dB)\n", n,
+                h.front().frequency, db, -20 * std::log10(n));
+    EXPECT_GT(db, -20 * std::log10(n) - 6);
+  }
+  // Sustained: the last quarter second is as loud as the one after the start.
+  auto rms = [&](double t0, double t1) {
+    double sum = 0;
+    const auto a = std::size_t(t0 * w.rate), b = std::size_t(t1 * w.rate);
+    for (std::size_t i = a; i < b; ++i) sum += double(bridge[i]) * bridge[i];
+    return std::sqrt(sum / double(b - a));
+  };
+  EXPECT_GT(rms(1.25, 1.5), 0.7 * rms(0.25, 0.5));
 }
 
 }  // namespace
