@@ -244,6 +244,10 @@ int run(const RunOptions& o) {
               : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
                           o.duration ? "--duration" : "the scene's duration");
   if (!steps) return usage;
+  if (o.audio.empty() && !scene->audio.listeners.empty())
+    std::printf(
+        "maille: the scene has %zu [[listen]] channel%s: add --audio FILE.wav to write them\n",
+        scene->audio.listeners.size(), scene->audio.listeners.size() == 1 ? "" : "s");
   if (!o.audio.empty()) {  // --audio: the scene must say what to listen to
     if (scene->audio.listeners.empty()) {
       std::cerr << o.scene

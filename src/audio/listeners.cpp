@@ -134,6 +134,10 @@ Recorder::~Recorder() = default;
 
 void Recorder::attach(Simulator& sim) {
   const Model& m = sim.model();
+  if (sim.backend())
+    throw std::invalid_argument(
+        "[[listen]] reads its points on the host at every step, and the " + sim.settings().backend +
+        " backend keeps the state on the device: record sound with --backend cpu");
   if (sim.steps_taken() != 0 || sim.time() != 0)
     throw std::invalid_argument(
         "listening starts at t = 0 (sample k is the state at k / rate): this simulation is at "
