@@ -129,6 +129,7 @@ int validate(const std::string& path, const std::vector<std::string>& sets) {
               << sim.model().links.total() << " links";
     if (const auto n = scene->audio.listeners.size()) std::cout << ", " << n << " listeners";
     std::cout << ")\n";
+    describe_audio(std::cout, scene->audio, sim.settings().step);
   } catch (const std::exception& e) {
     std::cerr << path << ": error: " << e.what() << '\n';
     return bad_input;
