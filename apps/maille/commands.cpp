@@ -127,7 +127,8 @@ int validate(const std::string& path, const std::vector<std::string>& sets) {
     warn_if_unstable(sim);
     std::cout << path << ": ok (" << sim.model().points.size() << " points, "
               << sim.model().links.total() << " links";
-    if (const auto n = scene->audio.listeners.size()) std::cout << ", " << n << " listeners";
+    if (const auto n = scene->audio.listeners.size())
+      std::cout << ", " << n << (n == 1 ? " listener" : " listeners");
     std::cout << ")\n";
     describe_audio(std::cout, scene->audio, sim.settings().step);
   } catch (const std::exception& e) {
