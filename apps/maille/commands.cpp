@@ -19,6 +19,7 @@
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"
+#include "sound.hpp"
 #ifdef MAILLE_WITH_RENDER
 #include <unistd.h>
 
@@ -125,7 +126,11 @@ int validate(const std::string& path, const std::vector<std::string>& sets) {
     Simulator sim(std::move(scene->model), scene->settings);
     warn_if_unstable(sim);
     std::cout << path << ": ok (" << sim.model().points.size() << " points, "
-              << sim.model().links.total() << " links)\n";
+              << sim.model().links.total() << " links";
+    if (const auto n = scene->audio.listeners.size())
+      std::cout << ", " << n << (n == 1 ? " listener" : " listeners");
+    std::cout << ")\n";
+    describe_audio(std::cout, scene->audio, sim.settings().step);
   } catch (const std::exception& e) {
     std::cerr << path << ": error: " << e.what() << '\n';
     return bad_input;
@@ -191,6 +196,7 @@ int info(const std::string& path, const std::vector<std::string>& sets, const st
   std::cout << "integrator   " << s.integrator << ", step " << s.step << " s, duration "
             << s.duration << " s, frame every " << s.publish_every << " steps, threads "
             << sim.threads() << '\n';
+  describe_audio(std::cout, scene->audio, s.step);
   const auto& st = sim.stability();
   if (std::isinf(st.max_step)) {
     // Unconditionally stable schemes (implicit Euler): say so, and give the stiffest link and
@@ -240,6 +246,27 @@ int run(const RunOptions& o) {
               : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
                           o.duration ? "--duration" : "the scene's duration");
   if (!steps) return usage;
+  if (o.audio.empty() && !scene->audio.listeners.empty())
+    std::printf(
+        "maille: the scene has %zu [[listen]] channel%s: add --audio FILE.wav to write them\n",
+        scene->audio.listeners.size(), scene->audio.listeners.size() == 1 ? "" : "s");
+  if (!o.audio.empty()) {  // --audio: the scene must say what to listen to
+    if (scene->audio.listeners.empty()) {
+      std::cerr << o.scene
+                << ": error: --audio: the scene has no [[listen]] table (docs/sound.md)\n";
+      return bad_input;
+    }
+    if (!o.resume.empty()) {
+      std::cerr << "error: --audio records from t = 0: it cannot be combined with --resume\n";
+      return usage;
+    }
+    if (planned_wav_bytes(scene->audio, double(*steps) * settings.step) > max_wav_data_bytes) {
+      std::cerr << "error: --audio: " << double(*steps) * settings.step << " s of "
+                << scene->audio.listeners.size()
+                << " channels is beyond the 4 GiB a WAV file can hold\n";
+      return usage;
+    }
+  }
   // Refused before the output directory is made: nothing is left behind.
   if (o.smooth && SmoothSurface(scene->model).empty()) {
     std::cerr << o.scene << ": error: --smooth: the scene has no surface to smooth\n";
@@ -253,8 +280,10 @@ int run(const RunOptions& o) {
   // The simulator first: a set-up it refuses (a stage the GPU backend lacks, a device that
   // cannot start) leaves no output directory behind.
   std::optional<Simulator> built;
+  std::optional<audio::Recorder> sound;  // --audio: the listeners' stage, installed last
   try {
     built.emplace(std::move(scene->model), settings);
+    if (!o.audio.empty()) sound.emplace(scene->audio, settings.step).attach(*built);
   } catch (const std::invalid_argument& e) {
     std::cerr << o.scene << ": error: " << e.what() << '\n';
     return bad_input;
@@ -301,6 +330,8 @@ int run(const RunOptions& o) {
     if (o.checkpoint_every && !sim.blow_up() && sim.steps_taken() % *o.checkpoint_every != 0)
       checkpoint();              // where this run stopped (the end, or an interrupt)
     stats.close(sim.profile());  // the header is there even when no row is
+    // What was simulated, whole: after a blow-up up to it, after Ctrl-C up to the last step.
+    if (sound) write_sound(*sound, o.audio);
 
     const double particle_steps = double(done) * sim.model().points.size();
     std::printf(
@@ -315,8 +346,10 @@ int run(const RunOptions& o) {
       return blow_up;
     }
     if (g_stop) {
-      std::cerr << "interrupted at step " << sim.steps_taken()
-                << "; the frames and stats written so far are complete\n";
+      std::cerr << "interrupted at step " << sim.steps_taken() << "; the frames and stats"
+                << (sound ? " written so far and the audio of the simulated time"
+                          : " written so far")
+                << " are complete\n";
       return interrupted;
     }
     const Energies e = sim.energies();

@@ -35,6 +35,7 @@ struct RunOptions {
   std::vector<std::string> sets;                  // --set KEY=VALUE overrides
   std::string backend;                            // empty: the scene's ([simulation] backend)
   std::optional<int> gpu_device;                  // EGL device index for the gpu backend
+  std::string audio;  // --audio FILE.wav: the scene's [[listen]] channels (docs/sound.md)
 };
 int run(const RunOptions& o);
 // `sets`: scene overrides KEY=VALUE (`--set`, see src/scene/overrides.hpp), in order.

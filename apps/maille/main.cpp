@@ -79,6 +79,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
       ->check(kThreads);
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
+  run_cmd->add_option("--audio", ro.audio,
+                      "Write the scene's [[listen]] channels to this WAV file at [audio] rate "
+                      "(docs/sound.md)");
   run_cmd->add_flag("--no-self-collision", ro.no_self_collision,
                     "Ignore the scene's [self_collision] table (to see what it prevents)");
   run_cmd

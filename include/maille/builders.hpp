@@ -48,6 +48,8 @@ struct RopeParams {
   LinkMaterial material{1000, Real(0.1)};
   Real bending_stiffness = 0;   // N/m
   std::string fixed = "start";  // "start", "end", "both", "none"
+  Real pretension = 0;  // relative: rest lengths are (1 - pretension) times the built distance
+                        // (a string fixed at both ends is then under tension k pretension L)
 };
 Group build_rope(Model& m, const RopeParams& p, const std::string& name);
 

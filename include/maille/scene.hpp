@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "maille/audio.hpp"
 #include "maille/link_registry.hpp"
 #include "maille/model.hpp"
 #include "maille/result.hpp"
@@ -20,6 +21,7 @@ struct Scene {
   std::filesystem::path source;
   Model model;
   SimulationSettings settings;
+  audio::AudioSpec audio;  // [[listen]] and [audio] (docs/sound.md); no listener: silent
 };
 
 // Reads and validates a scene. Link kinds are looked up in `kinds` and stage tables in `stages`

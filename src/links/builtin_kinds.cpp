@@ -2,6 +2,7 @@
 #include "maille/link_registry.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/damper.hpp"
+#include "maille/links/friction.hpp"
 #include "maille/links/spring.hpp"
 #include "maille/links/spring_damper.hpp"
 
@@ -13,6 +14,7 @@ LinkKindRegistry LinkKindRegistry::with_builtins() {
   r.add<Damper>();
   r.add<SpringDamper>();
   r.add<ConditionalSpringDamper>();
+  r.add<Friction>();
   return r;
 }
 

@@ -104,6 +104,8 @@ Group rope(TomlCursor& t, Model& m, const std::string& name) {
   p.material = material(t, p.material);
   p.bending_stiffness = stiffness(t, "bending_stiffness", p.bending_stiffness);
   p.fixed = t.text("fixed", p.fixed, {"start", "end", "both", "none"});
+  p.pretension = t.real("pretension", p.pretension, Bound::non_negative);
+  if (p.pretension >= 1) t.fail("pretension", "must be < 1");
   return guarded(t, [&] { return build_rope(m, p, name); });
 }
 

@@ -1,5 +1,6 @@
 // Rope (or chain): points on a segment, neighbours joined by spring-dampers, optionally every
-// other point too (bending), one or both ends fixed.
+// other point too (bending), one or both ends fixed; with a pretension, rest lengths shorter than
+// the built spacing (a string stretched between fixed ends).
 #include <stdexcept>
 
 #include "build_helpers.hpp"
@@ -21,9 +22,11 @@ Group build_rope(Model& m, const RopeParams& p, const std::string& name) {
                  p.start + (p.end - p.start) * s);
   }
   for (std::uint32_t i = 0; i + 1 < p.points; ++i) {
-    build::link(m, first + i, first + i + 1, p.material.stiffness, p.material.damping);
+    build::link(m, first + i, first + i + 1, p.material.stiffness, p.material.damping,
+                1 - p.pretension);
     if (i + 2 < p.points)
-      build::link(m, first + i, first + i + 2, p.bending_stiffness, p.material.damping);
+      build::link(m, first + i, first + i + 2, p.bending_stiffness, p.material.damping,
+                  1 - p.pretension);
   }
   return build::group(m, name, "rope", first);
 }

@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "builder_tables.hpp"
+#include "listen_table.hpp"
 #include "maille/builders.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
@@ -70,6 +71,7 @@ class SceneReader {
     if (!geometric_contacts_.empty()) install_geometric_contacts(scene.model);
     for (auto& t : top.tables("contact")) contact(t, scene.model);
     stage_tables(top, scene.model);
+    scene.audio = read_audio_tables(top, scene.model);  // [[listen]], [audio]
     top.finish();
     if (scene.model.points.size() == 0)
       throw SceneFailure{{file_, 0, 0, "", "the scene has no point (add [[mass]] or a builder)"}};

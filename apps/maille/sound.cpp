@@ -1,0 +1,77 @@
+#include "sound.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+#include <string>
+
+namespace maille::app {
+
+namespace {
+
+std::string format_name(audio::SampleFormat f) {
+  return f == audio::SampleFormat::pcm16 ? "16-bit PCM" : "32-bit float";
+}
+
+}  // namespace
+
+void describe_audio(std::ostream& out, const audio::AudioSpec& spec, double step) {
+  for (std::size_t c = 0; c < spec.listeners.size(); ++c) {
+    const audio::Listener& l = spec.listeners[c];
+    out << "listen       channel " << c << ": " << audio::name(l.quantity) << " of " << l.label
+        << " (point " << l.point << ") along [" << l.axis.x << ", " << l.axis.y << ", " << l.axis.z
+        << "]\n";
+  }
+  if (spec.listeners.empty()) return;
+  const audio::AudioSettings& s = spec.settings;
+  out << "audio        " << s.rate << " Hz, " << format_name(s.format) << ", gain ";
+  if (s.gain > 0)
+    out << s.gain;
+  else
+    out << "auto (peak at 0.99 of full scale)";
+  out << "; " << audio::plan_sampling(step, s.rate, s.resampler).describe() << '\n';
+}
+
+std::uint64_t planned_wav_bytes(const audio::AudioSpec& spec, double seconds) {
+  const double frames = std::floor(seconds * spec.settings.rate) + 1;
+  const double bytes = frames * double(spec.listeners.size()) *
+                       (spec.settings.format == audio::SampleFormat::pcm16 ? 2 : 4);
+  return bytes > 1.8e19 ? ~std::uint64_t{0} : static_cast<std::uint64_t>(bytes);
+}
+
+namespace {
+
+const char* unit_of(audio::Quantity q) {
+  return q == audio::Quantity::position ? "m" : q == audio::Quantity::force ? "N" : "m/s";
+}
+
+}  // namespace
+
+WavReport write_sound(audio::Recorder& recorder, const std::filesystem::path& path) {
+  recorder.finish();
+  const audio::AudioSpec& spec = recorder.spec();
+  const auto& channels = recorder.channels();
+  const std::vector<double> gains = audio::output_gains(channels, spec);
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  const WavReport r = write_wav(path, channels, spec.settings.rate, spec.settings.format, gains);
+  // Per channel: what it is, its gain and where its peak lands.
+  std::ostringstream each;
+  each.precision(4);
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    const audio::Listener& l = spec.listeners[c];
+    each << (c ? "; " : "") << c << ": " << audio::name(l.quantity) << " of " << l.label
+         << ", gain " << gains[c] << " per " << unit_of(l.quantity) << " (peak " << r.peak[c] << " "
+         << unit_of(l.quantity) << " -> " << r.peak[c] * gains[c] << " of full scale)";
+  }
+  std::printf(
+      "maille: audio %s: %d Hz %s, %llu samples (%.4g s), gain %s%s, %s; channels %s\n",
+      path.string().c_str(), spec.settings.rate, format_name(spec.settings.format).c_str(),
+      static_cast<unsigned long long>(r.frames), double(r.frames) / spec.settings.rate,
+      spec.settings.gain > 0 ? "fixed" : "auto (0.99 of full scale at each quantity's peak)",
+      r.clipped ? (", " + std::to_string(r.clipped) + " samples clipped").c_str() : "",
+      recorder.plan().describe().c_str(), each.str().c_str());
+  return r;
+}
+
+}  // namespace maille::app

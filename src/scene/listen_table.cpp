@@ -1,0 +1,110 @@
+// [[listen]]: one channel each. The point is `point` (a [[mass]] or [[fixed]] name, "group:index"
+// or a global index) or `group` with `index`; `quantity` is position, velocity or force, read
+// along `axis`. [audio]: the rate, the sample format, the gain and the resampler.
+#include "listen_table.hpp"
+
+#include <string>
+
+namespace maille {
+
+namespace {
+
+// The point a listener names, checked like a link's ends.
+std::uint32_t listened_point(TomlCursor& t, const Model& m, std::string& label) {
+  const bool by_point = t.has("point"), by_group = t.has("group") || t.has("index");
+  if (by_point && by_group)
+    t.fail(t.has("group") ? "group" : "index",
+           "give either 'point' or 'group' with 'index', not both");
+  if (!by_point && !by_group)
+    t.fail("point",
+           "is required: a point name, \"group:index\", a point index, or 'group' "
+           "with 'index'");
+  if (by_group) {
+    const std::string name = t.text("group");
+    const Group* g = m.group(name);
+    if (!g) t.fail("group", "no group named '" + name + "'");
+    const std::int64_t count = g->count;
+    if (!t.has("index"))
+      t.fail("index", "is required with 'group' (0 to " + std::to_string(count - 1) + ")");
+    const std::int64_t i = t.integer("index", 0, 0, count - 1);
+    label = name + ":" + std::to_string(i);
+    return g->first + static_cast<std::uint32_t>(i);
+  }
+  const toml::node* n = t.node("point");
+  if (n->is_integer()) {
+    const std::int64_t i = *n->value<std::int64_t>();
+    if (i < 0 || i >= std::int64_t(m.points.size()))
+      t.fail("point", "point index " + std::to_string(i) + " does not exist (the scene has " +
+                          std::to_string(m.points.size()) + " points)");
+    label = std::to_string(i);
+    return static_cast<std::uint32_t>(i);
+  }
+  if (!n->is_string()) t.fail("point", "must be a point name, \"group:index\" or an index");
+  label = *n->value<std::string>();
+  const auto colon = label.find(':');
+  const Group* g = m.group(label.substr(0, colon));
+  if (!g) t.fail("point", "no point or group named '" + label.substr(0, colon) + "'");
+  if (colon == std::string::npos) {
+    if (g->count != 1)
+      t.fail("point", "'" + label + "' is a group of " + std::to_string(g->count) +
+                          " points: use '" + label + ":index' or group = \"" + label +
+                          "\" with index");
+    return g->first;
+  }
+  std::size_t used = 0;
+  long long i = -1;
+  try {
+    i = std::stoll(label.substr(colon + 1), &used);
+  } catch (const std::exception&) {
+  }
+  if (i < 0 || used != label.size() - colon - 1 || i >= g->count)
+    t.fail("point", "'" + label + "': index must be in [0, " + std::to_string(g->count - 1) + "]");
+  return g->first + static_cast<std::uint32_t>(i);
+}
+
+audio::Listener listener(TomlCursor& t, const Model& m) {
+  audio::Listener l;
+  l.point = listened_point(t, m, l.label);
+  const std::string q = t.text("quantity", "velocity", {"position", "velocity", "force"});
+  l.quantity = q == "position"   ? audio::Quantity::position
+               : q == "velocity" ? audio::Quantity::velocity
+                                 : audio::Quantity::force;
+  const Vec3 axis = t.vec3("axis", l.axis);
+  const Real length = norm(axis);
+  if (!(length > Real(1e-12))) t.fail("axis", "must not be zero");
+  l.axis = axis / length;
+  t.finish();
+  return l;
+}
+
+}  // namespace
+
+audio::AudioSpec read_audio_tables(TomlCursor& top, const Model& m) {
+  audio::AudioSpec spec;
+  for (auto& t : top.tables("listen")) spec.listeners.push_back(listener(t, m));
+  if (auto t = top.table("audio")) {
+    audio::AudioSettings& s = spec.settings;
+    s.rate = static_cast<int>(t->integer("rate", s.rate, audio::min_rate, audio::max_rate));
+    s.format = t->text("format", "pcm16", {"pcm16", "float32"}) == "float32"
+                   ? audio::SampleFormat::float32
+                   : audio::SampleFormat::pcm16;
+    if (t->has("gain") && !t->has_text("gain")) {
+      s.gain = t->real("gain", 1, Bound::positive);
+      t->check_range("gain", s.gain, 0, 1e30, "");
+    } else if (t->text("gain", "auto", {"auto"}) == "auto") {
+      s.gain = 0;
+    }
+    s.resampler = t->text("resampler", "sinc", {"sinc", "linear"}) == "linear"
+                      ? audio::Resampler::linear
+                      : audio::Resampler::sinc;
+    if (spec.listeners.empty())
+      t->fail("", "an [audio] table needs at least one [[listen]] table (its channels)");
+    t->finish();
+  }
+  if (spec.listeners.size() > 64)
+    top.fail("listen", "at most 64 [[listen]] tables (channels), got " +
+                           std::to_string(spec.listeners.size()));
+  return spec;
+}
+
+}  // namespace maille
