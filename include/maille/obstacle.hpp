@@ -33,6 +33,9 @@
 namespace maille {
 
 enum class ObstacleMethod : std::uint8_t { geometric, facets, conditional };
+
+// Below this sliding speed an obstacle's friction turns viscous (as self-collision's), m/s.
+inline constexpr Real kObstacleSlip = Real(1e-3);
 std::string_view to_string(ObstacleMethod m);
 
 // A rigid scripted motion applied on top of the obstacle's placement: a point x of the placed
@@ -68,13 +71,17 @@ struct Obstacle {
   // A mesh file instead of a canonical shape (facets, conditional): the mesh in its own frame,
   // placed by `place` like a shape. Null: the canonical shape (tessellated where needed).
   std::shared_ptr<const TriMesh> mesh;
-  std::string mesh_file;        // for messages and the viewer
-  int resolution = 48;          // segments around curved canonical shapes (facets, drawing)
-  shapes::Affine place;         // canonical (or mesh) frame -> world, at t = 0
-  ObstacleMotion motion;        // on top of `place`
-  Real stiffness = 2000;        // k, N/m (geometric, conditional)
-  Real damping = 1;             // z, N.s/m (geometric, conditional), along the normal
-  bool world_normal = false;    // geometric: false, the brief's mapping; true: world normal
+  std::string mesh_file;      // for messages and the viewer
+  int resolution = 48;        // segments around curved canonical shapes (facets, drawing)
+  shapes::Affine place;       // canonical (or mesh) frame -> world, at t = 0
+  ObstacleMotion motion;      // on top of `place`
+  Real stiffness = 2000;      // k, N/m (geometric, conditional)
+  Real damping = 1;           // z, N.s/m (geometric, conditional), along the normal
+  bool world_normal = false;  // geometric: false, the brief's mapping; true: world normal
+  // geometric: Coulomb coefficient mu. The tangential force mu |F_n| opposes the sliding
+  // velocity relative to the surface, viscous below kObstacleSlip (no chatter at rest);
+  // implicit solvers lag |F_n| and the normal at the step's start.
+  Real friction = 0;
   Real threshold = Real(0.02);  // conditional: contact distance of the sampled points, m
   Real alpha = Real(0.8);       // facets: dissipation in [0, 1] (normal restitution)
   Real beta = Real(0.3);        // facets: friction in [0, 1] (Coulomb coefficient)

@@ -76,8 +76,17 @@ class PointContacts {
  public:
   virtual ~PointContacts() = default;
   // The obstacle's placement at time t: the end of the step for the solve, its start when a
-  // solver takes the stage's explicit force of the step's start back out of the forces.
+  // solver takes the stage's explicit force of the step's start back out of the forces. Ends
+  // any lag (below): the terms are then exactly the stage's own forces.
   virtual void set_time(double t) = 0;
+  // Lagged friction: the normal force and the normal of each point's contact are taken at
+  // (x, v) and the current placement (the step's start), then the placement moves to t_next;
+  // they are held for the solve until the next set_time (so sticking is a smooth, convex term
+  // of the solve). Stages without friction only move the placement.
+  virtual void lag(std::span<const std::uint32_t> /*points*/, const Vec3* /*x*/, const Vec3* /*v*/,
+                   double t_next) {
+    set_time(t_next);
+  }
   // For each point i of `points` that the stage collides: adds the contact force at x[i], v[i]
   // into f[i] and its stiffness -d f / d x - (1/h) d f / d v (positive semi-definite) into
   // hessian[i], and sets touching[i] = 1 where a contact acts (when `touching` is not null:

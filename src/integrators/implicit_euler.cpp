@@ -100,7 +100,8 @@ class ImplicitEuler final : public Integrator {
         s.time -= h;
       }
       build_rhs(m, s, h, k == 0);
-      system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.transient_links());
+      system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.transient_links(),
+                         forces.point_contacts());
       const auto r = system_->solve(rhs_, dv_, settings_.tolerance, settings_.max_iterations);
       iterations += static_cast<std::uint64_t>(r.iterations);
       residual = r.relative_residual;

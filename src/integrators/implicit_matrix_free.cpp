@@ -5,6 +5,7 @@
 // allocation in a step.
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -42,6 +43,11 @@ class MatrixFreeSystem final : public ImplicitSystem {
     for (const auto& pool : m.links.pools()) blocks_.emplace_back(pool->size());
     free_.resize(n);
     for (std::size_t i = 0; i < n; ++i) free_[i] = m.points.inv_mass[i] > 0;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (free_[i]) free_list_.push_back(i);
+    point_blocks_.assign(n, Mat3{});
+    stiffness_.assign(n, Mat3{});
+    sink_.assign(n, Vec3{});
     for (auto* a : {&r_, &z_, &p_, &q_}) a->assign(n, Vec3{});
     mass_.assign(n, 0);
     diagonal_.assign(n, Mat3{});
@@ -49,7 +55,8 @@ class MatrixFreeSystem final : public ImplicitSystem {
   }
 
   void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
-                 std::span<const LinkPoolBase* const> transient) override {
+                 std::span<const LinkPoolBase* const> transient,
+                 std::span<PointContacts* const> contacts) override {
     const auto pools = m.links.pools();
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
@@ -76,8 +83,33 @@ class MatrixFreeSystem final : public ImplicitSystem {
       pools[p]->add_block_diagonal(blocks_[p].data(), diagonal_.data());
     for (std::size_t p = 0; p < transient_.size(); ++p)
       transient_[p]->add_block_diagonal(transient_blocks_[p].data(), diagonal_.data());
+    point_contact_blocks(s, h, rhs, contacts);
     for (std::size_t i = 0; i < diagonal_.size(); ++i)
       diagonal_[i] = free_[i] ? inverse_spd(diagonal_[i]) : Mat3::identity();
+  }
+
+  // Stages' point contacts (obstacles): h^2 K + h D on the point's own diagonal block, and the
+  // right-hand side's h^2 df/dx v = -h^2 K v (K alone: the terms with 1/h = 0).
+  void point_contact_blocks(const State& s, Real h, Vec3* rhs,
+                            std::span<PointContacts* const> contacts) {
+    has_point_blocks_ = !contacts.empty();
+    if (!has_point_blocks_) return;
+    const Vec3* x = s.x().data();
+    const Vec3* v = s.v().data();
+    std::fill(point_blocks_.begin(), point_blocks_.end(), Mat3{});
+    std::fill(stiffness_.begin(), stiffness_.end(), Mat3{});
+    std::fill(sink_.begin(), sink_.end(), Vec3{});
+    for (PointContacts* c : contacts) {
+      c->set_time(s.time);
+      c->add_terms(free_list_, x, v, Real(1) / h, sink_.data(), point_blocks_.data(), nullptr);
+      if (rhs) c->add_terms(free_list_, x, v, 0, sink_.data(), stiffness_.data(), nullptr);
+      c->set_time(s.time + h);
+    }
+    for (const std::uint32_t i : free_list_) {
+      point_blocks_[i] *= h * h;
+      diagonal_[i] += point_blocks_[i];
+      if (rhs) rhs[i] -= (stiffness_[i] * v[i]) * (h * h);
+    }
   }
 
   SolveResult solve(std::vector<Vec3>& b, std::vector<Vec3>& dv, Real tolerance,
@@ -141,8 +173,10 @@ class MatrixFreeSystem final : public ImplicitSystem {
     for (std::size_t p = 0; p < transient_.size(); ++p)
       transient_[p]->apply_blocks(transient_blocks_[p].data(), u.data(), out.data());
 #pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < n; ++i)
+    for (std::int64_t i = 0; i < n; ++i) {
+      if (has_point_blocks_) out[i] += point_blocks_[i] * u[i];
       if (!free_[i]) out[i] = Vec3{};
+    }
   }
 
   // Dot product inside (or outside) a parallel region: per-thread partial sums added in thread
@@ -167,6 +201,11 @@ class MatrixFreeSystem final : public ImplicitSystem {
   std::vector<const LinkPoolBase*> transient_;       // this step's stage links
   std::vector<std::vector<Mat3>> transient_blocks_;  // their blocks (grow-only)
   std::vector<std::uint8_t> free_;
+  std::vector<std::uint32_t> free_list_;
+  // Stages' point contacts: h^2 K + h D per point, K alone, and a sink for their forces.
+  std::vector<Mat3> point_blocks_, stiffness_;
+  std::vector<Vec3> sink_;
+  bool has_point_blocks_ = false;
   std::vector<Real> mass_;
   std::vector<Mat3> diagonal_;  // inverse diagonal blocks (preconditioner)
   std::vector<Vec3> r_, z_, p_, q_;

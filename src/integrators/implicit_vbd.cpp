@@ -35,7 +35,7 @@ namespace {
 constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
 constexpr std::int64_t kBlock = 64;            // points per thread task in a colour
 constexpr std::size_t kParallelPoints = 2048;  // fewer free points: one thread
-constexpr int kHalvings = 6;                   // a contact-changing step shrinks to 1/64 at most
+constexpr int kBisections = 10;  // a step across a contact's surface stops within 1/1024 of it
 // The guess's largest motion times this is the contact margin (2: two points moving toward
 // each other; 1.25: room before a refresh is needed).
 constexpr Real kMarginFactor = Real(2.5);
@@ -187,7 +187,7 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   for (PointContacts* c : contacts_) {
     c->set_time(s.time);
     c->add_terms(free_, x, v, Real(1) / h, g_.data(), hess_.data(), nullptr);
-    c->set_time(t_next);
+    c->lag(free_, x, v, t_next);
   }
   const auto f = s.f();
   const Real drag = m.fields.air_drag;
@@ -226,9 +226,9 @@ void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, cons
 //
 // A contact's force (its damper above all) jumps where the contact starts, so a Newton step
 // that starts or ends a contact can land on the other side of the jump and the next one come
-// back: a point would bounce between deep inside and just outside. A step that changes whether
-// the point touches is therefore halved until it lowers |g| (at most kHalvings times; else the
-// point stays): the point settles on the surface.
+// back: a point would bounce between deep inside and just outside. A step that starts or leaves
+// a contact therefore stops just inside the surface (a point whose true rest is on the jump
+// stays there; the next Newton step, with the contact's stiffness, goes on from there).
 Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
   const std::size_t colours = colour_row_.size() - 1;
   Real merit = 0;
@@ -270,20 +270,23 @@ Real VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const 
       v[i] = trial_v_[i];
       continue;
     }
+    // Starting or leaving a contact: the step stops just inside the surface (bisection on
+    // whether the point touches), touching; the next step sees the contact's stiffness.
     const Vec3 x0 = x[i], dx = trial_x_[i] - x0;
-    const Real g0 = norm(g_[i]);
     const std::span<const std::uint32_t> one(&i, 1);
-    Real t = 1;
-    for (int k = 0; k <= kHalvings; ++k, t *= Real(0.5)) {
-      x[i] = x0 + dx * t;
-      v[i] = (x[i] - xn_[i]) * inv_h;
-      point_terms(one, m, x, v, h);
-      if (norm(g_[i]) < g0) break;
+    Real lo = 0, hi = 1;
+    for (int k = 0; k < kBisections; ++k) {
+      const Real mid = Real(0.5) * (lo + hi);
+      trial_x_[i] = x0 + dx * mid;
+      trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
+      trial_touch_[i] = 0;
+      for (const PointContacts* c : contacts_)
+        c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                     trial_touch_.data());
+      (bool(trial_touch_[i]) == bool(touching_[i]) ? lo : hi) = mid;
     }
-    if (!(norm(g_[i]) < g0)) {
-      x[i] = x0;
-      v[i] = (x0 - xn_[i]) * inv_h;
-    }
+    x[i] = x0 + dx * (touching_[i] ? lo : hi);
+    v[i] = (x[i] - xn_[i]) * inv_h;
   }
   return merit;
 }
@@ -300,6 +303,9 @@ void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
       const Vec3 v_last{last[3 * i], last[3 * i + 1], last[3 * i + 2]};
       const Vec3 a_last = (vn_[i] - v_last) * (Real(1) / h);
       const Real len = norm(a_ext);
+      // The paper's clamp: along a_ext, last step's acceleration within [0, |a_ext|] (a point
+      // at rest on a support keeps none of it). Its part across a_ext (a cloth sliding down a
+      // slope) was tried and dropped: on cloth_on_sphere it replayed impacts (docs/implicit.md).
       a = len > 0 ? a_ext * (std::clamp(dot(a_last, a_ext) / len, Real(0), len) / len) : Vec3{};
     }
     x[i] = xn_[i] + vn_[i] * h + a * (h * h);

@@ -23,6 +23,7 @@ constexpr MethodKey kMethodKeys[] = {
     {"stiffness", "geometric and conditional", true, false, true},
     {"damping", "geometric and conditional", true, false, true},
     {"normal", "geometric", true, false, false},
+    {"friction", "geometric", true, false, false},
     {"threshold", "conditional", false, false, true},
     {"alpha", "facets", false, true, false},
     {"beta", "facets", false, true, false},
@@ -132,6 +133,8 @@ void read_method_keys(SceneTable& t, Obstacle& o) {
   o.damping = t.real("damping", o.damping, Bound::non_negative);
   t.check_range("damping", o.damping, 0, limits::max_stiffness, "N.s/m");
   o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
+  o.friction = t.real("friction", o.friction, Bound::non_negative);
+  t.check_range("friction", o.friction, 0, 100, "");
   o.threshold = t.real("threshold", o.threshold, Bound::positive);
   t.check_range("threshold", o.threshold, 0, limits::max_coordinate, "m");
   o.alpha = t.real("alpha", o.alpha, Bound::non_negative);

@@ -78,14 +78,11 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
       const std::uint32_t p = set_[i];
       const Vec3 rel = x[p] - place.translation;
       if (dot(rel, rel) > reach2) continue;  // far: one test
-      // The damper acts on the velocity relative to the obstacle's surface.
-      const Vec3 vr = o_.motion.moves() ? v[p] - o_.motion.velocity_at(x[p], ctx.t) : v[p];
-      Real depth = 0;
-      const Vec3 force = geometric_contact_force(point_, place, x[p], vr, o_.stiffness, o_.damping,
-                                                 o_.world_normal, depth);
-      if (depth <= 0) continue;
-      ++contacts;
-      deepest = std::max(deepest, depth);
+      const Contact c = contact(p, place, ctx.t, x[p], v[p], 0, false);
+      if (c.depth <= 0 && !c.rubbing) continue;
+      if (c.depth > 0) ++contacts;
+      deepest = std::max(deepest, c.depth);
+      const Vec3 force = c.force;
       f[p] += force;
     }
     if (!ctx.profile) return;
@@ -98,13 +95,31 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
 
   // Implicit solvers: the same law at their iterate, with the stiffness (k + z / h) n n^T along
   // the world normal (exact for the world-normal variant and for uniform scales; the force,
-  // which decides where the solve converges, is always the brief's).
+  // which decides where the solve converges, is always the brief's), and friction's.
   PointContacts* point_contacts() override {
     return this;
   }
   void set_time(double t) override {
     time_ = t;
     place_now_ = o_.motion.at(o_.place, t);
+    lagged_ = false;
+  }
+  void lag(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v,
+           double t_next) override {
+    if (o_.friction > 0) {
+      if (lag_normal_.size() != member_.size()) {
+        lag_normal_.assign(member_.size(), Vec3{});
+        lag_force_.assign(member_.size(), 0);
+      }
+      for (const std::uint32_t p : points) {
+        if (!member_[p]) continue;
+        const Contact c = contact(p, place_now_, time_, x[p], v[p], 0, false);
+        lag_force_[p] = c.depth > 0 ? c.normal_force : 0;
+        lag_normal_[p] = c.normal;
+      }
+    }
+    set_time(t_next);
+    lagged_ = o_.friction > 0;
   }
   void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v, Real inv_h,
                  Vec3* f, Mat3* hessian, std::uint8_t* touching) const override {
@@ -112,16 +127,12 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
     for (const std::uint32_t p : points) {
       if (!member_[p]) continue;
       const Vec3 rel = x[p] - place_now_.translation;
-      if (dot(rel, rel) > reach2) continue;
-      const Vec3 vr = o_.motion.moves() ? v[p] - o_.motion.velocity_at(x[p], time_) : v[p];
-      Real depth = 0;
-      Vec3 n;
-      const Vec3 force = geometric_contact_force(point_, place_now_, x[p], vr, o_.stiffness,
-                                                 o_.damping, o_.world_normal, depth, &n);
-      if (depth <= 0) continue;
-      f[p] += force;
-      hessian[p] += Mat3::outer(n, n) * (o_.stiffness + o_.damping * inv_h);
-      if (touching) touching[p] = 1;
+      if (dot(rel, rel) > reach2 && !(lagged_ && lag_force_[p] > 0)) continue;
+      const Contact c = contact(p, place_now_, time_, x[p], v[p], inv_h, lagged_);
+      if (c.depth <= 0 && !c.rubbing) continue;
+      f[p] += c.force;
+      hessian[p] += c.stiffness;
+      if (touching && c.depth > 0) touching[p] = 1;
     }
   }
 
@@ -140,6 +151,40 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   }
 
  private:
+  // Point p's contact at (x, v) with the obstacle placed at `place` (time t): the penalty and
+  // its damper (the brief's law, geometric_contact_force), then friction mu F_n against the
+  // sliding velocity relative to the surface, viscous below kObstacleSlip; F_n and the normal
+  // are the contact's own, or held from the step's start (`lagged`). `stiffness` is the block
+  // -df/dx - (1/h) df/dv for implicit solvers: (k + z/h) n n^T, and for friction
+  // (mu F_n / max(|v_t|, slip)) / h (I - n n^T), the friction's scale held (IPC's lagged form).
+  struct Contact {
+    Vec3 force, normal;
+    Mat3 stiffness;
+    Real depth = 0, normal_force = 0;
+    bool rubbing = false;  // friction acts
+  };
+  Contact contact(std::uint32_t p, const shapes::Affine& place, double t, const Vec3& x,
+                  const Vec3& v, Real inv_h, bool lagged) const {
+    Contact c;
+    const Vec3 vr = o_.motion.moves() ? v - o_.motion.velocity_at(x, t) : v;
+    c.force = geometric_contact_force(point_, place, x, vr, o_.stiffness, o_.damping,
+                                      o_.world_normal, c.depth, &c.normal);
+    if (c.depth > 0) {
+      c.stiffness = Mat3::outer(c.normal, c.normal) * (o_.stiffness + o_.damping * inv_h);
+      c.normal_force = std::max<Real>(dot(c.force, c.normal), 0);
+    }
+    if (!(o_.friction > 0)) return c;
+    const Real fn = lagged ? lag_force_[p] : c.normal_force;
+    const Vec3 n = lagged ? lag_normal_[p] : c.normal;
+    if (!(fn > 0)) return c;
+    const Vec3 vt = vr - n * dot(vr, n);
+    const Real scale = o_.friction * fn / std::max(norm(vt), kObstacleSlip);
+    c.force -= vt * scale;
+    c.stiffness += (Mat3::identity() - Mat3::outer(n, n)) * (scale * inv_h);
+    c.rubbing = true;
+    return c;
+  }
+
   Obstacle o_;
   std::vector<std::uint32_t> set_;
   ObstacleSurface surface_;
@@ -149,6 +194,9 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   std::vector<std::uint8_t> member_;  // [points] 1 for the colliding points
   double time_ = 0;                   // of place_now_ (implicit solvers)
   shapes::Affine place_now_;
+  bool lagged_ = false;           // friction's F_n and normal held from the step's start
+  std::vector<Real> lag_force_;   // [points] held normal force, N (0: no contact at start)
+  std::vector<Vec3> lag_normal_;  // [points] held unit normal
 };
 
 }  // namespace
