@@ -92,7 +92,7 @@ Sweep read(const toml::table& root, const std::filesystem::path& path) {
       if (!text || text->get().empty())
         fail(file, v.source(), key, "must be the path of a scene file (relative to this file)");
       const std::filesystem::path scene(text->get());
-      s.scene = scene.is_absolute() ? scene : path.parent_path() / scene;
+      s.scene = scene.is_absolute() ? scene : (path.parent_path() / scene).lexically_normal();
       s.scene_line = static_cast<int>(k.source().begin.line);
       have_scene = true;
     } else if (key == "duration") {
@@ -244,7 +244,7 @@ std::optional<InputError> check_sweep_keys(const Sweep& sweep) {
       if (const auto at = why.find(" (in --set "); at != std::string::npos) why.resize(at);
       return InputError{file, axis.line, axis.column, "axes.\"" + axis.key + "\"",
                         "not a key of the scene " + sweep.scene.string() + ": " +
-                            (e.key.empty() || e.key == axis.key ? "" : "'" + e.key + "' ") + why};
+                            (e.key.empty() || e.key == axis.key ? "" : "'" + e.key + "': ") + why};
     }
   }
   return std::nullopt;
