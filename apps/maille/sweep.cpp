@@ -1,6 +1,7 @@
 #include "sweep.hpp"
 
 #include <fcntl.h>
+#include <sched.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -36,8 +37,28 @@ namespace fs = std::filesystem;
 // second abandons the running ones between two steps (a rerun runs them again).
 std::atomic<int> g_stop{0};
 static_assert(std::atomic<int>::is_always_lock_free);
+int g_rank = 0;
 extern "C" void on_sweep_signal(int) {
-  g_stop.fetch_add(1);
+  if (g_stop.fetch_add(1) == 0 && g_rank == 0) {  // write(2) is async-signal-safe
+    const char m[] =
+        "\nmaille sweep: stopping after the current cases (a second Ctrl-C abandons them)\n";
+    [[maybe_unused]] const auto n = ::write(STDERR_FILENO, m, sizeof m - 1);
+  }
+}
+
+// A rank bound to fewer cores than it has threads (mpirun binds each rank to one core when it
+// starts two or fewer) runs its threads on top of each other: say so.
+void warn_if_bound(int rank, std::optional<int> threads) {
+  cpu_set_t set;
+  if (!threads || *threads <= 1 || sched_getaffinity(0, sizeof set, &set) != 0) return;
+  const int cores = CPU_COUNT(&set);
+  if (cores >= *threads) return;
+  std::ostringstream m;  // one write: the ranks' lines do not interleave
+  m << "warning: rank " << rank << " runs " << *threads << " threads on " << cores
+    << " core(s) (its binding): start it with mpirun --bind-to none, or --map-by "
+       "ppr:1:node:pe="
+    << *threads << "; srun --cpus-per-task=" << *threads << "\n";
+  std::cerr << m.str();
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -289,6 +310,8 @@ int sweep(const SweepOptions& o) {
   std::unique_ptr<World> world = World::start();
   if (!world) return usage;
   const int rank = world->rank();
+  g_rank = rank;
+  warn_if_bound(rank, o.threads);
   std::signal(SIGINT, on_sweep_signal);
   std::signal(SIGTERM, on_sweep_signal);
 
