@@ -368,8 +368,11 @@ int sweep(const SweepOptions& o) {
   std::thread dispatcher;
   if (world->size() > 1 && world->dispatcher_thread())
     dispatcher = std::thread([&] { world->serve(d); });
-  else if (world->size() > 1)
+  else if (world->size() > 1) {
+    std::cerr << "warning: the MPI library allows no second thread (MPI_THREAD_SERIALIZED): "
+                 "rank 0 hands out cases and runs none\n";
     world->serve(d);
+  }
   while (auto i = ledger.take()) ledger.record(run(*i));
   if (g_stop.load() >= 1) ledger.flush(true);
   if (dispatcher.joinable()) dispatcher.join();
