@@ -254,7 +254,7 @@ class Ledger {
 int prepare(const Sweep& sweep, const fs::path& out, Ledger& ledger, int& lock_fd) {
   std::error_code ec;
   fs::create_directories(out / "cases", ec);
-  if (ec || !fs::is_directory(out / "cases")) {
+  if (ec || !fs::is_directory(out / "cases", ec)) {
     std::cerr << "error: cannot create the output directory " << (out / "cases").string() << ": "
               << (ec ? ec.message() : std::string("a file of that name exists")) << '\n';
     return output_error;
@@ -273,7 +273,7 @@ int prepare(const Sweep& sweep, const fs::path& out, Ledger& ledger, int& lock_f
   }
   const std::string id = identity(sweep);
   const fs::path id_path = out / "sweep.txt";
-  if (fs::exists(id_path)) {
+  if (fs::exists(id_path, ec)) {
     const std::string before = read_text(id_path);
     if (before != id) {
       std::cerr << id_path.string()
