@@ -7,12 +7,14 @@
 #
 #   scripts/sweep_speedup.sh [MAILLE] [OUT]     (defaults: build/release/apps/maille/maille,
 #                                                out/sweep_speedup)
+# MPIRUN_ARGS adds options to mpirun, e.g. MPIRUN_ARGS="--bind-to none" (on a machine shared
+# with other work, a rank pinned to a busy core cannot move to the idle one).
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
 maille=${1:-$here/build/release/apps/maille/maille}
 out=${2:-$here/out/sweep_speedup}
 repeat=${REPEAT:-3}
-mpirun=(mpirun --allow-run-as-root --oversubscribe)
+mpirun=(mpirun --allow-run-as-root --oversubscribe ${MPIRUN_ARGS:-})
 export OMP_WAIT_POLICY=passive
 rm -rf "$out"
 mkdir -p "$out"
