@@ -16,14 +16,20 @@ namespace maille::app {
 
 namespace {
 
-// The number of processes a launcher says it started (Open MPI's mpirun, PMIx or PMI as used
-// by srun and MPICH's hydra); 0 when none did.
-int launched_ranks() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_SIZE", "PMI_SIZE"})
-    if (const char* v = std::getenv(name)) return std::max(1, std::atoi(v));
-  for (const char* name : {"PMIX_RANK", "PMI_RANK"})
-    if (std::getenv(name)) return 1;
-  return 0;
+// What a launcher says it started: whether one did (Open MPI's mpirun, PMIx or PMI as used by
+// srun and MPICH's hydra), and how many processes when it says (0: unknown).
+struct Launch {
+  bool launched = false;
+  int processes = 0;
+};
+
+Launch launch() {
+  Launch l;
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+    l.launched = l.launched || std::getenv(name) != nullptr;
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(name); v && l.processes == 0) l.processes = std::atoi(v);
+  return l;
 }
 
 #ifdef MAILLE_WITH_MPI
@@ -56,9 +62,9 @@ void send_message(char kind, const std::string& body) {
 
 std::unique_ptr<World> World::start() {
   std::unique_ptr<World> w(new World());
-  const int launched = launched_ranks();
+  const Launch l = launch();
 #ifdef MAILLE_WITH_MPI
-  if (launched == 0) return w;  // run by hand: one process, and no MPI runtime to start
+  if (!l.launched) return w;  // run by hand: one process, and no MPI runtime to start
   int provided = MPI_THREAD_SINGLE;
   if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS) {
     std::cerr << "error: MPI could not start\n";
@@ -68,12 +74,13 @@ std::unique_ptr<World> World::start() {
   w->serialized_ = provided >= MPI_THREAD_SERIALIZED;
   MPI_Comm_rank(MPI_COMM_WORLD, &w->rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &w->size_);
-  if (w->size_ != launched && w->rank_ == 0)
-    std::cerr << "warning: the launcher started " << launched << " processes but MPI sees "
+  if (l.processes > 0 && w->size_ != l.processes && w->rank_ == 0)
+    std::cerr << "warning: the launcher started " << l.processes << " processes but MPI sees "
               << w->size_ << " (srun: try --mpi=pmix)\n";
 #else
-  if (launched > 1) {
-    std::cerr << "error: this maille was built without MPI but was started as one of " << launched
+  if (l.processes > 1) {
+    std::cerr << "error: this maille was built without MPI but was started as one of "
+              << l.processes
               << " processes (mpirun, srun): each would run every case. Build it with Open MPI "
                  "(libopenmpi-dev), or run `maille sweep` without a launcher\n";
     return nullptr;
