@@ -13,6 +13,7 @@
 #endif
 #include "maille/limits.hpp"
 #include "study.hpp"
+#include "sweep.hpp"
 
 namespace {
 
@@ -158,6 +159,21 @@ int main(int argc, char** argv) {
                       "Shorter runs (integrators: two stiffnesses in the crossover; obstacles: "
                       "a third of the simulated time)");
 
+  SweepOptions sw;
+  auto* sweep_cmd = app.add_subcommand(
+      "sweep",
+      "Run a scene for every combination of values in a sweep file (also under mpirun/srun, "
+      "cases handed out to every rank): DIR/cases/<id>/stats.csv and DIR/summary.csv");
+  sweep_cmd->add_option("sweep", sw.sweep, "Sweep file (TOML, docs/sweep.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sweep_cmd->add_option("--out", sw.out, "Output directory (a rerun skips the cases done there)")
+      ->required();
+  sweep_cmd
+      ->add_option("--threads", sw.threads,
+                   "Threads of each case (default: the scene's, else auto)")
+      ->check(kThreads);
+
 #ifdef MAILLE_WITH_RENDER
   RenderCommandOptions rn;
   auto* render_cmd = app.add_subcommand(
@@ -215,6 +231,7 @@ int main(int argc, char** argv) {
   }
   if (*bench_cmd) return bench(bo);
   if (*study_cmd) return study(so);
+  if (*sweep_cmd) return sweep(sw);
 #ifdef MAILLE_WITH_RENDER
   if (*render_cmd) return render(rn);
 #endif
