@@ -161,9 +161,15 @@ class Simulation {
   }
 
   py::dict stats() const {
+    // Step and counters are integers in stats.csv: ints here too.
     py::dict d;
-    for (std::size_t i = 0; i < stat_names_.size(); ++i)
-      d[py::str(stat_names_[i])] = stat_values_[i];
+    for (std::size_t i = 0; i < stat_names_.size(); ++i) {
+      const bool integer = i == 1 || (i >= 6 + stages_ && i < 6 + stages_ + counters_);
+      if (integer)
+        d[py::str(stat_names_[i])] = static_cast<std::uint64_t>(stat_values_[i]);
+      else
+        d[py::str(stat_names_[i])] = stat_values_[i];
+    }
     return d;
   }
 
@@ -389,7 +395,9 @@ class Simulation {
 
   // The columns of stats.csv (StatsWriter::write), by name, for the last sample.
   void record(const EnergySample& e, const Profile& p) {
-    const std::size_t columns = 6 + p.stages().size() + p.counters().size() + p.gauges().size();
+    stages_ = p.stages().size();
+    counters_ = p.counters().size();
+    const std::size_t columns = 6 + stages_ + counters_ + p.gauges().size();
     stat_names_.resize(columns);
     stat_values_.resize(columns);
     std::size_t i = 0;
@@ -434,6 +442,7 @@ class Simulation {
   std::string name_;
   std::vector<std::string> stat_names_;
   std::vector<double> stat_values_;
+  std::size_t stages_ = 0, counters_ = 0;  // columns of each in the last sample
   std::uint64_t stats_rows_ = 0;
   bool capture_ = false;
   Snapshot captured_;
