@@ -79,3 +79,25 @@ def test_a_live_edit_that_would_resize_the_state_is_refused():
         sim.set("flag[0].resolution", [10, 10])
     assert e.value.key == "flag[0].resolution"
     assert "number of points" in str(e.value)
+
+
+def test_views_on_a_device_backend():
+    """With the GPU backend (Mesa's software driver when there is no GPU), the views show the
+    host copy, brought up to date whenever control returns to Python, and what Python writes
+    reaches the device before the next step."""
+    try:
+        sim = maille.Simulation(CHAIN, overrides={"simulation.backend": "gpu"})
+    except (maille.SceneError, RuntimeError) as e:
+        pytest.skip(f"no GPU backend here: {e}")
+    cpu = maille.Simulation(CHAIN)
+    x = sim.positions
+    sim.step(200)
+    cpu.step(200)
+    assert np.shares_memory(x, sim.positions)
+    assert np.abs(x - cpu.positions).max() < 1e-5  # float on the device, double on the CPU
+    x[-1, 2] += 0.01
+    cpu.positions[-1, 2] += 0.01
+    sim.step()
+    cpu.step()
+    assert sim.positions[-1, 2] == pytest.approx(cpu.positions[-1, 2], abs=1e-6)
+    assert sim.positions[-1, 2] > 0.009
