@@ -12,7 +12,7 @@ def test_views_are_the_engines_memory():
     sim = maille.Simulation(FLAG)
     x, v = sim.positions, sim.velocities
     assert x.shape == (sim.point_count, 3) and v.shape == (sim.point_count, 3)
-    assert x.dtype == np.float64 and v.dtype == np.float64
+    assert x.dtype == v.dtype == np.dtype(maille.real)  # float64 unless MAILLE_SINGLE_PRECISION
     assert not x.flags["OWNDATA"] and x.flags["WRITEABLE"] and x.flags["C_CONTIGUOUS"]
     # two accesses, one memory
     assert np.shares_memory(x, sim.positions)
