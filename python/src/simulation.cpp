@@ -57,8 +57,7 @@ class Simulation {
       all.insert(all.end(), sets.begin(), sets.end());
       scene = settings_scene(all);
       scene.name = "model";
-      scene.model.points = cm.model.points;  // the code model with the fields read
-      Fields fields = scene.model.fields;
+      const Fields fields = scene.model.fields;  // the code model with the fields read
       scene.model = cm.model;
       scene.model.fields = fields;
       from_code_ = true;
@@ -209,7 +208,9 @@ class Simulation {
       if (from_code_) {
         const Fields fields = scene.model.fields;
         sim_->edit_parameters([&](Model& m) { m.fields = fields; });
-      } else if (model_fingerprint(scene.model) != model_fingerprint(sim_->model())) {
+      } else if (key.rfind("simulation.", 0) != 0) {
+        // Every other key may change the model (a field, a builder's or a link's parameter, a
+        // drive, a stage's table): the model read replaces the running one, state kept.
         sim_->edit_model([&](Model& m) { m = std::move(scene.model); });
       }
       if (scene.settings.integrator != sim_->settings().integrator)

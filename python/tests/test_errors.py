@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import maille
-from conftest import CHAIN, DATA, FLAG, UNSTABLE
+from conftest import CHAIN, DATA, EXAMPLES, FLAG, UNSTABLE
 
 
 def test_scene_error_has_file_line_key():
@@ -66,11 +66,37 @@ def test_live_set_changes_the_run():
     c = maille.Simulation(FLAG, overrides={"fields.wind.velocity": [4.0, 0.0, 1.0]})
     c.step(200)
     assert np.array_equal(a.positions, c.positions)
+    # keys the model's fingerprint leaves out, and a stage's table, take effect too
+    for key, value in [("fields.wind.gust_frequency", 2.0), ("fields.wind.density", 1.0)]:
+        d = maille.Simulation(FLAG)
+        d.set(key, value)
+        d.step(200)
+        assert d.state_hash() != b.state_hash(), key
+        e = maille.Simulation(FLAG, overrides={key: value})
+        e.step(200)
+        assert e.state_hash() == d.state_hash(), key
     a.set("simulation.step", 1e-4)
     assert a.step_size == 1e-4
     a.set("simulation.integrator", "symplectic_euler")
     assert a.integrator == "symplectic_euler"
     a.step(10)
+
+
+def test_live_set_of_a_stage_key():
+    """A stage's table (self-collision's radius: at 0.2 m contacts start at once) is a live key."""
+    heap = EXAMPLES / "cloth_heap.toml"
+    a = maille.Simulation(heap)
+    b = maille.Simulation(heap)
+    c = maille.Simulation(heap, overrides={"self_collision.radius": 0.2})
+    a.set("self_collision.radius", 0.2)
+    for s in (a, b, c):
+        s.step(50)
+    assert a.state_hash() != b.state_hash()
+    assert a.state_hash() == c.state_hash()
+    assert a.stats()["self_contacts"] > 0 and b.stats()["self_contacts"] == 0
+    with pytest.raises(maille.SceneError) as e:
+        a.set("self_collision.broad_phase", "quadtree")
+    assert e.value.key == "self_collision.broad_phase"
 
 
 def test_blow_up_raises_with_step_and_kind():
