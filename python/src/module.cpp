@@ -51,9 +51,10 @@ class BlowUp(Error, RuntimeError):
         self.module = kind
 )";
 
-py::object g_scene_error, g_checkpoint_error, g_blow_up;
+// Handles, not objects: they are never released (no decref after the interpreter finalised).
+py::handle g_scene_error, g_checkpoint_error, g_blow_up;
 
-void raise_input(const py::object& cls, const InputError& e) {
+void raise_input(py::handle cls, const InputError& e) {
   const py::object exc =
       cls(e.to_string(), py::arg("file") = e.file, py::arg("line") = e.line,
           py::arg("column") = e.column, py::arg("key") = e.key, py::arg("message") = e.message);
@@ -73,10 +74,9 @@ PYBIND11_MODULE(maille, m) {
       "docs/python.md documents the API.";
   py::exec(kExceptions, m.attr("__dict__"));
   // Kept for the life of the process (the translator may run at interpreter shutdown).
-  g_scene_error = m.attr("SceneError");
-  g_checkpoint_error = m.attr("CheckpointError");
-  g_blow_up = m.attr("BlowUp");
-  for (py::object* o : {&g_scene_error, &g_checkpoint_error, &g_blow_up}) o->inc_ref();
+  g_scene_error = py::object(m.attr("SceneError")).release();
+  g_checkpoint_error = py::object(m.attr("CheckpointError")).release();
+  g_blow_up = py::object(m.attr("BlowUp")).release();
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
