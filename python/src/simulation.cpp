@@ -125,7 +125,10 @@ class Simulation {
       busy.release();  // the callback may step, edit, save...
       const py::object r = callback(self);
       busy.acquire();
-      if (!r.is_none() && !r.cast<bool>()) break;
+      if (r.is_none()) continue;
+      const int truth = PyObject_IsTrue(r.ptr());  // False, 0, np.False_ ... stop the run
+      if (truth < 0) throw py::error_already_set();
+      if (truth == 0) break;
     }
     return done;
   }

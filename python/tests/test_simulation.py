@@ -44,6 +44,7 @@ def test_run_duration_every_callback():
     # a callback returning False stops the run
     stopped = sim.run(duration=1.0, every=7, callback=lambda s: s.steps < 521)
     assert stopped == 21 and sim.steps == 521
+    assert sim.run(steps=20, every=5, callback=lambda s: np.False_) == 5  # falsy stops too
 
 
 def test_run_without_arguments_reaches_the_scenes_duration():
@@ -79,9 +80,13 @@ def test_energies():
     assert e["total"] == pytest.approx(e0["total"], abs=0.02 * abs(e0["gravity"]) + 0.05)
 
 
-def test_energies_do_not_change_the_trajectory():
-    a = maille.Simulation(FLAG)
-    b = maille.Simulation(FLAG)
+@pytest.mark.parametrize("scene", ["flag_in_wind", "hanging_net", "cloth_heap",
+                                   "tablecloth_on_table"])
+def test_energies_do_not_change_the_trajectory(scene):
+    """Wind, conditional contacts, self-collision, facets (a response stage)."""
+    path = FLAG.parent / f"{scene}.toml"
+    a = maille.Simulation(path)
+    b = maille.Simulation(path)
     for _ in range(5):
         a.step(37)
         a.energies()
