@@ -96,6 +96,7 @@ PYBIND11_MODULE(maille, m) {
 #endif
   bind_model(m);
   bind_simulation(m);
+  m.attr("__version__") = MAILLE_VERSION;
   m.attr("render_available") = render_available();
 #ifdef MAILLE_SINGLE_PRECISION
   m.attr("real") = "float32";
