@@ -251,11 +251,17 @@ class LinkPool final : public LinkPoolBase {
           const auto [a, b] = ends_[l];
           if constexpr (!kAlwaysActive)
             if (!K::is_active(x[a], x[b], params_[l])) continue;
-          const Vec3 fa = K::force(x[a], x[b], v[a], v[b], params_[l]);
-          const LinkJacobian j =
-              K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
-          fi += a == i ? fa : -fa;
-          hi += j.dx + j.dv * inv_h;
+          if constexpr (requires { K::block(x[a], x[b], v[a], v[b], params_[l], inv_h); }) {
+            const LinkBlock blk = K::block(x[a], x[b], v[a], v[b], params_[l], inv_h);
+            fi += a == i ? blk.force : -blk.force;
+            hi += blk.stiffness;
+          } else {
+            const Vec3 fa = K::force(x[a], x[b], v[a], v[b], params_[l]);
+            const LinkJacobian j =
+                K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
+            fi += a == i ? fa : -fa;
+            hi += j.dx + j.dv * inv_h;
+          }
         }
         f[i] += fi;
         hessian[i] += hi;

@@ -78,6 +78,13 @@ struct LinkJacobian {
   Mat3 dv;  // d f_a / d v_b, N.s/m
 };
 
+// A link's terms for vertex block descent at one end: the force on a, and the block
+// J_x + J_v / h (definite mode), which is the same at both ends.
+struct LinkBlock {
+  Vec3 force;      // N
+  Mat3 stiffness;  // N/m
+};
+
 // What the implicit solver needs from a Jacobian: the exact derivative (tests, Newton), or a
 // symmetric negative semi-definite approximation that keeps M - h df/dv - h^2 df/dx symmetric
 // positive definite for conjugate gradients: compressed springs drop their negative

@@ -59,10 +59,16 @@ class ImplicitEuler final : public Integrator {
     // Every solver reports the residual of the nonlinear step, measured the VBD way.
     vbd_.begin(m, s, h, s.time + h, forces);
     if (settings_.solver == "vbd") {
-      if (vbd_colours_ < 0) vbd_colours_ = profile.counter("vbd_colours");
+      if (vbd_colours_ < 0) {
+        vbd_colours_ = profile.counter("vbd_colours");
+        vbd_resets_ = profile.counter("vbd_acceleration_resets");
+        vbd_refreshes_ = profile.counter("vbd_candidate_refreshes");
+      }
       const VbdResult r = vbd_.solve(m, s, h);
       profile.set_count(solver_iterations_, std::uint64_t(r.sweeps));
       profile.set_count(vbd_colours_, std::uint64_t(r.colours));
+      profile.set_count(vbd_resets_, std::uint64_t(r.acceleration_resets));
+      profile.set_count(vbd_refreshes_, std::uint64_t(r.candidate_refreshes));
     } else {
       profile.set_count(solver_iterations_, advance_cg(m, s, h, forces, profile));
     }
@@ -160,7 +166,8 @@ class ImplicitEuler final : public Integrator {
   ImplicitSettings settings_;
   std::unique_ptr<ImplicitSystem> system_;
   VertexBlockDescent vbd_;
-  int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1;
+  int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1, vbd_resets_ = -1,
+      vbd_refreshes_ = -1;
   std::vector<Vec3> x0_, v0_, rhs_, dv_;
   int cg_iterations_ = 0, cg_residual_ = 0, newton_residual_ = 0;
   double newton_residual_value_ = 0;

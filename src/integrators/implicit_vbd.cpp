@@ -116,7 +116,7 @@ void VertexBlockDescent::find_candidates(const Model& m, const Vec3* x, Real mar
 
 // Greedy colouring in point order: a point takes the smallest colour none of its coloured
 // neighbours holds. Fixed points are never moved, so links to them constrain nothing.
-void VertexBlockDescent::colour(const Model& m) {
+void VertexBlockDescent::colour() {
   const std::size_t n = points_;
   colour_of_.assign(n, kUncoloured);
   std::uint32_t colours = 0;
@@ -138,7 +138,6 @@ void VertexBlockDescent::colour(const Model& m) {
     }
     colour_of_[i] = c;
   }
-  (void)m;
   colour_row_.assign(colours + 1, 0);
   for (const std::uint32_t i : free_) ++colour_row_[colour_of_[i] + 1];
   for (std::uint32_t c = 0; c < colours; ++c) colour_row_[c + 1] += colour_row_[c];
@@ -319,14 +318,14 @@ void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
   }
 }
 
-Real VertexBlockDescent::largest_motion(const Model&, const Vec3* x) const {
+Real VertexBlockDescent::largest_motion(const Vec3* x) const {
   Real d2 = 0;
   for (const std::uint32_t i : free_) d2 = std::max(d2, norm2(x[i] - xn_[i]));
   return std::sqrt(d2);
 }
 
-Real VertexBlockDescent::margin_for(const Model& m, const Vec3* x) const {
-  return std::max(kMarginFactor * largest_motion(m, x), kMinMargin);
+Real VertexBlockDescent::margin_for(const Vec3* x) const {
+  return std::max(kMarginFactor * largest_motion(x), kMinMargin);
 }
 
 VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
@@ -335,10 +334,10 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   Vec3* x = s.x().data();
   Vec3* v = s.v().data();
   if (dynamic_) {
-    find_candidates(m, xn_.data(), margin_for(m, x));
-    colour(m);
+    find_candidates(m, xn_.data(), margin_for(x));
+    colour();
   } else if (!coloured_) {
-    colour(m);
+    colour();
     coloured_ = true;
   }
   result.colours = int(colour_row_.size()) - 1;
@@ -367,9 +366,9 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
       for (const std::uint32_t i : free_) prev1_[i] = x[i];
     }
     // Contacts found for a smaller motion: find them again (and colour again) before going on.
-    if (dynamic_ && k < settings_.iterations && 2 * largest_motion(m, x) > margin_) {
-      find_candidates(m, xn_.data(), margin_for(m, x));
-      colour(m);
+    if (dynamic_ && k < settings_.iterations && 2 * largest_motion(x) > margin_) {
+      find_candidates(m, xn_.data(), margin_for(x));
+      colour();
       ++result.candidate_refreshes;
     }
   }
@@ -379,8 +378,7 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
 double VertexBlockDescent::residual(const Model& m, const State& s, Real h) {
   const Vec3* x = s.x().data();
   const Vec3* v = s.v().data();
-  if (dynamic_ && 2 * largest_motion(m, x) > margin_)
-    find_candidates(m, xn_.data(), margin_for(m, x));
+  if (dynamic_ && 2 * largest_motion(x) > margin_) find_candidates(m, xn_.data(), margin_for(x));
   Real worst = 0, heaviest = 0;
   const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
   const auto count = static_cast<std::int64_t>(free_.size());

@@ -65,15 +65,15 @@ class VertexBlockDescent {
   void build_static_rows(const Model& m);
   void find_candidates(const Model& m, const Vec3* x, Real margin);
   void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
-  void colour(const Model& m);
+  void colour();
   void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
                    const Vec3* v, Real h);
   Real sweep(const Model& m, Vec3* x, Vec3* v, Real h);
   Real update_block(std::span<const std::uint32_t> points, const Model& m, Vec3* x, Vec3* v,
                     Real h);
   void initial_guess(const Model& m, State& s, Real h);
-  Real largest_motion(const Model& m, const Vec3* x) const;
-  Real margin_for(const Model& m, const Vec3* x) const;
+  Real largest_motion(const Vec3* x) const;
+  Real margin_for(const Vec3* x) const;
 
   ImplicitSettings settings_;
   int threads_ = 1;

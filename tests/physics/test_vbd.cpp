@@ -140,6 +140,23 @@ TEST(Vbd, EveryKindsForceIsMinusItsEnergyGradient) {
   expect_force_is_energy_gradient<ConditionalSpringDamper>({400, 0.2, 0.3, 0.3}, a, stretched);
 }
 
+// A kind's fused VBD terms (SpringDamper::block) equal its force and definite Jacobian
+// (J_x + J_v / h), stretched and compressed, to rounding.
+TEST(Vbd, FusedBlockMatchesForceAndJacobian) {
+  const SpringDamper::Params p{250, 0.5, 3};
+  const Vec3 a{0.1, -0.2, 0.3}, va{0.3, 0.1, -0.2}, vb{-0.4, 0.2, 0.5};
+  const Real inv_h = 60;
+  for (const Vec3& b : {Vec3{0.9, 0.4, -0.1}, Vec3{0.2, -0.1, 0.35}}) {
+    const LinkBlock blk = SpringDamper::block(a, b, va, vb, p, inv_h);
+    const Vec3 f = SpringDamper::force(a, b, va, vb, p);
+    const LinkJacobian j = SpringDamper::jacobian(a, b, va, vb, p, JacobianMode::definite);
+    const Mat3 h = j.dx + j.dv * inv_h;
+    EXPECT_LT(norm(blk.force - f), 1e-12 * (1 + norm(f)));
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(blk.stiffness.m[r][c], h.m[r][c], 1e-10);
+  }
+}
+
 // The result does not depend on how threads split a colour: 1 and 2 threads, bit for bit.
 TEST(Vbd, SameResultOnOneAndTwoThreads) {
   std::uint64_t hash[2];
