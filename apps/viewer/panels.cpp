@@ -14,6 +14,8 @@ namespace maille::viewer {
 
 namespace {
 
+void implicit_controls(PhysicsThread& physics, ImplicitSettings implicit);
+
 float to_float(Real v) {
   return static_cast<float>(v);
 }
@@ -52,6 +54,8 @@ void simulation_controls(PhysicsThread& physics, const PhysicsStatus& st, Tuning
         physics.set_integrator(e.name);
     ImGui::EndCombo();
   }
+
+  if (st.integrator == "implicit_euler") implicit_controls(physics, st.implicit);
 
   if (ImGui::BeginCombo("backend", st.backend.c_str())) {
     for (const auto& e : BackendRegistry::global().entries())
@@ -185,6 +189,30 @@ void plot(const char* label, const std::vector<float>& values, const char* unit)
                    *hi + 1e-9f * (1 + std::abs(*hi)), ImVec2(ImGui::GetContentRegionAvail().x, 44));
 }
 
+// Implicit Euler's solver and, for vertex block descent, its sweeps and acceleration.
+void implicit_controls(PhysicsThread& physics, ImplicitSettings implicit) {
+  if (ImGui::BeginCombo("solver", implicit.solver.c_str())) {
+    for (const std::string_view name : kImplicitSolvers)
+      if (ImGui::Selectable(std::string(name).c_str(), name == implicit.solver)) {
+        implicit.solver = std::string(name);
+        physics.set_implicit(implicit);
+      }
+    ImGui::EndCombo();
+  }
+  if (implicit.solver != "vbd") return;
+  int sweeps = implicit.iterations;
+  if (ImGui::SliderInt("sweeps", &sweeps, 1, 200) && sweeps != implicit.iterations) {
+    implicit.iterations = sweeps;
+    physics.set_implicit(implicit);
+  }
+  float rho = float(implicit.acceleration);
+  if (ImGui::SliderFloat("acceleration", &rho, 0.0f, 0.99f, "%.2f") &&
+      Real(rho) != implicit.acceleration) {
+    implicit.acceleration = Real(rho);
+    physics.set_implicit(implicit);
+  }
+}
+
 void plots(const PhysicsThread& physics, const PhysicsStatus& st) {
   const std::vector<PlotSample> history = physics.history();
   if (ImGui::CollapsingHeader("Energies", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -216,6 +244,16 @@ void plots(const PhysicsThread& physics, const PhysicsStatus& st) {
       for (const auto& s : history)
         if (c < s.counters.size()) values.push_back(float(s.counters[c]));
       plot(st.counters[c].name.c_str(), values, "");
+    }
+  }
+  // Gauges: the implicit solvers' residuals (solver_residual: the largest force imbalance over
+  // m g), obstacles' depths, the self-collision cell size.
+  if (!st.gauges.empty() && ImGui::CollapsingHeader("Gauges", ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (std::size_t g = 0; g < st.gauges.size(); ++g) {
+      std::vector<float> values;
+      for (const auto& s : history)
+        if (g < s.gauges.size()) values.push_back(float(s.gauges[g]));
+      plot(st.gauges[g].c_str(), values, "");
     }
   }
 }

@@ -61,8 +61,9 @@ std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, Simulation
   // Runs on the physics thread, inside Simulator::publish_now.
   sim->on_publish([this](const Snapshot& s) { out_.publish(s); });
   sim->on_sample([this](const EnergySample& e, const Profile& p) {
-    PlotSample sample{e.time, e.energies, {}};
+    PlotSample sample{e.time, e.energies, {}, {}};
     for (const auto& c : p.counters()) sample.counters.push_back(double(c.last));
+    for (const auto& g : p.gauges()) sample.gauges.push_back(g.last);
     std::lock_guard lock(mutex_);
     history_.push_back(std::move(sample));
     while (history_.size() > kHistory) history_.pop_front();
@@ -128,6 +129,17 @@ void PhysicsThread::set_integrator(const std::string& name) {
       set_notice({});
     } catch (const std::exception& e) {
       set_notice("integrator " + name + ": " + e.what());
+    }
+  });
+}
+
+void PhysicsThread::set_implicit(const ImplicitSettings& implicit) {
+  send([this, implicit](Simulator& sim) {
+    try {
+      sim.set_implicit(implicit);
+      set_notice({});
+    } catch (const std::exception& e) {
+      set_notice("implicit solver " + implicit.solver + ": " + e.what());
     }
   });
 }
@@ -227,6 +239,7 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
   status_.time = sim.time();
   status_.step_size = sim.settings().step;
   status_.integrator = sim.settings().integrator;
+  status_.implicit = sim.settings().implicit;
   status_.backend = sim.settings().backend;
   if (batch_wall_s > 0) {
     status_.steps_per_second = double(batch_steps) / batch_wall_s;
@@ -238,6 +251,8 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
     status_.blow_up.reset();
   if (batch_steps > 0) status_.stages = std::move(times);
   status_.counters = std::move(counters);
+  status_.gauges.clear();
+  for (const auto& g : sim.profile().gauges()) status_.gauges.push_back(g.name);
   progress_.notify_all();
 }
 

@@ -40,6 +40,7 @@ struct PhysicsStatus {
   double time = 0;       // s, simulated
   double step_size = 0;  // h, s
   std::string integrator;
+  ImplicitSettings implicit;  // implicit Euler's solver and its settings
   std::string backend;
   double steps_per_second = 0;  // wall-clock rate over the last batch
   double realtime_factor = 0;   // simulated s per wall s over the last batch
@@ -48,6 +49,7 @@ struct PhysicsStatus {
   std::string notice_stage;  // the stage it was about (the Stages panel shows it there)
   std::vector<StageTime> stages;
   std::vector<CounterValue> counters;
+  std::vector<std::string> gauges;                     // names, in PlotSample::gauges order
   std::vector<Simulator::StageOptions> stage_options;  // plugged-in stages' live settings
 };
 
@@ -56,6 +58,7 @@ struct PlotSample {
   double time = 0;  // s
   Energies energies;
   std::vector<double> counters;  // in PhysicsStatus::counters order
+  std::vector<double> gauges;    // in PhysicsStatus::gauges order (a solver's residual...)
 };
 
 // An OpenGL context for the physics thread in the window's share group (a hidden window), made
@@ -84,8 +87,9 @@ class PhysicsThread {
   void reset();      // back to the initial state (tuned parameters stay)
   // Simulated seconds per wall-clock second, > 0; or 0: as fast as possible.
   void set_speed(double speed);
-  void set_time_step(double h);                  // s, > 0
-  void set_integrator(const std::string& name);  // rebuilt around the current state
+  void set_time_step(double h);                         // s, > 0
+  void set_integrator(const std::string& name);         // rebuilt around the current state
+  void set_implicit(const ImplicitSettings& implicit);  // implicit Euler's solver, likewise
   // Runs the simulation on another backend from the current state (a simulator rebuilt on the
   // physics thread, where a GPU backend's context is current: the shared one when given, else
   // one of its own, whose positions are then downloaded for each snapshot). Refused set-ups keep

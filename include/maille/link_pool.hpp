@@ -186,6 +186,10 @@ class LinkPool final : public LinkPoolBase {
   static constexpr bool kHasJacobian = requires(const Vec3& q, const Params& p) {
     K::jacobian(q, q, q, q, p, JacobianMode::exact);
   };
+  // Optional fused VBD terms (force and J_x + J_v / h in one pass), e.g. SpringDamper::block.
+  static constexpr bool kHasBlock = requires(const Vec3& q, const Params& p, Real r) {
+    K::block(q, q, q, q, p, r);
+  };
   bool has_jacobian() const override {
     return kHasJacobian;
   }
@@ -251,7 +255,7 @@ class LinkPool final : public LinkPoolBase {
           const auto [a, b] = ends_[l];
           if constexpr (!kAlwaysActive)
             if (!K::is_active(x[a], x[b], params_[l])) continue;
-          if constexpr (requires { K::block(x[a], x[b], v[a], v[b], params_[l], inv_h); }) {
+          if constexpr (kHasBlock) {
             const LinkBlock blk = K::block(x[a], x[b], v[a], v[b], params_[l], inv_h);
             fi += a == i ? blk.force : -blk.force;
             hi += blk.stiffness;

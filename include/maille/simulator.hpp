@@ -137,6 +137,10 @@ class Simulator : private ForceEvaluator {
   // Throws std::invalid_argument (and changes nothing) when the scheme refuses the model or a
   // stage.
   void set_integrator(const std::string& name);
+  // Implicit Euler's solver and its settings, between steps (the viewer switches them live):
+  // the scheme is rebuilt around the current state (its history, VBD's included, is in the
+  // State). Throws std::invalid_argument (and changes nothing) when the new scheme refuses.
+  void set_implicit(const ImplicitSettings& implicit);
   void set_step(double h);  // between steps; leapfrog re-centres its kick by itself
   void reset();             // back to the model's initial state
   // Energies of the current state (synchronised velocities). Runs the force stages only, never

@@ -181,6 +181,20 @@ void Simulator::set_integrator(const std::string& name) {
   host_ahead_ = true;
 }
 
+void Simulator::set_implicit(const ImplicitSettings& implicit) {
+  const ImplicitSettings old = settings_.implicit;
+  settings_.implicit = implicit;
+  if (settings_.integrator != "implicit_euler") return;  // taken when the scheme is chosen
+  std::unique_ptr<Integrator> previous = std::move(integrator_);
+  try {
+    build_integrator("implicit_euler");
+  } catch (...) {
+    integrator_ = std::move(previous);
+    settings_.implicit = old;
+    throw;
+  }
+}
+
 void Simulator::restore(State state, std::uint64_t frames_published) {
   if (state.size() != model_.points.size())
     throw std::invalid_argument("the state has " + std::to_string(state.size()) +

@@ -199,6 +199,33 @@ TEST(Vbd, CheckpointThenResumeIsBitIdentical) {
   std::filesystem::remove(path);
 }
 
+// The solver switches between steps (the viewer's combo): the state carries on, and a refused
+// switch changes nothing.
+TEST(Vbd, SolverSwitchesLiveAroundTheState) {
+  Model m = hanging_cloth();
+  Simulator sim(m, vbd(1.0 / 60, 10, 0.9));
+  ASSERT_TRUE(sim.run_steps(10));
+  ImplicitSettings cg = sim.settings().implicit;
+  cg.solver = "matrix_free";
+  sim.set_implicit(cg);
+  EXPECT_EQ(sim.settings().implicit.solver, "matrix_free");
+  ASSERT_TRUE(sim.run_steps(10));
+  ImplicitSettings more = cg;
+  more.solver = "vbd";
+  more.iterations = 40;
+  sim.set_implicit(more);
+  ASSERT_TRUE(sim.run_steps(10));
+  EXPECT_EQ(sim.settings().implicit.iterations, 40);
+  ImplicitSettings bad = more;
+  bad.solver = "gauss_seidel";
+  const std::uint64_t before = state_hash(sim.state());
+  EXPECT_THROW(sim.set_implicit(bad), std::invalid_argument);
+  EXPECT_EQ(sim.settings().implicit.solver, "vbd");
+  EXPECT_EQ(state_hash(sim.state()), before);
+  ASSERT_TRUE(sim.run_steps(10));
+  EXPECT_LT(sim.energies().kinetic, 1.0);  // still a hanging cloth, not a blow-up
+}
+
 // A scene of examples/ with implicit Euler by VBD at step h, run for `duration`.
 struct LargeStepRun {
   Scene scene;
