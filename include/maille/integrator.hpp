@@ -43,8 +43,20 @@ struct ImplicitSettings {
   int iterations = 10;            // vbd: sweeps over every free point per step, >= 1
   Real acceleration = Real(0.9);  // vbd: Chebyshev factor rho in [0, 1); 0 = off
 };
-// The implicit solvers' names, for messages and the scene reader.
+// The implicit solvers' names, declared once: the scene reader, the scheme's check, the
+// viewer's combo and messages all read this list.
 inline constexpr std::array<std::string_view, 3> kImplicitSolvers{"matrix_free", "eigen", "vbd"};
+inline bool is_implicit_solver(std::string_view name) {
+  for (const std::string_view s : kImplicitSolvers)
+    if (s == name) return true;
+  return false;
+}
+// "matrix_free, eigen, vbd"
+inline std::string implicit_solver_names() {
+  std::string out;
+  for (const std::string_view s : kImplicitSolvers) (out += out.empty() ? "" : ", ") += s;
+  return out;
+}
 
 // For the test equation x'' = -w2 x - c x' (one mass on a damped spring), a scheme maps
 // (x_n, v_n) to (x_n+1, v_n+1) = (I + N) (x_n, v_n). Schemes return the increment N rather than

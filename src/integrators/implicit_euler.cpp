@@ -43,9 +43,8 @@ class ImplicitEuler final : public Integrator {
       if (!pool->has_jacobian())
         return "link kind '" + std::string(pool->keyword()) +
                "' provides no Jacobian: implicit_euler cannot integrate it";
-    if (std::find(kImplicitSolvers.begin(), kImplicitSolvers.end(), settings_.solver) ==
-        kImplicitSolvers.end())
-      return "unknown implicit solver '" + settings_.solver + "' (matrix_free, eigen, vbd)";
+    if (!is_implicit_solver(settings_.solver))
+      return "unknown implicit solver '" + settings_.solver + "' (" + implicit_solver_names() + ")";
     return {};
   }
 

@@ -121,7 +121,10 @@ class SceneReader {
     s.runaway_factor =
         t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
     if (auto i = t.table("implicit")) {
-      s.implicit.solver = i->text("solver", s.implicit.solver, {"matrix_free", "eigen", "vbd"});
+      s.implicit.solver = i->text("solver", s.implicit.solver);
+      if (!is_implicit_solver(s.implicit.solver))
+        i->fail("solver",
+                "must be one of " + implicit_solver_names() + " (got '" + s.implicit.solver + "')");
       s.implicit.tolerance = i->real("tolerance", s.implicit.tolerance, Bound::positive);
       s.implicit.max_iterations =
           static_cast<int>(i->integer("max_iterations", s.implicit.max_iterations, 1, 1 << 20));
