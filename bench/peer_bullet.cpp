@@ -1,6 +1,7 @@
 // peer_bullet: Maille against Bullet's soft-body cloth on the same scene (docs/peer.md).
 //
 //   peer_bullet --out DIR [--quick] [--sizes 32,64,128] [--duration T] [--engine maille|bullet]
+//               [--large-steps]
 //
 // A square cloth (1 m, 0.3 kg, structural + shear springs) dropped flat from 0.5 m above a
 // fixed sphere (R = 0.25 m), n x n particles for n = 32, 64, 128; each engine with its default
@@ -12,6 +13,9 @@
 //   stable,sim_s,threads,final_clearance_m,rungs,notes
 //
 // `--quick`: 32 and 64 only, 0.5 s simulated (the ctest). The full run simulates 2 s.
+// `--large-steps`: Maille's implicit Euler by vertex block descent (10 sweeps, geometric sphere
+// in the solve) also runs at the animation steps 1/60, 1/120 and 1/240 s, no ladder: rows with
+// setting vbd_60, vbd_120, vbd_240, held to the tuned bounds (docs/implicit.md).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -91,7 +95,7 @@ void write_csv(const std::filesystem::path& dir, const std::vector<Row>& rows) {
 int usage() {
   std::fprintf(stderr,
                "usage: peer_bullet --out DIR [--quick] [--sizes 32,64,128] [--duration T] "
-               "[--engine maille|bullet]\n");
+               "[--engine maille|bullet] [--large-steps]\n");
   return 2;
 }
 
@@ -103,12 +107,15 @@ int main(int argc, char** argv) {
   std::vector<int> sizes;
   double duration = 0;
   std::string engine;  // "": both
+  bool large_steps = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) {
       out = argv[++i];
     } else if (a == "--quick") {
       quick = true;
+    } else if (a == "--large-steps") {
+      large_steps = true;
     } else if (a == "--sizes" && i + 1 < argc) {
       std::stringstream list(argv[++i]);
       for (std::string item; std::getline(list, item, ',');)
@@ -130,8 +137,8 @@ int main(int argc, char** argv) {
 
   // Default settings: each engine as it comes. Tuned: see docs/peer.md for how they were chosen.
   const peer::MailleSetting maille_default{};
-  const peer::MailleSetting maille_tuned{"tuned", "leapfrog", "facets", "alpha = 0.0\nbeta = 0.2\n",
-                                         peer::Bounds{0.005, 0.3}};
+  const peer::MailleSetting maille_tuned{
+      "tuned", "leapfrog", "facets", "alpha = 0.0\nbeta = 0.2\n", peer::Bounds{0.005, 0.3}, ""};
   const peer::BulletSetting bullet_default{};
   peer::BulletSetting bullet_tuned;
   bullet_tuned.name = "tuned";
@@ -161,6 +168,20 @@ int main(int argc, char** argv) {
                 {},
                 0};
         rows.push_back(ladder([&](double h) { return peer::run_maille(s, m, h); }, row, quick));
+      }
+      for (const int per_second : {60, 120, 240}) {
+        if (!large_steps || engine == "bullet") break;
+        const peer::MailleSetting v{"vbd_" + std::to_string(per_second),
+                                    "implicit_euler",
+                                    "geometric",
+                                    "",
+                                    peer::Bounds{0.005, 0.3},
+                                    "solver = \"vbd\"\niterations = 10\n"};
+        Row row{"maille", peer::maille_version(), v.name, v.describe(), s.particles(), {}, 1};
+        row.r = peer::run_maille(s, v, 1.0 / per_second);
+        std::printf("    maille  %-7s n=%-5d h=1/%d: %s%s\n", v.name.c_str(), s.particles(),
+                    per_second, row.r.stable ? "stable" : "unstable: ", row.r.why.c_str());
+        rows.push_back(row);
       }
       for (const peer::BulletSetting& b : {bullet_default, bullet_tuned}) {
         if (engine == "maille") break;

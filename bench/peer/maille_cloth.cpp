@@ -23,8 +23,9 @@ namespace {
 std::string scene_text(const PeerScene& s, const MailleSetting& m, double step) {
   std::ostringstream t;
   t.precision(17);
-  t << "[simulation]\nintegrator = \"" << m.integrator << "\"\nstep = " << step << "\n"
-    << "[fields]\ngravity = [0.0, " << -s.gravity << ", 0.0]\n"
+  t << "[simulation]\nintegrator = \"" << m.integrator << "\"\nstep = " << step << "\n";
+  if (!m.implicit_keys.empty()) t << "[simulation.implicit]\n" << m.implicit_keys;
+  t << "[fields]\ngravity = [0.0, " << -s.gravity << ", 0.0]\n"
     << "[[flag]]\nname = \"cloth\"\norigin = [" << -s.side / 2 << ", " << s.height << ", "
     << -s.side / 2 << "]\nalong = [1.0, 0.0, 0.0]\nup = [0.0, 0.0, 1.0]\nwidth = " << s.side
     << "\nheight = " << s.side << "\nresolution = [" << s.n << ", " << s.n << "]\nmass = " << s.mass
@@ -51,6 +52,12 @@ maille::Scene read(const PeerScene& s, const MailleSetting& m, double step) {
 
 std::string MailleSetting::describe() const {
   std::string d = "integrator=" + integrator + " obstacle=" + method;
+  if (!implicit_keys.empty()) {
+    std::string k = implicit_keys;
+    for (char& c : k)
+      if (c == '\n') c = ' ';
+    d += " " + k;
+  }
   if (!obstacle_keys.empty()) {
     std::string k = obstacle_keys;
     for (char& c : k)

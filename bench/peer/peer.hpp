@@ -127,6 +127,7 @@ struct MailleSetting {
   std::string method = "geometric";     // the [[obstacle]] method
   std::string obstacle_keys;            // extra [[obstacle]] keys ("" : the method's defaults)
   Bounds bounds;                        // what this setting must hold to count as stable
+  std::string implicit_keys;            // [simulation.implicit] keys ("": none)
   std::string describe() const;
 };
 std::string maille_version();

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -64,6 +65,23 @@ inline std::string implicit_solver_names() {
 // cancellation against 1 that made tiny steps look unstable.
 using Amplification = std::array<std::array<double, 2>, 2>;
 
+// When the stages that rewrite forces and velocities after the fact (Phase::response: the facet
+// method's inverse dynamics) run in a scheme's step.
+enum class ResponseTiming : std::uint8_t {
+  // On the step's forces and velocities, before the scheme moves the points by one kick and one
+  // drift (leapfrog, symplectic and explicit Euler): the rewrite is what the drift uses.
+  before_integration,
+  // On the motion a solve proposes (implicit Euler: x_n+1 = x_n + h v_n+1): the stage sees x_n
+  // with v_n+1 and the step's mean force m (v_n+1 - v_n) / h, tests the segment x_n -> x_n+1 and
+  // rewrites v_n+1; the simulator then moves the points it changed to x_n + h v'.
+  after_solve,
+  // Never: the scheme evaluates forces at intermediate states (RK4, velocity Verlet), where one
+  // rewrite of the step's first forces would be undone by the others.
+  refused,
+};
+
+class Stage;
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -83,13 +101,15 @@ class Integrator {
   virtual bool uses_jacobians() const { return false; }
   // Force evaluations per step (the simulator's own pass included): the cost unit.
   virtual int force_evaluations() const { return 1; }
-  // Whether stages that rewrite forces or velocities after the fact (facet responses) can be
-  // combined with the scheme: not for schemes that evaluate forces at intermediate states.
-  virtual bool accepts_state_rewrites() const { return true; }
+  // When stages that rewrite forces or velocities after the fact (facet responses) run.
+  virtual ResponseTiming response_timing() const { return ResponseTiming::before_integration; }
   // Whether positions advance with the velocity after the step's kick (StageContext).
   virtual bool drifts_after_kick() const { return true; }
   // Why the scheme cannot integrate this model (empty: it can).
   virtual std::string check(const Model&) const { return {}; }
+  // Why the scheme cannot run with this installed stage (empty: it can). Non-const stage: the
+  // check may ask what the stage offers to implicit solves (Stage::point_contacts).
+  virtual std::string check_stage(Stage&) const { return {}; }
   // Drop scratch buffers sized for a model (the scheme's history lives in the State).
   virtual void reset() {}
 

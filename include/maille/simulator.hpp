@@ -179,12 +179,16 @@ class Simulator : private ForceEvaluator {
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
   std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
   std::span<PointContacts* const> point_contacts() const override { return point_contacts_; }
-  void respond();  // response stages, once per step
+  void respond();  // response stages, once per step, before integration
+  // Response stages of a scheme that solves (ResponseTiming::after_solve;
+  // simulator_response.cpp): the step's start is kept, then the stages answer the solved motion.
+  void keep_step_start();
+  void respond_to_solved_motion();
   void build_integrator(const std::string& name);
   void install_model_stages();
   void add_installed(std::unique_ptr<Stage> stage, bool from_model, int spec = -1);
   void switch_variant(std::size_t spec, const std::string& value);
-  void check_stage(const Stage& stage) const;
+  void check_stage(Stage& stage) const;
   void restimate_stability();
   void model_structure_changed();
   StageContext context(const State& s) const;
@@ -218,6 +222,8 @@ class Simulator : private ForceEvaluator {
   std::optional<EnergySample> pending_sample_;
   Snapshot snapshot_;
   std::vector<Vec3> scratch_velocity_;
+  // The step's start and the solve's result, for response stages after a solve.
+  std::vector<Vec3> start_x_, start_v_, solved_x_, solved_v_;
   std::vector<const LinkPoolBase*> transient_;  // stages' implicit links after the last evaluate
   std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
   double energy_scale_ = 0;

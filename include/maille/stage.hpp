@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -94,6 +95,10 @@ class PointContacts {
   // independent: threads may run disjoint point sets at once.
   virtual void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v,
                          Real inv_h, Vec3* f, Mat3* hessian, std::uint8_t* touching) const = 0;
+  // The thinnest contact region the stage has, m (a box's smallest side, a conditional
+  // obstacle's threshold; +inf for a half-space): a point moving further than half of it in a
+  // step could cross it unseen, so solvers test such a point's segment at that spacing.
+  virtual Real thickness() const { return std::numeric_limits<Real>::infinity(); }
 };
 
 class Stage {

@@ -72,11 +72,15 @@ void Simulator::build_integrator(const std::string& name) {
   scheme->set_threads(threads_);
   if (const std::string why = scheme->check(model_); !why.empty()) throw std::invalid_argument(why);
   if (backend_) check_backend(*scheme);
-  if (!scheme->accepts_state_rewrites() && !response_stages_.empty())
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (const auto& st : *list)
+      if (const std::string why = scheme->check_stage(*st.stage); !why.empty())
+        throw std::invalid_argument(why);
+  if (scheme->response_timing() == ResponseTiming::refused && !response_stages_.empty())
     throw std::invalid_argument("stage '" + response_stages_.front().stage->name() +
                                 "' rewrites forces and velocities after the fact; " + name +
-                                " cannot be combined with it (use leapfrog, symplectic_euler or "
-                                "explicit_euler)");
+                                " cannot be combined with it (use leapfrog, symplectic_euler, "
+                                "explicit_euler or implicit_euler)");
   integrator_ = std::move(scheme);
   settings_.integrator = name;
   restimate_stability();
@@ -120,15 +124,17 @@ void Simulator::reset() {
   device_ahead_ = false;
 }
 
-void Simulator::check_stage(const Stage& stage) const {
+void Simulator::check_stage(Stage& stage) const {
   if (backend_) check_backend(*integrator_, &stage);
-  if (stage.phase() == Phase::response && !integrator_->accepts_state_rewrites())
+  if (const std::string why = integrator_->check_stage(stage); !why.empty())
+    throw std::invalid_argument(why);
+  if (stage.phase() == Phase::response && integrator_->response_timing() == ResponseTiming::refused)
     throw std::invalid_argument("stage '" + stage.name() +
                                 "' rewrites forces and velocities after the fact; " +
                                 std::string(integrator_->name()) +
-                                " evaluates forces at intermediate states (or solves for "
-                                "velocities after them) and cannot be combined with it (use "
-                                "leapfrog, symplectic_euler or explicit_euler)");
+                                " evaluates forces at intermediate states and cannot be combined "
+                                "with it (use leapfrog, symplectic_euler, explicit_euler or "
+                                "implicit_euler)");
 }
 
 void Simulator::add_stage(std::unique_ptr<Stage> stage) {
@@ -218,14 +224,18 @@ bool Simulator::step() {
   evaluate(state_);
   check_forces(state_);
   if (blow_up_) return false;
-  respond();
+  const ResponseTiming responses = integrator_->response_timing();
+  if (responses == ResponseTiming::before_integration) respond();
   if (blow_up_) return false;
   if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) sample_energies();
   if (blow_up_) return false;
+  if (responses == ResponseTiming::after_solve) keep_step_start();
   {
     Timed t(profile_, ids.integrate);
     integrator_->advance(model_, state_, h, *this, profile_);
   }
+  if (responses == ResponseTiming::after_solve) respond_to_solved_motion();
+  if (blow_up_) return false;
   state_.time += settings_.step;
   state_.step += 1;
   {

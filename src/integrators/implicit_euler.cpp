@@ -26,6 +26,7 @@
 #include "implicit_system.hpp"
 #include "implicit_vbd.hpp"
 #include "integrators.hpp"
+#include "maille/stage.hpp"
 
 namespace maille {
 
@@ -46,6 +47,17 @@ class ImplicitEuler final : public Integrator {
     if (!is_implicit_solver(settings_.solver))
       return "unknown implicit solver '" + settings_.solver + "' (" + implicit_solver_names() + ")";
     return {};
+  }
+
+  // The eigen solver assembles a CSR matrix of fixed pattern (the model's links): a stage's
+  // contacts, found anew each step, cannot enter it, and leaving them explicit at large steps
+  // is what made the cloth blow up on a sphere; such stages are refused by name.
+  std::string check_stage(Stage& stage) const override {
+    if (settings_.solver != "eigen") return {};
+    if (!stage.implicit_links() && !stage.point_contacts()) return {};
+    return "implicit solver 'eigen' assembles a matrix of fixed pattern and cannot take the "
+           "contacts of stage '" +
+           stage.name() + "' into its solve; use solver = \"vbd\" or \"matrix_free\"";
   }
 
   void advance(const Model& m, State& s, Real h, ForceEvaluator& forces,
@@ -135,9 +147,9 @@ class ImplicitEuler final : public Integrator {
     vbd_.reset();
   }
   bool uses_jacobians() const override { return true; }
-  // A response stage zeroes a velocity into a facet, then the solve adds a dv that couples it to
-  // every neighbour and undoes the rewrite: refused rather than run wrong.
-  bool accepts_state_rewrites() const override { return false; }
+  // A response stage run before the solve would zero a velocity into a facet, then the solve's
+  // dv, coupled to every neighbour, would undo it: facets answer the solved motion instead.
+  ResponseTiming response_timing() const override { return ResponseTiming::after_solve; }
 
  private:
   // Iteration 0 (Baraff-Witkin): b = h f(x_n, v_n), plus h^2 df/dx v_n added by the pools.

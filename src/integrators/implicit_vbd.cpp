@@ -11,6 +11,10 @@
 //   sweeps    colour by colour: g_i, H_i, x_i += H_i^-1 g_i; then Chebyshev acceleration
 //             x = w (x - x_prev2) + x_prev2, turned off for the step when a sweep's residual
 //             rises (the fallback)
+//   thin      a point whose guess, or whose solved position, lies more than half the thinnest
+//             contact region away from x_n has its segment from x_n tested at that spacing; it
+//             stops just inside the first contact it meets (continuous detection: a cloth
+//             thrown at a 1 cm box at 1/60 s moves 17 cm a step)
 //   end       v = (x - x_n) / h
 //
 // Determinism: a point's g and H sum its links in a fixed order (pool by pool, slot by slot)
@@ -36,6 +40,9 @@ constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
 constexpr std::int64_t kBlock = 64;            // points per thread task in a colour
 constexpr std::size_t kParallelPoints = 2048;  // fewer free points: one thread
 constexpr int kBisections = 10;  // a step across a contact's surface stops within 1/1024 of it
+// Continuous detection tests at most this many points of a segment (a point faster than this
+// many half-thicknesses a step is tested more coarsely).
+constexpr int kMaxSegmentSamples = 256;
 // The guess's largest motion times this is the contact margin (2: two points moving toward
 // each other; 1.25: room before a refresh is needed).
 constexpr Real kMarginFactor = Real(2.5);
@@ -183,7 +190,9 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   std::fill(g_.begin(), g_.end(), Vec3{});
   LinkCounters counters;
   for (const PoolRows& r : rows_) r.pool->accumulate(x, v, g_.data(), counters);
+  thinnest_ = std::numeric_limits<Real>::infinity();
   for (PointContacts* c : contacts_) {
+    thinnest_ = std::min(thinnest_, c->thickness());
     c->set_time(s.time);
     c->add_terms(free_, x, v, Real(1) / h, g_.data(), hess_.data(), nullptr);
     c->lag(free_, x, v, t_next);
@@ -333,6 +342,7 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   initial_guess(m, s, h);
   Vec3* x = s.x().data();
   Vec3* v = s.v().data();
+  stop_at_first_touch(x, v, h, false);  // the guess: the solve starts at the first contact
   if (dynamic_) {
     find_candidates(m, xn_.data(), margin_for(x));
     colour();
@@ -357,8 +367,11 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
     last_merit = merit;
     if (accelerate) {
       omega = k == 1 ? 1 : k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega);
+      // Points in contact are not extrapolated: across a stiff contact's jump the
+      // extrapolation throws a point deep into (or through) a thin obstacle.
       if (k >= 2)
         for (const std::uint32_t i : free_) {
+          if (touching_[i]) continue;
           x[i] = (x[i] - prev2_[i]) * omega + prev2_[i];
           v[i] = (x[i] - xn_[i]) * (Real(1) / h);
         }
@@ -372,7 +385,60 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
       ++result.candidate_refreshes;
     }
   }
+  stop_at_first_touch(x, v, h, true);  // the solve's result: only if it went through
   return result;
+}
+
+// Fraction of the segment x_n,i -> `to` at which point i first enters a point contact: touches
+// it while moving against its push (a point leaving a contact, or sliding along one, is not
+// stopped), just inside it. 1: it enters nothing on the way, or, with through_only, it touches
+// at `to` (the solve saw that contact). Sampled at half the thinnest contact region (x_n
+// included: a point already touching a thin box and heading through it stays), then bisected
+// between the last sample that does not enter and the first that does. Uses the trial arrays of
+// point i only (threads may run other points).
+Real VertexBlockDescent::first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only) {
+  const Vec3 from = xn_[i], d = to - from;
+  const std::span<const std::uint32_t> one(&i, 1);
+  const Real inv_h = Real(1) / h;
+  auto touches = [&](Real t) {
+    trial_x_[i] = from + d * t;
+    trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
+    trial_touch_[i] = 0;
+    trial_g_[i] = Vec3{};
+    for (const PointContacts* c : contacts_)
+      c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                   trial_touch_.data());
+    return trial_touch_[i] != 0;
+  };
+  auto enters = [&](Real t) { return touches(t) && dot(trial_g_[i], d) < 0; };
+  if (through_only && touches(1)) return 1;
+  if (enters(0)) return 0;
+  const Real length = norm(d);
+  const int samples = int(std::min<Real>(kMaxSegmentSamples, std::ceil(2 * length / thinnest_)));
+  for (int k = 1; k <= samples; ++k) {
+    const Real t = Real(k) / Real(samples);
+    if (!enters(t)) continue;
+    Real lo = Real(k - 1) / Real(samples), hi = t;
+    for (int b = 0; b < kBisections; ++b) {
+      const Real mid = Real(0.5) * (lo + hi);
+      (enters(mid) ? hi : lo) = mid;
+    }
+    return hi;
+  }
+  return 1;
+}
+
+// Continuous detection for points that move more than half the thinnest contact region.
+void VertexBlockDescent::stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only) {
+  if (!(thinnest_ < std::numeric_limits<Real>::infinity())) return;
+  const Real half = Real(0.5) * thinnest_;
+  for (const std::uint32_t i : free_) {
+    if (norm2(x[i] - xn_[i]) <= half * half) continue;
+    const Real t = first_touch(i, x[i], h, through_only);
+    if (t >= 1) continue;
+    x[i] = xn_[i] + (x[i] - xn_[i]) * t;
+    v[i] = (x[i] - xn_[i]) * (Real(1) / h);
+  }
 }
 
 double VertexBlockDescent::residual(const Model& m, const State& s, Real h) {

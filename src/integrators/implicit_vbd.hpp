@@ -73,6 +73,8 @@ class VertexBlockDescent {
                     Real h);
   void initial_guess(const Model& m, State& s, Real h);
   Real largest_motion(const Vec3* x) const;
+  Real first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only);
+  void stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only);
   Real margin_for(const Vec3* x) const;
 
   ImplicitSettings settings_;
@@ -98,6 +100,7 @@ class VertexBlockDescent {
   std::vector<Mat3> trial_h_;                         // [points]
   std::vector<std::uint8_t> touching_, trial_touch_;  // [points]
   Real margin_ = 0;  // contact search radius beyond each link's threshold, m
+  Real thinnest_ = 0;  // the point contacts' thinnest region this step (PointContacts::thickness)
   Real gravity_ = 0;
 };
 

@@ -51,7 +51,7 @@ class Rk4 final : public Integrator {
     return multiply(ha, r);
   }
   int force_evaluations() const override { return 4; }
-  bool accepts_state_rewrites() const override { return false; }
+  ResponseTiming response_timing() const override { return ResponseTiming::refused; }
 
  private:
   // k1 = (v0, f0/m): start the weighted sums with it.

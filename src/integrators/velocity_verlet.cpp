@@ -29,7 +29,7 @@ class VelocityVerlet final : public Integrator {
     return compose(kick, compose(drift, kick));
   }
   int force_evaluations() const override { return 2; }
-  bool accepts_state_rewrites() const override { return false; }
+  ResponseTiming response_timing() const override { return ResponseTiming::refused; }
 };
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "maille/builders.hpp"
 #include "maille/checkpoint.hpp"
 #include "maille/links/conditional.hpp"
+#include "maille/obstacle.hpp"
 #include "maille/scene.hpp"
 #include "test_support.hpp"
 
@@ -224,6 +225,38 @@ TEST(Vbd, SolverSwitchesLiveAroundTheState) {
   EXPECT_EQ(state_hash(sim.state()), before);
   ASSERT_TRUE(sim.run_steps(10));
   EXPECT_LT(sim.energies().kinetic, 1.0);  // still a hanging cloth, not a blow-up
+}
+
+// The eigen solver's matrix has the model's links as its fixed pattern: a stage whose contacts
+// the other solvers take into the solve (geometric obstacles, self-collision) is refused by
+// name, at construction and on a live switch, which then changes nothing.
+TEST(Vbd, EigenRefusesStageContactsByName) {
+  Model m = hanging_cloth();
+  Obstacle ball;
+  ball.name = "ball";
+  ball.method = ObstacleMethod::geometric;
+  ball.shape = ShapeKind::sphere;
+  ball.place = shapes::Affine::from({0, -0.5, 0}, {}, {0.2, 0.2, 0.2});
+  m.stages.push_back({"obstacle:ball", Phase::forces,
+                      [ball](const Model& mm) { return make_obstacle_stage(mm, ball); }});
+  SimulationSettings eigen = vbd(1.0 / 60, 10, 0.9);
+  eigen.implicit.solver = "eigen";
+  try {
+    Simulator refused(m, eigen);
+    FAIL() << "eigen accepted a geometric obstacle's contacts";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("stage 'obstacle:ball'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("vbd"), std::string::npos) << e.what();
+  }
+  Simulator sim(m, vbd(1.0 / 60, 10, 0.9));
+  ASSERT_TRUE(sim.run_steps(3));
+  const std::uint64_t before = state_hash(sim.state());
+  EXPECT_THROW(sim.set_implicit(eigen.implicit), std::invalid_argument);
+  EXPECT_EQ(sim.settings().implicit.solver, "vbd");
+  EXPECT_EQ(state_hash(sim.state()), before);
+  m.stages.clear();  // without the stage, eigen runs the same cloth
+  Simulator plain(m, eigen);
+  EXPECT_TRUE(plain.run_steps(3));
 }
 
 // A scene of examples/ with implicit Euler by VBD at step h, run for `duration`.

@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "maille/links/conditional.hpp"
+#include "maille/mat3.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
@@ -75,12 +76,14 @@ std::vector<Vec3> sample_surface(const TriMesh& mesh, const shapes::Affine& plac
   return samples;
 }
 
-class ConditionalObstacleStage final : public Stage {
+class ConditionalObstacleStage final : public Stage, public PointContacts {
  public:
   ConditionalObstacleStage(const Model& m, Obstacle o)
       : o_(std::move(o)),
         set_(colliding_points(m, o_)),
+        member_(m.points.size(), 0),
         surface_(o_, std::make_shared<const TriMesh>(obstacle_mesh(o_))) {
+    for (std::uint32_t p : set_) member_[p] = 1;
     samples_ = sample_surface(*surface_.mesh(), o_.place, o_.threshold, o_.name);
     inv_cell_ = 1 / o_.threshold;
     lo_ = hi_ = samples_.front();
@@ -101,7 +104,6 @@ class ConditionalObstacleStage final : public Stage {
   Phase phase() const override { return Phase::forces; }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
-    const bool moves = o_.motion.moves();
     // The rigid motion since t = 0 (x_now = R x_0 + d): particles go back by its inverse.
     const shapes::Affine now = o_.motion.at(shapes::Affine{}, ctx.t);
     const Vec3* x = s.x().data();
@@ -110,31 +112,11 @@ class ConditionalObstacleStage final : public Stage {
     std::uint64_t contacts = 0;
     Real deepest = 0;
     for (std::uint32_t p : set_) {
-      const Vec3 xb = moves ? transpose_times(now.direct, x[p] - now.translation) : x[p];
-      if (xb.x < lo_.x || xb.y < lo_.y || xb.z < lo_.z || xb.x > hi_.x || xb.y > hi_.y ||
-          xb.z > hi_.z)
-        continue;  // away from the obstacle: one box test
-      const Vec3 vr =
-          moves ? transpose_times(now.direct, v[p] - o_.motion.velocity_at(x[p], ctx.t)) : v[p];
-      Vec3 force;
-      Real nearest2 = o_.threshold * o_.threshold;
-      const CellKey c = key(xb);
-      for (std::int64_t dk = -1; dk <= 1; ++dk)
-        for (std::int64_t dj = -1; dj <= 1; ++dj)
-          for (std::int64_t di = -1; di <= 1; ++di) {
-            const auto it = cells_.find({c.i + di, c.j + dj, c.k + dk});
-            if (it == cells_.end()) continue;
-            for (std::uint32_t si : it->second) {
-              const Vec3& xs = samples_[si];
-              if (!ConditionalSpringDamper::is_active(xs, xb, params_)) continue;
-              nearest2 = std::min(nearest2, norm2(xb - xs));
-              force -= ConditionalSpringDamper::force(xs, xb, Vec3{}, vr, params_);
-            }
-          }
-      if (nearest2 >= o_.threshold * o_.threshold) continue;
+      const Near near = near_samples(x[p], v[p], now, ctx.t, nullptr);
+      if (near.nearest2 >= o_.threshold * o_.threshold) continue;
       ++contacts;
-      deepest = std::max(deepest, o_.threshold - std::sqrt(nearest2));
-      f[p] += moves ? now.direct * force : force;
+      deepest = std::max(deepest, o_.threshold - std::sqrt(near.nearest2));
+      f[p] += near.force;
     }
     if (!ctx.profile) return;
     if (ids_[0] < 0)
@@ -156,7 +138,71 @@ class ConditionalObstacleStage final : public Stage {
     surface_.add(o_, t, out);
   }
 
+  // Implicit solvers take the samples' springs into the solve: at each iterate, a point's force
+  // is the one apply() would give there, and its stiffness the conditional law's block (definite
+  // mode), so VBD and matrix-free CG hold the cloth at large steps as a stiff contact would.
+  PointContacts* point_contacts() override { return this; }
+  void set_time(double t) override {
+    time_ = t;
+    now_ = o_.motion.at(shapes::Affine{}, t);
+  }
+  // The band around the samples where a point is in contact is at least a threshold deep.
+  Real thickness() const override { return o_.threshold; }
+  void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v, Real inv_h,
+                 Vec3* f, Mat3* hessian, std::uint8_t* touching) const override {
+    for (const std::uint32_t p : points) {
+      if (!member_[p]) continue;
+      Mat3 stiffness;
+      const Near near = near_samples(x[p], v[p], now_, time_, &stiffness, inv_h);
+      if (near.nearest2 >= o_.threshold * o_.threshold) continue;
+      f[p] += near.force;
+      hessian[p] += stiffness;
+      if (touching) touching[p] = 1;
+    }
+  }
+
  private:
+  struct Near {
+    Vec3 force;     // world force of every sample within the threshold, N
+    Real nearest2;  // squared distance to the nearest of them (threshold^2 when none), m^2
+  };
+
+  // The samples' forces on a point at x, v with the obstacle placed by `now` (its motion at t),
+  // and their stiffness -df/dx - (1/h) df/dv in the world when `stiffness` is not null.
+  Near near_samples(const Vec3& x, const Vec3& v, const shapes::Affine& now, double t,
+                    Mat3* stiffness, Real inv_h = 0) const {
+    const bool moves = o_.motion.moves();
+    Near out{{}, o_.threshold * o_.threshold};
+    const Vec3 xb = moves ? transpose_times(now.direct, x - now.translation) : x;
+    if (xb.x < lo_.x || xb.y < lo_.y || xb.z < lo_.z || xb.x > hi_.x || xb.y > hi_.y ||
+        xb.z > hi_.z)
+      return out;  // away from the obstacle: one box test
+    const Vec3 vr = moves ? transpose_times(now.direct, v - o_.motion.velocity_at(x, t)) : v;
+    Vec3 force;
+    Mat3 block;
+    const CellKey c = key(xb);
+    for (std::int64_t dk = -1; dk <= 1; ++dk)
+      for (std::int64_t dj = -1; dj <= 1; ++dj)
+        for (std::int64_t di = -1; di <= 1; ++di) {
+          const auto it = cells_.find({c.i + di, c.j + dj, c.k + dk});
+          if (it == cells_.end()) continue;
+          for (std::uint32_t si : it->second) {
+            const Vec3& xs = samples_[si];
+            if (!ConditionalSpringDamper::is_active(xs, xb, params_)) continue;
+            out.nearest2 = std::min(out.nearest2, norm2(xb - xs));
+            force -= ConditionalSpringDamper::force(xs, xb, Vec3{}, vr, params_);
+            if (stiffness) {
+              const LinkJacobian j = ConditionalSpringDamper::jacobian(xs, xb, Vec3{}, vr, params_,
+                                                                       JacobianMode::definite);
+              block += j.dx + j.dv * inv_h;
+            }
+          }
+        }
+    out.force = moves ? now.direct * force : force;
+    if (stiffness) *stiffness = moves ? now.direct * block * transpose(now.direct) : block;
+    return out;
+  }
+
   CellKey key(const Vec3& x) const {
     return {std::int64_t(std::floor(x.x * inv_cell_)), std::int64_t(std::floor(x.y * inv_cell_)),
             std::int64_t(std::floor(x.z * inv_cell_))};
@@ -164,6 +210,7 @@ class ConditionalObstacleStage final : public Stage {
 
   Obstacle o_;
   std::vector<std::uint32_t> set_;
+  std::vector<std::uint8_t> member_;  // [points]: 1 for the colliding points (set_)
   ObstacleSurface surface_;
   std::vector<Vec3> samples_;  // world positions at t = 0
   std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> cells_;
@@ -171,6 +218,8 @@ class ConditionalObstacleStage final : public Stage {
   Real inv_cell_ = 1;
   ConditionalSpringDamper::Params params_;
   std::array<int, 2> ids_{-1, -1};
+  double time_ = 0;     // the implicit solve's time (set_time)
+  shapes::Affine now_;  // the rigid motion at time_
 };
 
 }  // namespace

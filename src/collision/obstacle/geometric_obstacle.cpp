@@ -99,6 +99,19 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   PointContacts* point_contacts() override {
     return this;
   }
+  // The shape's thinnest canonical extent (a torus's tube, a cone's top, else 2) times the
+  // placement's smallest stretch, bounded below by 1 / |M_i|_F (Frobenius >= largest singular
+  // value of the inverse): never more than the true thickness.
+  Real thickness() const override {
+    if (o_.shape == ShapeKind::plane) return std::numeric_limits<Real>::infinity();
+    const Real canonical = o_.shape == ShapeKind::torus  ? 2 * o_.tube
+                           : o_.shape == ShapeKind::cone ? 2 * std::max(o_.top, Real(0.1))
+                                                         : Real(2);
+    Real f2 = 0;
+    for (const auto& row : o_.place.inverse.m)
+      for (const Real e : row) f2 += e * e;
+    return canonical / std::sqrt(f2);
+  }
   void set_time(double t) override {
     time_ = t;
     place_now_ = o_.motion.at(o_.place, t);
