@@ -200,6 +200,32 @@ TEST(Vbd, CheckpointThenResumeIsBitIdentical) {
   std::filesystem::remove(path);
 }
 
+// The same with every contact on, at 1/60 s: examples with geometric obstacles (lagged friction),
+// self-collision, facets after the solve and a conditional obstacle in the solve, on two threads.
+TEST(Vbd, CheckpointThenResumeIsBitIdenticalWithContacts) {
+  for (const char* name : {"cloth_on_sphere", "sphere_by_facets", "sphere_by_conditional"}) {
+    auto loaded = load_scene(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
+    ASSERT_TRUE(loaded) << loaded.error().to_string();
+    const Model& m = loaded->model;
+    SimulationSettings s = vbd(1.0 / 60, 10, 0.9);
+    s.threads = 2;
+    Simulator whole(m, s);
+    ASSERT_TRUE(whole.run_steps(30)) << name;  // the fall and the first contacts
+    Simulator first(m, s);
+    ASSERT_TRUE(first.run_steps(20)) << name;
+    const auto path = std::filesystem::temp_directory_path() / "maille_test_vbd_contacts.bin";
+    write_checkpoint(path, {first.state(), "implicit_euler", s.step, first.frames_published(), 0,
+                            model_fingerprint(first.model())});
+    Simulator second(m, s);
+    auto c = read_checkpoint(path, second.model());
+    ASSERT_TRUE(c) << c.error().to_string();
+    second.restore(std::move(c->state), c->frames_published);
+    ASSERT_TRUE(second.run_steps(10)) << name;
+    EXPECT_EQ(state_hash(second.state()), state_hash(whole.state())) << name;
+    std::filesystem::remove(path);
+  }
+}
+
 // The solver switches between steps (the viewer's combo): the state carries on, and a refused
 // switch changes nothing.
 TEST(Vbd, SolverSwitchesLiveAroundTheState) {

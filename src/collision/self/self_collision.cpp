@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "broad_phase.hpp"
 #include "maille/links/conditional.hpp"
@@ -520,6 +521,18 @@ class SelfCollisionStage final : public Stage {
   // How much closer two particles can come during a step: at most h times twice the largest
   // speed relative to the particles' mean velocity (a common motion, a fall under gravity
   // included, brings no pair closer), with a quarter more for the solve's corrections.
+  // State memory key (a std::string made once: the step must not allocate).
+  inline static const std::string kWideMargin = "self_collision.wide_margin";
+
+  void build_wide(const Model& m, Real margin) {
+    SelfCollisionSettings ws = engine_.settings();
+    wide_margin_ = margin;
+    ws.radius += wide_margin_;
+    ws.cell_size = ws.radius;
+    ws.primitive = Primitive::points;
+    wide_ = std::make_unique<SelfCollision>(m, ws);
+  }
+
   static Real motion_margin(const State& s, const std::vector<std::uint32_t>& set, Real h) {
     const auto v = s.v();
     Vec3 mean{};
@@ -530,21 +543,19 @@ class SelfCollisionStage final : public Stage {
     return Real(2.5) * std::sqrt(dv2) * h;
   }
 
-  void contacts_as_links(const Model& m, const State& s, const StageContext& ctx) {
+  void contacts_as_links(const Model& m, State& s, const StageContext& ctx) {
     contacts_.clear();
     const auto& st = engine_.settings();
     const Real needed = motion_margin(s, engine_.set(), Real(ctx.h));
     // Grown to twice what is needed when too small, shrunk when four times too large (a cloth
     // come to rest): the wide engine (grid and exclusion) is rebuilt rarely, never per step.
+    // The margin in use is part of the state (the candidates, and so the solve's summation
+    // order, depend on it): a resumed run rebuilds the engine with the margin it had.
+    std::vector<double>& kept = s.memory(kWideMargin);
+    if (!wide_ && kept.size() == 1) build_wide(m, Real(kept[0]));
     const Real target = std::max(needed, Real(0.25) * st.radius);
-    if (!wide_ || needed > wide_margin_ || wide_margin_ > 4 * target) {
-      SelfCollisionSettings ws = st;
-      wide_margin_ = 2 * target;
-      ws.radius = st.radius + wide_margin_;
-      ws.cell_size = ws.radius;
-      ws.primitive = Primitive::points;
-      wide_ = std::make_unique<SelfCollision>(m, ws);
-    }
+    if (!wide_ || needed > wide_margin_ || wide_margin_ > 4 * target) build_wide(m, 2 * target);
+    kept.assign(1, double(wide_margin_));
     wide_->for_each_close_pair(s.x().data(), ctx.threads, [&](std::uint32_t a, std::uint32_t b) {
       contacts_.add({a, b}, {st.stiffness, st.damping, st.radius, st.radius});
     });
