@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "maille/backend.hpp"
 #include "maille/checkpoint.hpp"
@@ -197,6 +198,12 @@ int info(const std::string& path, const std::vector<std::string>& sets, const st
             << s.duration << " s, frame every " << s.publish_every << " steps, threads "
             << sim.threads() << '\n';
   describe_audio(std::cout, scene->audio, s.step);
+  for (const StageSpec& spec : m.stages) {  // every declared key with its resolved value
+    if (spec.parameters.empty()) continue;
+    std::cout << "stage        " << spec.name << ":";
+    for (const auto& [key, value] : spec.parameters) std::cout << ' ' << key << '=' << value;
+    std::cout << '\n';
+  }
   const auto& st = sim.stability();
   if (std::isinf(st.max_step)) {
     // Unconditionally stable schemes (implicit Euler): say so, and give the stiffest link and
@@ -432,8 +439,8 @@ int bench(const BenchOptions& o) {
   if (o.threads) settings.threads = *o.threads;
   if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
   if (o.gpu_device) settings.backend_options.device = *o.gpu_device;
-  settings.publish_every = 1 << 30;  // no publication cost in a benchmark
-  settings.sample_every = 1 << 30;
+  settings.publish_every = kNeverEvery;  // no publication cost in a benchmark
+  settings.sample_every = kNeverEvery;
   std::vector<std::string> backends = o.backends;
   if (backends.empty()) backends.push_back(settings.backend);
   std::vector<BenchRow> rows;
@@ -514,26 +521,23 @@ class ProgressBar {
 };
 
 // "yaw,pitch[,zoom]" in degrees, degrees and a distance factor.
-bool parse_camera(const std::string& text, render::MovieSettings& m) {
-  double v[3] = {m.yaw, m.pitch, m.zoom};
-  int n = 0;
-  std::size_t pos = 0;
-  while (n < 3 && pos <= text.size()) {
-    const std::size_t comma = text.find(',', pos);
-    const std::string part = text.substr(pos, comma == std::string::npos ? comma : comma - pos);
-    char* end = nullptr;
-    v[n++] = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0') return false;
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
+std::string camera_text(const std::vector<double>& v) {
+  std::ostringstream s;
+  for (std::size_t i = 0; i < v.size(); ++i) s << (i ? "," : "") << v[i];
+  return s.str();
+}
+
+// yaw, pitch[, zoom] as CLI11 split them (2 or 3 values: it refuses others).
+bool set_camera(const std::vector<double>& v, render::MovieSettings& m) {
+  if (v.size() < 2 || v.size() > 3) return false;
+  const double zoom = v.size() == 3 ? v[2] : m.zoom;
   // Finite angles, a pitch that keeps the up vector defined, a zoom that frames something.
-  if (n < 2 || !std::isfinite(v[0]) || !(std::abs(v[0]) <= 3600) || !(std::abs(v[1]) <= 89) ||
-      !(v[2] > 0.001 && v[2] <= 1000))
+  if (!std::isfinite(v[0]) || !(std::abs(v[0]) <= 3600) || !(std::abs(v[1]) <= 89) ||
+      !(zoom > 0.001 && zoom <= 1000))
     return false;
   m.yaw = v[0];
   m.pitch = v[1];
-  m.zoom = v[2];
+  m.zoom = zoom;
   return true;
 }
 
@@ -565,10 +569,10 @@ int render(const RenderCommandOptions& o) {
   m.options.smooth = o.smooth;
   m.options.smooth_lod = o.lod;
   if (o.threads) m.threads = *o.threads;
-  if (!parse_camera(o.camera, m)) {
+  if (!set_camera(o.camera, m)) {
     std::cerr << "--camera: expected yaw,pitch[,zoom] (yaw within +-3600 degrees, pitch within "
                  "+-89 degrees, zoom in (0.001, 1000]), got '"
-              << o.camera << "'\n";
+              << camera_text(o.camera) << "'\n";
     return usage;
   }
   const std::filesystem::path out(o.out);

@@ -45,6 +45,9 @@ int validate(const std::string& scene, const std::vector<std::string>& sets = {}
 int info(const std::string& scene, const std::vector<std::string>& sets = {},
          const std::string& backend = {}, std::optional<int> gpu_device = {});
 
+// Every declared scene table's keys and every named choice (`maille info --keys`): keys.cpp.
+int describe_keys();
+
 struct BenchOptions {
   std::string scene;
   std::uint64_t steps = 1000;
@@ -66,7 +69,8 @@ struct RenderCommandOptions {
   int width = 1280, height = 720;  // pixels
   double fps = 30;                 // frames per simulated second
   std::optional<double> duration;  // simulated seconds (default: the scene's)
-  std::string camera = "25,15,1";  // "yaw,pitch[,zoom]": degrees, degrees, distance factor
+  // yaw, pitch[, zoom]: degrees, degrees, distance factor (CLI11 splits "--camera 25,15,1")
+  std::vector<double> camera{25, 15, 1};
   int samples = 4;                 // antialiasing samples per pixel
   bool mesh = false;               // draw the links inside cloth surfaces too
   bool smooth = false;             // cloth faces as a smooth surface (smooth_surface.hpp)

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "maille/io.hpp"
 #ifdef MAILLE_WITH_RENDER
 #include "maille/gpu.hpp"
 #endif
@@ -70,9 +71,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)");
   run_cmd
       ->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
-      ->check(number_in(1, 1 << 30));
+      ->check(number_in(1, maille::kNeverEvery));
   run_cmd->add_option("--format", ro.format, "Frame format")
-      ->check(CLI::IsMember({"ply", "obj", "vtk"}));
+      ->check(CLI::IsMember(maille::name_strings<maille::FrameFormat>()));
   run_cmd->add_flag("--smooth", ro.smooth,
                     "OBJ frames of the smooth surface through the particles (with --format obj)");
   run_cmd->add_option("--lod", ro.lod, "Smooth surface: sub-segments per physical edge")
@@ -116,6 +117,10 @@ int main(int argc, char** argv) {
       "Also describe this backend (gpu: driver, device, limits) and whether the scene runs "
       "there; the scene may then be omitted");
   info_cmd->add_option("--gpu-device", info_device, gpu_device_help)->check(kDevice);
+  bool info_keys = false;
+  info_cmd->add_flag("--keys", info_keys,
+                     "Print every declared scene table's keys (docs/scene-format.md's tables) "
+                     "and every named choice");
 
   BenchOptions bo;
   auto* bench_cmd =
@@ -192,9 +197,12 @@ int main(int argc, char** argv) {
       ->check(number_in(0, 1000, true));
   render_cmd->add_option("--duration", rn.duration, "Simulated time, s (default: the scene's)")
       ->check(kDuration);
-  render_cmd->add_option("--camera", rn.camera,
-                         "yaw,pitch[,zoom]: view direction in degrees (yaw 0 looks along -z, "
-                         "pitch from above) and distance over the auto-framed one");
+  render_cmd
+      ->add_option("--camera", rn.camera,
+                   "yaw,pitch[,zoom]: view direction in degrees (yaw 0 looks along -z, "
+                   "pitch from above) and distance over the auto-framed one")
+      ->delimiter(',')
+      ->expected(2, 3);
   render_cmd->add_option("--samples", rn.samples, "Antialiasing samples per pixel (1-8)")
       ->check(CLI::Range(1, 8));
   render_cmd->add_flag("--mesh", rn.mesh, "Also draw the links inside cloth surfaces");
@@ -223,8 +231,9 @@ int main(int argc, char** argv) {
   if (*run_cmd) return run(ro);
   if (*validate_cmd) return validate(scene, sets);
   if (*info_cmd) {
+    if (info_keys) return describe_keys();
     if (info_scene->count() == 0 && info_backend_opt->count() == 0) {
-      std::cerr << "info: give a scene, --backend NAME, or both\n";
+      std::cerr << "info: give a scene, --backend NAME, --keys, or both\n";
       return usage;
     }
     return info(scene, sets, info_backend, info_device);

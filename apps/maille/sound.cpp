@@ -11,7 +11,7 @@ namespace maille::app {
 namespace {
 
 std::string format_name(audio::SampleFormat f) {
-  return f == audio::SampleFormat::pcm16 ? "16-bit PCM" : "32-bit float";
+  return std::string(doc_of(f));
 }
 
 }  // namespace

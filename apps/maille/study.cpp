@@ -41,8 +41,8 @@ SimulationSettings quiet(double h, const std::string& scheme) {
   SimulationSettings s;
   s.step = h;
   s.integrator = scheme;
-  s.publish_every = 1 << 30;
-  s.sample_every = 1 << 30;
+  s.publish_every = kNeverEvery;
+  s.sample_every = kNeverEvery;
   return s;
 }
 

@@ -24,6 +24,7 @@
 #include <stdexcept>
 
 #include "maille/geometric_point.hpp"
+#include "maille/obstacle.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 #include "study.hpp"
@@ -46,8 +47,8 @@ Scene read(const std::string& text) {
                            StageRegistry::with_builtins());
   if (!scene) throw std::runtime_error("study scene: " + scene.error().to_string());
   scene->settings.threads = 1;
-  scene->settings.publish_every = 1 << 30;
-  scene->settings.sample_every = 1 << 30;
+  scene->settings.publish_every = kNeverEvery;
+  scene->settings.sample_every = kNeverEvery;
   return std::move(*scene);
 }
 
@@ -92,11 +93,11 @@ void cloth_table(std::ostream& f, bool quick) {
   f << "shape,method,particles,steps,max_penetration_m,mean_contacts,obstacle_ns_pps,"
        "link_ns_pps\n";
   for (const Shape& s : shapes)
-    for (const std::string method : {"geometric", "facets", "conditional"}) {
+    for (const std::string& method : name_strings<ObstacleMethod>()) {
       Scene scene = read(cloth_on(s, method));
       const shapes::Affine place =
           shapes::Affine::from({0, Real(0.3), 0}, s.rotation, {Real(0.25), Real(0.25), Real(0.25)});
-      const ShapeKind kind = std::string(s.shape) == "cube" ? ShapeKind::cube : ShapeKind::sphere;
+      const ShapeKind kind = parse_name<ShapeKind>(s.shape).value();
       Simulator sim(std::move(scene.model), scene.settings);
       double deepest = 0;
       for (std::uint64_t i = 0; i < steps; ++i) {

@@ -214,8 +214,8 @@ void flag_wind(std::ostream& out, bool quick) {
     SimulationSettings st;
     st.step = 5e-5;
     st.threads = 1;
-    st.publish_every = 1 << 30;
-    st.sample_every = 1 << 30;
+    st.publish_every = kNeverEvery;
+    st.sample_every = kNeverEvery;
     Simulator sim(std::move(m), st);
     const std::uint64_t steps = quick ? 100 : 1000;
     sim.run_steps(20);  // warm-up

@@ -31,8 +31,8 @@ constexpr double pi = std::numbers::pi;
 SimulationSettings quiet(double h) {
   SimulationSettings s;
   s.step = h;
-  s.publish_every = 1 << 30;
-  s.sample_every = 1 << 30;
+  s.publish_every = kNeverEvery;
+  s.sample_every = kNeverEvery;
   s.threads = 1;
   return s;
 }

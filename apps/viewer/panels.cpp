@@ -191,15 +191,15 @@ void plot(const char* label, const std::vector<float>& values, const char* unit)
 
 // Implicit Euler's solver and, for vertex block descent, its sweeps and acceleration.
 void implicit_controls(PhysicsThread& physics, ImplicitSettings implicit) {
-  if (ImGui::BeginCombo("solver", implicit.solver.c_str())) {
-    for (const std::string_view name : kImplicitSolvers)
-      if (ImGui::Selectable(std::string(name).c_str(), name == implicit.solver)) {
-        implicit.solver = std::string(name);
+  if (ImGui::BeginCombo("solver", std::string(to_string(implicit.solver)).c_str())) {
+    for (const auto& n : NameTable<ImplicitSolver>::names)
+      if (ImGui::Selectable(std::string(n.name).c_str(), n.value == implicit.solver)) {
+        implicit.solver = n.value;
         physics.set_implicit(implicit);
       }
     ImGui::EndCombo();
   }
-  if (implicit.solver != "vbd") return;
+  if (implicit.solver != ImplicitSolver::vbd) return;
   int sweeps = implicit.iterations;
   if (ImGui::SliderInt("sweeps", &sweeps, 1, 200) && sweeps != implicit.iterations) {
     implicit.iterations = sweeps;

@@ -46,7 +46,7 @@ PhysicsThread::~PhysicsThread() {
 }
 
 std::unique_ptr<Simulator> PhysicsThread::make_simulator(Model model, SimulationSettings settings) {
-  settings.publish_every = 1 << 30;  // published explicitly after each batch of steps
+  settings.publish_every = kNeverEvery;  // published explicitly after each batch of steps
   settings.sample_every =
       std::max(1, static_cast<int>(std::lround(1 / (kSamplesPerSecond * settings.step))));
   const bool cpu = settings.backend == "cpu";
@@ -139,7 +139,7 @@ void PhysicsThread::set_implicit(const ImplicitSettings& implicit) {
       sim.set_implicit(implicit);
       set_notice({});
     } catch (const std::exception& e) {
-      set_notice("implicit solver " + implicit.solver + ": " + e.what());
+      set_notice("implicit solver " + std::string(to_string(implicit.solver)) + ": " + e.what());
     }
   });
 }

@@ -44,7 +44,7 @@ maille::Scene read(const PeerScene& s, const MailleSetting& m, double step) {
                                    maille::StageRegistry::with_builtins());
   if (!scene) throw std::runtime_error("peer scene: " + scene.error().to_string());
   scene->settings.threads = 1;  // one thread, as Bullet
-  scene->settings.publish_every = 1 << 30;
+  scene->settings.publish_every = maille::kNeverEvery;
   return std::move(*scene);
 }
 

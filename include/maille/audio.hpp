@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "maille/names.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -32,7 +33,43 @@ enum class Quantity : std::uint8_t {
   force,     // total force of the force pass on the point along the axis, N (on a fixed point:
              // the reaction, e.g. a string's pull on its bridge)
 };
-std::string_view name(Quantity q);
+
+enum class SampleFormat : std::uint8_t { pcm16, float32 };
+enum class Resampler : std::uint8_t { sinc, linear };
+
+}  // namespace audio
+
+template <>
+struct NameTable<audio::Quantity> {
+  static constexpr std::string_view what = "quantity";
+  static constexpr std::array<Name<audio::Quantity>, 3> names{{
+      {audio::Quantity::position, "position", "displacement from the initial position, m"},
+      {audio::Quantity::velocity, "velocity", "velocity synchronised to the sample's time, m/s"},
+      {audio::Quantity::force, "force", "total force of the force pass, N"},
+  }};
+};
+template <>
+struct NameTable<audio::SampleFormat> {
+  static constexpr std::string_view what = "sample format";
+  static constexpr std::array<Name<audio::SampleFormat>, 2> names{{
+      {audio::SampleFormat::pcm16, "pcm16", "16-bit PCM"},
+      {audio::SampleFormat::float32, "float32", "32-bit float"},
+  }};
+};
+template <>
+struct NameTable<audio::Resampler> {
+  static constexpr std::string_view what = "resampler";
+  static constexpr std::array<Name<audio::Resampler>, 2> names{{
+      {audio::Resampler::sinc, "sinc", "band-limited windowed sinc"},
+      {audio::Resampler::linear, "linear", "linear interpolation"},
+  }};
+};
+
+namespace audio {
+
+inline std::string_view name(Quantity q) {
+  return to_string(q);
+}
 
 // One [[listen]] table: one channel.
 struct Listener {
@@ -41,9 +78,6 @@ struct Listener {
   Quantity quantity = Quantity::velocity;
   Vec3 axis{0, 1, 0};  // unit vector (the scene's axis, normalised)
 };
-
-enum class SampleFormat : std::uint8_t { pcm16, float32 };
-enum class Resampler : std::uint8_t { sinc, linear };
 
 constexpr int min_rate = 1000;    // Hz
 constexpr int max_rate = 384000;  // Hz

@@ -29,6 +29,7 @@
 
 #include "maille/integrator.hpp"
 #include "maille/model.hpp"
+#include "maille/names.hpp"
 #include "maille/stage.hpp"
 #include "maille/state.hpp"
 
@@ -72,6 +73,23 @@ class Backend {
   virtual std::uint32_t gl_positions() const { return 0; }
 };
 
+// The backends the engine ships, by name ([simulation] backend, --backend). A program may
+// register more under other names; scene files name these (the gpu entry exists once the
+// program called gpu::register_backend(), and a scene naming it elsewhere is refused when the
+// simulator starts).
+enum class BackendKind : std::uint8_t { cpu, gpu };
+template <>
+struct NameTable<BackendKind> {
+  static constexpr std::string_view what = "backend";
+  static constexpr std::array<Name<BackendKind>, 2> names{{
+      {BackendKind::cpu, "cpu",
+       "the reference: every stage, every scheme, double precision, OpenMP threads"},
+      {BackendKind::gpu, "gpu",
+       "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog and "
+       "symplectic Euler, driven points, conditional contacts, self-collision (points)"},
+  }};
+};
+
 class BackendRegistry {
  public:
   using Factory = std::function<std::unique_ptr<Backend>(const BackendOptions&)>;
@@ -82,7 +100,7 @@ class BackendRegistry {
   // The process's registry: "cpu" always, others as the program registers them (apps call
   // e.g. maille::gpu::register_backend() first thing).
   static BackendRegistry& global();
-  void add(Entry e);  // replaces an entry of the same name
+  void add(Entry e);  // throws std::logic_error for a name already registered
   const Entry* find(std::string_view name) const;
   std::string names() const;  // "cpu, gpu"
   const std::vector<Entry>& entries() const { return entries_; }

@@ -9,8 +9,67 @@
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/names.hpp"
 
 namespace maille {
+
+// Which points a builder fixes (`fixed = "..."` in scene files), one choice per builder.
+enum class FlagFixed : std::uint8_t { pole, corners, top, top_corners, ends, none };
+enum class RopeFixed : std::uint8_t { start, end, both, none };
+enum class NetFixed : std::uint8_t { corners, ends, edges, top, all, none };
+enum class LatticeFixed : std::uint8_t { none, bottom };
+enum class LatticeShape : std::uint8_t { box, ball };
+
+template <>
+struct NameTable<FlagFixed> {
+  static constexpr std::string_view what = "flag fixed mode";
+  static constexpr std::array<Name<FlagFixed>, 6> names{{
+      {FlagFixed::pole, "pole", "the column i = 0"},
+      {FlagFixed::corners, "corners", "the two pole corners"},
+      {FlagFixed::top, "top", "the row j = ny - 1"},
+      {FlagFixed::top_corners, "top_corners", "the two top corners"},
+      {FlagFixed::ends, "ends", "the columns i = 0 and i = nx - 1"},
+      {FlagFixed::none, "none", "nothing fixed"},
+  }};
+};
+template <>
+struct NameTable<RopeFixed> {
+  static constexpr std::string_view what = "rope fixed mode";
+  static constexpr std::array<Name<RopeFixed>, 4> names{{
+      {RopeFixed::start, "start", "the first point"},
+      {RopeFixed::end, "end", "the last point"},
+      {RopeFixed::both, "both", "both ends"},
+      {RopeFixed::none, "none", "nothing fixed"},
+  }};
+};
+template <>
+struct NameTable<NetFixed> {
+  static constexpr std::string_view what = "net fixed mode";
+  static constexpr std::array<Name<NetFixed>, 6> names{{
+      {NetFixed::corners, "corners", "the four corners"},
+      {NetFixed::ends, "ends", "the first and last columns"},
+      {NetFixed::edges, "edges", "the whole border"},
+      {NetFixed::top, "top", "the last row"},
+      {NetFixed::all, "all", "every point"},
+      {NetFixed::none, "none", "nothing fixed"},
+  }};
+};
+template <>
+struct NameTable<LatticeFixed> {
+  static constexpr std::string_view what = "lattice fixed mode";
+  static constexpr std::array<Name<LatticeFixed>, 2> names{{
+      {LatticeFixed::none, "none", "nothing fixed"},
+      {LatticeFixed::bottom, "bottom", "the lowest layer along y"},
+  }};
+};
+template <>
+struct NameTable<LatticeShape> {
+  static constexpr std::string_view what = "lattice shape";
+  static constexpr std::array<Name<LatticeShape>, 2> names{{
+      {LatticeShape::box, "box", "every point of the box"},
+      {LatticeShape::ball, "ball", "the ball inscribed in the box"},
+  }};
+};
 
 // Shared by the grid builders: material of the links.
 struct LinkMaterial {
@@ -32,9 +91,7 @@ struct FlagParams {
   LinkMaterial material{200, Real(0.05)};
   Real shear_stiffness = 100;   // N/m
   Real bending_stiffness = 20;  // N/m (0: no bending links)
-  // Which points are fixed: "pole" (the column i = 0), "corners" (the two pole corners),
-  // "top" (the row j = ny-1), "top_corners", "ends" (the columns i = 0 and i = nx-1), "none".
-  std::string fixed = "pole";
+  FlagFixed fixed = FlagFixed::pole;  // which points are fixed
 };
 Group build_flag(Model& m, const FlagParams& p, const std::string& name);
 
@@ -47,7 +104,7 @@ struct RopeParams {
   Real mass = 1;              // kg, total
   LinkMaterial material{1000, Real(0.1)};
   Real bending_stiffness = 0;   // N/m
-  std::string fixed = "start";  // "start", "end", "both", "none"
+  RopeFixed fixed = RopeFixed::start;
   Real pretension = 0;  // relative: rest lengths are (1 - pretension) times the built distance
                         // (a string fixed at both ends is then under tension k pretension L)
 };
@@ -62,8 +119,7 @@ struct NetParams {
   std::uint32_t nx = 15, ny = 15;
   Real mass = 1;  // kg, total
   LinkMaterial material{500, Real(0.05)};
-  // "corners", "ends" (first and last columns), "edges", "top" (last row), "all", "none"
-  std::string fixed = "corners";
+  NetFixed fixed = NetFixed::corners;
 };
 Group build_net(Model& m, const NetParams& p, const std::string& name);
 
@@ -86,12 +142,12 @@ struct LatticeParams {
   Vec3 origin{};                                     // m, minimum corner
   Vec3 size{1, 1, 1};                                // m
   std::array<std::uint32_t, 3> resolution{5, 5, 5};  // points per axis, >= 2
-  std::string shape = "box";                         // "box" or "ball"
+  LatticeShape shape = LatticeShape::box;
   Real mass = 1;                                     // kg, total
   LinkMaterial material{2000, Real(0.5)};
   Real shear_stiffness = 1000;  // N/m, face and body diagonals
   Vec3 velocity{};              // m/s, initial velocity of every point
-  std::string fixed = "none";   // "none" or "bottom" (the lowest layer along y)
+  LatticeFixed fixed = LatticeFixed::none;
 };
 Group build_lattice(Model& m, const LatticeParams& p, const std::string& name);
 

@@ -1,9 +1,14 @@
 // Fields: forces that act on every point (gravity, air drag) or on every cloth face (wind).
 #pragma once
 
+#include <span>
+
 #include "maille/vec3.hpp"
 
 namespace maille {
+
+template <class S>
+struct StageKey;  // stage_keys.hpp
 
 // Wind acting on surface triangles through their normal and the relative air velocity:
 //   v_rel = w(x_c, t) - (v_a + v_b + v_c)/3,  v_n = (v_rel . n) n
@@ -23,6 +28,9 @@ struct WindField {
   bool active() const { return norm2(velocity) > 0 || turbulence > 0; }
   Vec3 at(const Vec3& p, double t) const;
 };
+
+// [fields.wind]'s keys (src/core/wind_keys.cpp).
+std::span<const StageKey<WindField>> wind_keys();
 
 struct Fields {
   Vec3 gravity{0, Real(-9.81), 0};  // g, m/s^2

@@ -15,8 +15,8 @@ class Backend;
 
 namespace maille::gpu {
 
-// Registers "gpu" in BackendRegistry::global(). Programs call it once, first thing; the engine
-// libraries never depend on OpenGL.
+// Registers "gpu" in BackendRegistry::global() (once: later calls do nothing). Programs call it
+// first thing; the engine libraries never depend on OpenGL.
 void register_backend();
 
 // The self-collision grid as the GPU left it after the backend's last force pass (tests,

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/names.hpp"
 #include "maille/profile.hpp"
 #include "maille/stage.hpp"
 #include "maille/state.hpp"
@@ -33,31 +34,27 @@ class ForceEvaluator {
   virtual std::span<PointContacts* const> point_contacts() const { return {}; }
 };
 
+// Implicit Euler's linear (or block) solver ([simulation.implicit] solver = "...").
+enum class ImplicitSolver : std::uint8_t { matrix_free, eigen, vbd };
+template <>
+struct NameTable<ImplicitSolver> {
+  static constexpr std::string_view what = "implicit solver";
+  static constexpr std::array<Name<ImplicitSolver>, 3> names{{
+      {ImplicitSolver::matrix_free, "matrix_free", "CG over the links' Jacobian blocks"},
+      {ImplicitSolver::eigen, "eigen", "CG on an assembled Eigen sparse matrix"},
+      {ImplicitSolver::vbd, "vbd", "vertex block descent: Newton steps per point, by colour"},
+  }};
+};
+
 // Settings of the implicit scheme ([simulation.implicit] in scene files).
 struct ImplicitSettings {
-  // "matrix_free" (CG over link blocks), "eigen" (CG on an assembled CSR matrix) or "vbd"
-  // (vertex block descent: Gauss-Seidel Newton steps per point, colour by colour).
-  std::string solver = "matrix_free";
+  ImplicitSolver solver = ImplicitSolver::matrix_free;
   Real tolerance = Real(1e-6);    // CG stops when |r| <= tolerance |b|
   int max_iterations = 1000;      // CG iterations per solve
   int newton_iterations = 1;      // CG: linearisations per step (1: Baraff-Witkin)
   int iterations = 10;            // vbd: sweeps over every free point per step, >= 1
   Real acceleration = Real(0.9);  // vbd: Chebyshev factor rho in [0, 1); 0 = off
 };
-// The implicit solvers' names, declared once: the scene reader, the scheme's check, the
-// viewer's combo and messages all read this list.
-inline constexpr std::array<std::string_view, 3> kImplicitSolvers{"matrix_free", "eigen", "vbd"};
-inline bool is_implicit_solver(std::string_view name) {
-  for (const std::string_view s : kImplicitSolvers)
-    if (s == name) return true;
-  return false;
-}
-// "matrix_free, eigen, vbd"
-inline std::string implicit_solver_names() {
-  std::string out;
-  for (const std::string_view s : kImplicitSolvers) (out += out.empty() ? "" : ", ") += s;
-  return out;
-}
 
 // For the test equation x'' = -w2 x - c x' (one mass on a damped spring), a scheme maps
 // (x_n, v_n) to (x_n+1, v_n+1) = (I + N) (x_n, v_n). Schemes return the increment N rather than
@@ -143,7 +140,11 @@ class IntegratorRegistry {
     std::string description;
     std::function<std::unique_ptr<Integrator>(const ImplicitSettings&)> make;
   };
-  void add(Entry e) { entries_.push_back(std::move(e)); }
+  // Throws std::logic_error for a name already registered (names.hpp: registered_twice).
+  void add(Entry e) {
+    if (find(e.name)) registered_twice("integrator registry", e.name);
+    entries_.push_back(std::move(e));
+  }
   const Entry* find(std::string_view name) const;
   std::span<const Entry> entries() const { return entries_; }
   std::string names() const;

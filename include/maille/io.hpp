@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/names.hpp"
 #include "maille/profile.hpp"
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
@@ -38,9 +39,23 @@ class AtomicFile {
   bool committed_ = false;
 };
 
-enum class FrameFormat { ply, obj, vtk };
-std::optional<FrameFormat> parse_frame_format(std::string_view name);
-std::string_view extension(FrameFormat f);
+enum class FrameFormat : std::uint8_t { ply, obj, vtk };
+template <>
+struct NameTable<FrameFormat> {
+  static constexpr std::string_view what = "frame format";
+  static constexpr std::array<Name<FrameFormat>, 3> names{{
+      {FrameFormat::ply, "ply", "ASCII PLY: points and faces"},
+      {FrameFormat::obj, "obj", "Wavefront OBJ: points, faces and links as lines"},
+      {FrameFormat::vtk, "vtk", "legacy VTK polydata, with a fixed/free point scalar"},
+  }};
+};
+inline std::optional<FrameFormat> parse_frame_format(std::string_view name) {
+  return parse_name<FrameFormat>(name);
+}
+// The file extension is the format's name.
+inline std::string_view extension(FrameFormat f) {
+  return to_string(f);
+}
 
 // One frame: the points, the surface faces, and every link as a line (renderers colour them).
 void write_frame(const std::filesystem::path& path, FrameFormat format, const Model& m,

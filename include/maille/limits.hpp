@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "maille/vec3.hpp"
 
@@ -17,6 +18,14 @@ inline constexpr Real max_stiffness = Real(1e12);  // N/m (and N.s/m for damping
                                                    // link parameter, by magnitude
 inline constexpr Real max_coordinate = Real(1e6);  // m (m/s, m/s^2): every vector component
                                                    // and length in a scene
+
+// The one bound on a link parameter or contact law value, whoever reads it ([[link]] fields,
+// [[contact]], [[obstacle]], [self_collision], the Python module): a length within the scene's
+// box, anything else (stiffness, damping) within max_stiffness; stiffness and damping are >= 0
+// everywhere (0 is a legal, if idle, law).
+inline constexpr Real max_parameter(std::string_view unit) {
+  return unit == "m" ? 2 * max_coordinate : max_stiffness;
+}
 
 // Time. The total step count of a run (duration / step, or --steps) is bounded.
 inline constexpr Real min_step = Real(1e-12);                  // s

@@ -62,8 +62,6 @@ class LinkPoolBase {
 
   // Implicit integration (kinds that define `jacobian`; others return false / do nothing).
   virtual bool has_jacobian() const = 0;
-  virtual LinkJacobian jacobian(std::size_t id, const Vec3* x, const Vec3* v,
-                                JacobianMode mode) const = 0;
   // For every link l (storage order): C_l = h dv + h^2 dx (definite mode) into blocks[l], and, when
   // rhs is not null, the right-hand side term h^2 (df/dx v): rhs_a += h^2 dx (v_b - v_a), rhs_b -=
   // it.
@@ -192,17 +190,6 @@ class LinkPool final : public LinkPoolBase {
   };
   bool has_jacobian() const override {
     return kHasJacobian;
-  }
-
-  LinkJacobian jacobian(std::size_t id, const Vec3* x, const Vec3* v,
-                        JacobianMode mode) const override {
-    if constexpr (kHasJacobian) {
-      const std::size_t l = slot_of_id_[id];
-      const auto [a, b] = ends_[l];
-      return K::jacobian(x[a], x[b], v[a], v[b], params_[l], mode);
-    } else {
-      return {};
-    }
   }
 
   void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "maille/link_pool.hpp"
+#include "maille/names.hpp"
 
 namespace maille {
 
@@ -21,8 +22,10 @@ class LinkKindRegistry {
     std::function<std::unique_ptr<LinkPoolBase>()> make_pool;
   };
 
+  // Throws std::logic_error for a keyword already registered (names.hpp: registered_twice).
   template <LinkKind K>
   void add() {
+    if (find(K::keyword)) registered_twice("link kind registry", K::keyword);
     entries_.push_back({std::string(K::keyword), LinkPool<K>{}.fields(),
                         [] { return std::make_unique<LinkPool<K>>(); }});
   }

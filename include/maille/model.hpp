@@ -66,6 +66,11 @@ struct Model {
   void prepare();
 };
 
+// Why `m` is not a model a simulator can run (empty: it is): every link's ends, every face's
+// corners, every drive's point and every group's range inside the points, drives on driven
+// points. The simulator checks models when it is built and after each edit_model.
+std::string check_model(const Model& m);
+
 // The face grids of m's surface (see FaceGrid) whatever the triangles' order; in_grid[f] is 1
 // for the triangles they hold, 0 for the others. Model::prepare keeps them in Surface::grids;
 // the smooth surface (smooth_surface.hpp) asks for them of models not prepared.

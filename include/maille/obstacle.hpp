@@ -33,10 +33,18 @@
 namespace maille {
 
 enum class ObstacleMethod : std::uint8_t { geometric, facets, conditional };
+template <>
+struct NameTable<ObstacleMethod> {
+  static constexpr std::string_view what = "obstacle method";
+  static constexpr std::array<Name<ObstacleMethod>, 3> names{{
+      {ObstacleMethod::geometric, "geometric", "a geometric fixed point: canonical distance"},
+      {ObstacleMethod::facets, "facets", "inverse dynamics on a triangle mesh"},
+      {ObstacleMethod::conditional, "conditional", "conditional links to surface samples"},
+  }};
+};
 
 // Below this sliding speed an obstacle's friction turns viscous (as self-collision's), m/s.
 inline constexpr Real kObstacleSlip = Real(1e-3);
-std::string_view to_string(ObstacleMethod m);
 
 // A rigid scripted motion applied on top of the obstacle's placement: a point x of the placed
 // obstacle is at R(t) (x - center) + center + offset(t).
@@ -89,6 +97,13 @@ struct Obstacle {
   std::vector<std::string> collides_with;  // groups; empty: every free point
 };
 
+template <class S>
+struct StageKey;  // stage_keys.hpp
+
+// [[obstacle]]'s keys, declared once (src/collision/obstacle/obstacle_keys.cpp), with the methods
+// that use each: the scene reader's gate, `maille info` and docs/scene-format.md read them.
+std::span<const StageKey<Obstacle>> obstacle_keys();
+
 // The obstacle's surface as a mesh in its own frame (the file's, or the canonical shape
 // tessellated at `resolution`).
 TriMesh obstacle_mesh(const Obstacle& o);
@@ -97,12 +112,23 @@ TriMesh obstacle_mesh(const Obstacle& o);
 // std::invalid_argument naming the obstacle for an unknown group or when no free point is left.
 std::vector<std::uint32_t> colliding_points(const Model& m, const Obstacle& o);
 
+// The stage's name ("obstacle:NAME") and phase (facets rewrite the state after the forces:
+// Phase::response; the others add forces), said once for the scene table and the stages.
+std::string obstacle_stage_name(const Obstacle& o);
+Phase obstacle_phase(ObstacleMethod m);
+
+// Checks the obstacle against the model without building its stage: the groups exist and hold a
+// free point, a geometric obstacle has no mesh, a facet mesh has facets, the conditional
+// sampling fits (the key at fault and the message; empty when valid). make_obstacle_stage
+// relies on it.
+StageProblem check_obstacle(const Model& m, const Obstacle& o);
+
 // The stage "obstacle:NAME" for the obstacle's method. Counters per step (stats.csv):
 //   obstacle_NAME_contacts  particles in contact this step
 //   obstacle_NAME_depth     deepest penetration, m (gauge)
 // and for facets: obstacle_NAME_hits (swept hits), _sticks, _slides, _facet_leaks (particles
 // found inside a closed mesh and pushed out). Throws std::invalid_argument (see
-// colliding_points; a geometric obstacle needs a canonical shape).
+// check_obstacle's message).
 std::unique_ptr<Stage> make_obstacle_stage(const Model& m, const Obstacle& o);
 // The same, one method each (make_obstacle_stage dispatches on o.method).
 std::unique_ptr<Stage> make_geometric_obstacle_stage(const Model& m, const Obstacle& o);

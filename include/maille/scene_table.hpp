@@ -6,11 +6,13 @@
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "maille/link_kind.hpp"
+#include "maille/names.hpp"
 
 namespace maille {
 
@@ -27,8 +29,19 @@ class SceneTable {
   virtual std::int64_t integer(std::string_view key, std::int64_t fallback, std::int64_t min,
                                std::int64_t max) = 0;
   virtual bool boolean(std::string_view key, bool fallback) = 0;
+  // A string; with choices, one of them ("must be one of a, b, c (got 'd')").
   virtual std::string text(std::string_view key, std::string fallback,
-                           std::initializer_list<std::string_view> choices = {}) = 0;
+                           std::span<const std::string_view> choices) = 0;
+  std::string text(std::string_view key, std::string fallback,
+                   std::initializer_list<std::string_view> choices = {}) {
+    return text(key, std::move(fallback), std::span(choices.begin(), choices.size()));
+  }
+  // A named choice (names.hpp): its table gives the names, the message and the value.
+  template <Named E>
+  E choice(std::string_view key, E fallback) {
+    static constexpr auto names = name_views<E>();
+    return *parse_name<E>(text(key, std::string(to_string(fallback)), names));
+  }
   virtual Vec3 vec3(std::string_view key, Vec3 fallback) = 0;
   virtual std::vector<std::string> texts(std::string_view key,
                                          std::vector<std::string> fallback) = 0;

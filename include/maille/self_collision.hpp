@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/names.hpp"
 #include "maille/stage.hpp"
 
 namespace maille {
@@ -35,6 +36,34 @@ namespace maille {
 enum class BroadPhase : std::uint8_t { brute, uniform, hashed, hierarchical };
 enum class Exclusion : std::uint8_t { none, matrix, signature };
 enum class Primitive : std::uint8_t { points, triangles };
+
+template <>
+struct NameTable<BroadPhase> {
+  static constexpr std::string_view what = "broad phase";
+  static constexpr std::array<Name<BroadPhase>, 4> names{{
+      {BroadPhase::brute, "brute", "every pair tested: n(n-1)/2 (the reference)"},
+      {BroadPhase::uniform, "uniform", "a uniform grid over the bounding box (counting sort)"},
+      {BroadPhase::hashed, "hashed", "the same cells hashed: memory follows the particles"},
+      {BroadPhase::hierarchical, "hierarchical", "an octree split where particles crowd"},
+  }};
+};
+template <>
+struct NameTable<Exclusion> {
+  static constexpr std::string_view what = "exclusion";
+  static constexpr std::array<Name<Exclusion>, 3> names{{
+      {Exclusion::none, "none", "mesh neighbours collide too"},
+      {Exclusion::matrix, "matrix", "per particle, the sorted list of particles within R links"},
+      {Exclusion::signature, "signature", "grid stencils and cell signatures (else matrix rows)"},
+  }};
+};
+template <>
+struct NameTable<Primitive> {
+  static constexpr std::string_view what = "primitive";
+  static constexpr std::array<Name<Primitive>, 2> names{{
+      {Primitive::points, "points", "particle-particle contacts"},
+      {Primitive::triangles, "triangles", "also particle-triangle proximity (the groups' faces)"},
+  }};
+};
 
 struct SelfCollisionSettings {
   std::vector<std::string> groups;  // empty: every group with free points
@@ -51,9 +80,6 @@ struct SelfCollisionSettings {
   Primitive primitive = Primitive::points;
 };
 
-std::string_view to_string(BroadPhase b);
-std::string_view to_string(Exclusion e);
-
 // What one pass found (for tests, studies and the profile).
 struct SelfCollisionStats {
   std::uint64_t candidate_pairs = 0;    // pairs whose distance was tested
@@ -66,36 +92,29 @@ struct SelfCollisionStats {
 };
 
 class SelfCollision;
+template <class S>
+struct StageKey;  // stage_keys.hpp
 
-// The force stage ("self_collision", Phase::forces). Throws std::invalid_argument for groups
-// that do not exist or hold no free point, or a cell size below the radius.
+// [self_collision]'s keys, declared once (src/collision/self/self_collision_keys.cpp): the scene
+// reader, `maille info` and docs/scene-format.md's table read them.
+std::span<const StageKey<SelfCollisionSettings>> self_collision_keys();
+
+// The stage's name and phase, said once: the scene table's StageSpec and the stage report them.
+inline constexpr std::string_view kSelfCollisionStage = "self_collision";
+inline constexpr Phase kSelfCollisionPhase = Phase::forces;
+
+// Checks the settings against the model without building anything (no grid, no exclusion rows):
+// the groups exist and hold free points, the radius can be defaulted, the cell size is not below
+// the radius. Resolves a radius of 0 to its default in `s`. The scene table and the engine's
+// constructor both call it.
+StageProblem resolve_self_collision(const Model& m, SelfCollisionSettings& s);
+
+// The force stage (kSelfCollisionStage). Throws std::invalid_argument with the message of
+// resolve_self_collision's problem.
 std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfCollisionSettings& s);
 
 // Below this tangential speed, friction turns viscous (contact_friction_law's `slip`), m/s.
 inline constexpr Real kSelfCollisionSlip = Real(1e-3);
-
-// For device backends that run the stage themselves (the GPU's uniform grid, src/gpu): what a
-// self-collision stage runs now. `settings` is null when `st` is not a self-collision stage;
-// otherwise it holds the live options (exclusion, broad phase) and the resolved radius (> 0).
-// The view is valid until the stage's next model_changed.
-struct SelfCollisionView {
-  const SelfCollisionSettings* settings = nullptr;
-  bool enabled = false;                      // the live option "enabled"
-  std::span<const std::uint32_t> particles;  // the colliding points: the groups' free points
-};
-SelfCollisionView self_collision_view(const Stage& st);
-
-// The pairs the topological exclusion removes, as rows (CSR over local indices: positions in
-// `particles`), whatever the stage's exclusion mode: the matrix form, which removes exactly the
-// pairs the signature form removes (test unit.SelfCollision.ExclusionRemovesExactly...).
-// `particles` sorted; radius 0: empty rows.
-struct ExclusionRows {
-  std::vector<std::uint32_t> offset;   // [particles + 1]: row a is [offset[a], offset[a + 1])
-  std::vector<std::uint32_t> partner;  // local indices, sorted in each row
-};
-ExclusionRows self_collision_exclusion_rows(const Model& m,
-                                            std::span<const std::uint32_t> particles,
-                                            int topological_radius);
 
 // The engine behind the stage, usable alone (tests, studies, benchmarks).
 class SelfCollisionEngine {

@@ -22,6 +22,7 @@
 #include <string_view>
 
 #include "maille/mat3.hpp"
+#include "maille/names.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -29,7 +30,19 @@ namespace maille {
 // The canonical shapes by name (scene files: shape = "..."). `plane` is the half-space for the
 // geometric method and the square [-1, 1] x {0} x [-1, 1] when tessellated.
 enum class ShapeKind : std::uint8_t { sphere, cube, cylinder, cone, torus, capsule, plane };
-std::string_view to_string(ShapeKind s);
+template <>
+struct NameTable<ShapeKind> {
+  static constexpr std::string_view what = "shape";
+  static constexpr std::array<Name<ShapeKind>, 7> names{{
+      {ShapeKind::sphere, "sphere", "radius 1"},
+      {ShapeKind::cube, "cube", "[-1, 1]^3"},
+      {ShapeKind::cylinder, "cylinder", "along y, radius 1, y from -1 to 1, capped"},
+      {ShapeKind::cone, "cone", "a frustum along y: radius 1 at y = -1, `top` at y = 1"},
+      {ShapeKind::torus, "torus", "about y, major radius 1, tube radius `tube`"},
+      {ShapeKind::capsule, "capsule", "the segment y in [-1, 1] grown by 1"},
+      {ShapeKind::plane, "plane", "the half-space y <= 0 (tessellated: the unit square)"},
+  }};
+};
 
 }  // namespace maille
 

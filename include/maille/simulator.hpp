@@ -7,7 +7,7 @@
 //                   non-finite forces are caught here and blamed on the stage that made them
 //   [response]      Phase::response stages (rewrite forces or velocities: facets)
 //   integrate       the scene's scheme (may re-run the force pass: RK4, Verlet, Newton)
-//   [after]         driven points at t + h, Phase::after_integration stages (grids)
+//   [after]         driven points at t + h, Phase::after_integration stages
 //   health          non-finite values and a kinetic-energy bound every step; the full runaway
 //                   check at the sampling cadence and whenever the bound trips
 //   publish         every k steps: a snapshot of positions for renderers and writers
@@ -35,6 +35,10 @@
 #include "maille/state.hpp"
 
 namespace maille {
+
+// A publish_every or sample_every that no run reaches: "never" (runs that publish or sample
+// explicitly, benchmarks). Also the largest cadence a scene may ask for.
+inline constexpr int kNeverEvery = 1 << 30;
 
 struct SimulationSettings {
   std::string integrator = "leapfrog";       // a name from IntegratorRegistry

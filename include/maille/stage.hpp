@@ -9,8 +9,9 @@
 //                                Simulator::energies(), refused by schemes that evaluate forces
 //                                at intermediate states
 //            integrate
-//            [after_integration] Phase::after_integration stages, with the new positions
-//                                (grid binning, cell signatures)
+//            [after_integration] Phase::after_integration stages, with the new positions (no
+//                                built-in stage runs here: self-collision bins its grid in its
+//                                own force pass)
 //
 // One virtual call per stage per step, never per brick. Stages are installed by code
 // (Simulator::add_stage) or by scene tables through StageRegistry (stage_registry.hpp).
@@ -24,6 +25,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "maille/snapshot.hpp"
@@ -134,6 +136,13 @@ class Stage {
   virtual void surfaces(double /*t*/, std::vector<SurfaceInstance>& /*out*/) const {}
 };
 
+// What a stage's validation found (Stage factories and scene tables share one check, run without
+// building the stage): the scene key to blame and why. An empty message: valid.
+struct StageProblem {
+  std::string key, message;
+  explicit operator bool() const { return !message.empty(); }
+};
+
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator
 // built from the model (benchmarks' repeats, the viewer's reload), given that simulator's own
 // copy of the model (stages may keep a reference to it: a Simulator never moves).
@@ -153,6 +162,10 @@ struct StageSpec {
   std::vector<std::string> variants;
   std::string variant;  // the current choice
   std::function<StageSpec(const std::string&)> vary;
+  // Every declared key of the stage's table with its resolved value as text (stage_keys.hpp:
+  // visit_keys), in declaration order: `maille info` lists them, and a fingerprint of the model
+  // that must change with every trajectory-changing parameter can hash them.
+  std::vector<std::pair<std::string, std::string>> parameters;
 };
 
 }  // namespace maille

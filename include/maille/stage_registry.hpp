@@ -14,6 +14,7 @@
 #include "maille/model.hpp"
 #include "maille/scene_table.hpp"
 #include "maille/stage.hpp"
+#include "maille/stage_keys.hpp"
 
 namespace maille {
 
@@ -26,9 +27,15 @@ class StageRegistry {
     // Reads the table (errors through table.fail) against the finished model and returns the
     // stage to install. Called once per table (per element for arrays).
     std::function<StageSpec(SceneTable& table, const Model& model)> parse;
+    // The table's keys (stage_keys.hpp: describe_keys), for `maille info --keys` and the docs.
+    std::vector<KeyInfo> keys{};
   };
 
-  void add(Entry e) { entries_.push_back(std::move(e)); }
+  // Throws std::logic_error for a table already registered (names.hpp: registered_twice).
+  void add(Entry e) {
+    if (find(e.table)) registered_twice("stage registry", e.table);
+    entries_.push_back(std::move(e));
+  }
   const Entry* find(std::string_view table) const;
   std::span<const Entry> entries() const { return entries_; }
 
@@ -38,5 +45,18 @@ class StageRegistry {
  private:
   std::vector<Entry> entries_;
 };
+
+// A scene table whose keys are declared (stage_keys.hpp), as `maille info --keys` and the docs
+// show it: "[self_collision]", "[[obstacle]]", "[fields.wind]".
+struct DeclaredTable {
+  std::string table;
+  std::string description;
+  std::vector<KeyInfo> keys;
+  bool methods = false;  // some key is used by some methods only: a "methods" column
+};
+// The registry's stage tables, then the other declared tables ([fields.wind]).
+std::vector<DeclaredTable> declared_tables(const StageRegistry& stages);
+// The table's markdown: the header line, the separator, one row per key (docs/scene-format.md).
+std::vector<std::string> markdown_table(const DeclaredTable& t);
 
 }  // namespace maille

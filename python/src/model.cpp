@@ -147,8 +147,7 @@ std::uint32_t add_link(CodeModel& cm, const std::string& kind, const py::handle&
         fail(where, f.name, "must be > 0 (got " + std::to_string(v) + ")");
       if (f.bound == Bound::non_negative && !(v >= 0))
         fail(where, f.name, "must be >= 0 (got " + std::to_string(v) + ")");
-      const double most =
-          f.unit == "m" ? 2 * double(limits::max_coordinate) : double(limits::max_stiffness);
+      const double most = double(limits::max_parameter(f.unit));
       if (std::abs(v) > most)
         fail(where, f.name, "must be within +-" + std::to_string(most) + " " + f.unit);
       values[k] = Real(v);

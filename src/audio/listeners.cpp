@@ -16,18 +16,6 @@
 
 namespace maille::audio {
 
-std::string_view name(Quantity q) {
-  switch (q) {
-    case Quantity::position:
-      return "position";
-    case Quantity::velocity:
-      return "velocity";
-    case Quantity::force:
-      return "force";
-  }
-  return "?";
-}
-
 SamplingPlan plan_sampling(double step, int rate, Resampler resampler) {
   SamplingPlan p;
   p.step = step;

@@ -7,19 +7,15 @@ namespace maille {
 BackendRegistry& BackendRegistry::global() {
   static BackendRegistry registry = [] {
     BackendRegistry r;
-    r.add(
-        {"cpu", "the reference: every stage, every scheme, double precision, OpenMP threads", {}});
+    r.add({"cpu", std::string(doc_of(BackendKind::cpu)), {}});
     return r;
   }();
   return registry;
 }
 
 void BackendRegistry::add(Entry e) {
-  auto same = [&](const Entry& x) { return x.name == e.name; };
-  if (auto it = std::find_if(entries_.begin(), entries_.end(), same); it != entries_.end())
-    *it = std::move(e);
-  else
-    entries_.push_back(std::move(e));
+  if (find(e.name)) registered_twice("backend registry", e.name);
+  entries_.push_back(std::move(e));
 }
 
 const BackendRegistry::Entry* BackendRegistry::find(std::string_view name) const {

@@ -2,9 +2,38 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace maille {
+
+std::string check_model(const Model& m) {
+  const std::uint64_t n = m.points.size();
+  for (const auto& pool : m.links.pools())
+    for (const LinkEnds& e : pool->slot_ends())
+      if (e.a >= n || e.b >= n)
+        return "a " + std::string(pool->keyword()) + " link joins points " + std::to_string(e.a) +
+               " and " + std::to_string(e.b) + ", but the model has " + std::to_string(n) +
+               " points";
+  for (std::size_t f = 0; f < m.surface.triangles.size(); ++f)
+    for (const std::uint32_t c : m.surface.triangles[f])
+      if (c >= n)
+        return "face " + std::to_string(f) + " has corner " + std::to_string(c) +
+               ", but the model has " + std::to_string(n) + " points";
+  for (const Drive& d : m.drives) {
+    if (d.point >= n)
+      return "a drive moves point " + std::to_string(d.point) + ", but the model has " +
+             std::to_string(n) + " points";
+    if (m.points.kind[d.point] != PointKind::driven)
+      return "a drive moves point " + std::to_string(d.point) + ", which is not a driven point";
+  }
+  for (const Group& g : m.groups)
+    if (std::uint64_t(g.first) + g.count > n)
+      return "group '" + g.name + "' spans points " + std::to_string(g.first) + ".." +
+             std::to_string(std::uint64_t(g.first) + g.count - 1) + ", but the model has " +
+             std::to_string(n) + " points";
+  return {};
+}
 
 // Grid groups (Group::grid_nx, grid_ny) whose cells carry exactly the flag builder's two faces
 // become FaceGrids; each face is claimed by at most one grid, and a group missing any face keeps

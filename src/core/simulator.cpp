@@ -33,6 +33,8 @@ Simulator::Simulator(Model model, SimulationSettings settings)
   if (settings_.sample_every < 0) throw std::invalid_argument("sample_every must be >= 0");
   if (settings_.sample_every == 0) settings_.sample_every = settings_.publish_every;
 
+  if (const std::string why = check_model(model_); !why.empty())
+    throw std::invalid_argument("model: " + why);
   const std::uint32_t n = model_.points.size();
 #ifdef _OPENMP
   const int cores = omp_get_num_procs();
@@ -438,7 +440,17 @@ void Simulator::set_stage_option(const std::string& stage, const std::string& op
         if (st.spec >= 0 && model_.stages[st.spec].vary &&
             model_.stages[st.spec].variant_option == option)
           return switch_variant(static_cast<std::size_t>(st.spec), value);
+        // A backend that cannot run the stage as changed refuses the option: it is set back.
+        std::string before;
+        for (const StageOption& o : st.stage->options())
+          if (o.name == option) before = o.value;
         st.stage->set_option(option, value);
+        if (backend_) try {
+            check_backend(*integrator_);
+          } catch (...) {
+            st.stage->set_option(option, before);
+            throw;
+          }
         return;
       }
   throw std::invalid_argument("no stage named '" + stage + "'");

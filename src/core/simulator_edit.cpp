@@ -38,18 +38,23 @@ void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
   restimate_stability();
 }
 
-// The edit is made on a copy: when the result is a model the scheme or a stage refuses, the
-// simulator keeps the old one and throws std::invalid_argument.
+// The edit is made on a copy: when the result is not a valid model (check_model) or one the
+// scheme or a stage refuses, the simulator keeps the old model and the old state, exactly, and
+// throws std::invalid_argument.
 void Simulator::edit_model(const std::function<void(Model&)>& edit) {
   sync_host();
   host_ahead_ = true;
   Model previous = model_;
+  State previous_state = state_;
   edit(model_);
   try {
+    if (const std::string why = check_model(model_); !why.empty())
+      throw std::invalid_argument("edit refused: " + why);
     model_structure_changed();
   } catch (...) {
     model_ = std::move(previous);
     model_structure_changed();
+    state_ = std::move(previous_state);
     throw;
   }
 }

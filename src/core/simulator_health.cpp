@@ -99,7 +99,11 @@ double Simulator::energy_scale() const {
   const std::vector<Vec3> v0(p.initial_velocity.begin(), p.initial_velocity.end());
   double e0 = kinetic_energy(model_, v0);
   for (const auto& pool : model_.links.pools()) e0 += pool->energy(state_.x().data());
-  return e0 + free_mass * (norm(model_.fields.gravity) * extent + 0.5 * speed2 * 4);
+  // Headroom on those speeds: points flung by the wind or a drive (a flapping tip, a whipped
+  // rope's end) may overtake it; twice the speed, four times the kinetic energy, is allowed for.
+  constexpr double kSpeedHeadroom = 2;
+  return e0 + free_mass * (norm(model_.fields.gravity) * extent +
+                           0.5 * speed2 * kSpeedHeadroom * kSpeedHeadroom);
 }
 
 // The report: the module given (a link kind or a stage that produced non-finite values), or

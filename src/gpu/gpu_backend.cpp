@@ -24,6 +24,7 @@
 #include "../render/gl_program.hpp"
 #include "gpu_layout.hpp"
 #include "gpu_self_collision.hpp"
+#include "gpu_stage.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
 #include "maille/render/headless.hpp"
@@ -243,10 +244,10 @@ class GpuBackend final : public Backend {
       forces_.forget(), faces_.forget(), integrate_.forget(), drive_.forget();
       // Their GL objects go with the context; their few host bytes are left (no GL call may
       // run without a current context).
-      for (auto& sc : self_collision_) static_cast<void>(sc.release());
+      for (auto& st : stages_) static_cast<void>(st.release());
       return;
     }
-    self_collision_.clear();
+    stages_.clear();
     forces_ = {};
     faces_ = {};
     integrate_ = {};
@@ -280,14 +281,15 @@ class GpuBackend final : public Backend {
       if (pool->fields().size() > 4)
         return "link kind '" + std::string(pool->keyword()) + "' has more than 4 parameters";
     }
-    for (const Stage* st : stages) {
-      if (const auto why = GpuSelfCollision::check(*st)) {  // a self-collision stage
-        if (why->empty()) continue;
-        return *why;
-      }
-      return "stage '" + st->name() +
-             "' has no GPU version yet: run this scene with --backend cpu" +
-             (st->name() == "self_collision" ? " (or without it: --no-self-collision)" : "");
+    for (const Stage* st : stages) {  // every stage needs a registered device version
+      const GpuStageEntry* entry = GpuStageRegistry::builtin().find(st->name());
+      if (!entry)
+        return "stage '" + st->name() +
+               "' has no GPU version yet: run this scene with --backend cpu";
+      if (std::string why = entry->check(*st); !why.empty()) return why;
+      if (st->phase() != Phase::forces)  // the step dispatches device stages after the forces
+        return "stage '" + st->name() + "' runs at phase " + std::string(to_string(st->phase())) +
+               ": the GPU backend runs force stages only";
     }
     if (const std::string why = too_big(m, max_block_); !why.empty()) return why;
     const double biggest = std::max<double>(m.points.size(), double(m.surface.triangles.size()));
@@ -336,11 +338,11 @@ class GpuBackend final : public Backend {
     upload(Buf::driven, driven_);
     upload(Buf::health, std::vector<std::uint32_t>{0xffffffffu});
 
-    // Self-collision stages (the ones refuses() let through), after the step's buffers.
-    self_collision_.clear();
+    // The stages' device versions (refuses() let them through), after the step's buffers.
+    stages_.clear();
     for (const Stage* st : stages)
-      if (GpuSelfCollision::check(*st))
-        self_collision_.push_back(std::make_unique<GpuSelfCollision>(m, *st, max_invocations_));
+      if (const GpuStageEntry* entry = GpuStageRegistry::builtin().find(st->name()))
+        stages_.push_back(entry->make(m, *st, GpuLimits{max_invocations_}));
   }
 
   void drive(const Model& m, double t) override {
@@ -382,7 +384,7 @@ class GpuBackend final : public Backend {
     forces_.set("u_drag", float(m.fields.air_drag));
     forces_.set_flag("u_wind", wind_);
     forces_.run(points_);
-    for (const auto& sc : self_collision_) sc->evaluate();  // contacts added into f
+    for (const auto& st : stages_) st->evaluate();  // Phase::forces stages: added into f
   }
 
   void integrate(Real kick, Real drift, std::uint64_t step) override {
@@ -424,9 +426,12 @@ class GpuBackend final : public Backend {
   std::uint32_t gl_positions() const override { return own_ ? 0 : buffer(Buf::x); }
 
   std::optional<SelfCollisionDebug> self_collision_debug() {
-    if (self_collision_.empty()) return std::nullopt;
-    current();
-    return self_collision_.front()->debug();
+    for (const auto& st : stages_)
+      if (const auto* sc = dynamic_cast<const GpuSelfCollision*>(st.get())) {
+        current();
+        return sc->debug();
+      }
+    return std::nullopt;
   }
 
  private:
@@ -465,19 +470,18 @@ class GpuBackend final : public Backend {
   std::vector<DrivenPoint> driven_;
   double max_invocations_ = 0;
   double max_block_ = 0;  // bytes, the largest storage block this driver binds
-  std::vector<std::unique_ptr<GpuSelfCollision>> self_collision_;
+  std::vector<std::unique_ptr<GpuStage>> stages_;  // device versions of the installed stages
 };
 
 }  // namespace
 
 void register_backend() {
-  BackendRegistry::global().add(
-      {"gpu",
-       "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog and "
-       "symplectic Euler, driven points, conditional contacts, self-collision (points)",
-       [](const BackendOptions& o) -> std::unique_ptr<Backend> {
-         return std::make_unique<GpuBackend>(o);
-       }});
+  if (BackendRegistry::global().find(to_string(BackendKind::gpu))) return;  // once per process
+  BackendRegistry::global().add({std::string(to_string(BackendKind::gpu)),
+                                 std::string(doc_of(BackendKind::gpu)),
+                                 [](const BackendOptions& o) -> std::unique_ptr<Backend> {
+                                   return std::make_unique<GpuBackend>(o);
+                                 }});
 }
 
 std::optional<SelfCollisionDebug> self_collision_debug(Backend& b) {

@@ -9,6 +9,7 @@
 #include <map>
 #include <utility>
 
+#include "../collision/self/self_collision_view.hpp"
 #include "../render/gl_program.hpp"
 #include "maille/self_collision.hpp"
 #include "shaders.hpp"
@@ -69,13 +70,18 @@ struct GpuSelfCollision::Kernel {
   void run(GLuint count) { run(count, (count + kGroupSize - 1) / kGroupSize); }
 };
 
-std::optional<std::string> GpuSelfCollision::check(const Stage& st) {
+std::string GpuSelfCollision::check(const Stage& st) {
   const SelfCollisionView view = self_collision_view(st);
-  if (!view.settings) return std::nullopt;
+  if (!view.settings) return "stage '" + st.name() + "' is not the self-collision stage";
   if (view.settings->primitive != Primitive::points)
     return "stage '" + st.name() + "' with primitive = \"triangles\" has no GPU version (the GPU " +
            "runs primitive = \"points\"): run this scene with --backend cpu (or without it: " +
            "--no-self-collision)";
+  if (view.settings->broad_phase != BroadPhase::uniform)
+    return "stage '" + st.name() + "' with broad_phase = \"" +
+           std::string(to_string(view.settings->broad_phase)) +
+           "\" has no GPU version (the GPU builds its own uniform grid; every broad phase finds "
+           "the same pairs): use broad_phase = \"uniform\" or --backend cpu";
   return std::string();
 }
 

@@ -35,27 +35,29 @@
 #include <vector>
 
 #include "gpu_layout.hpp"
+#include "gpu_stage.hpp"
 #include "maille/gpu.hpp"
 #include "maille/model.hpp"
 #include "maille/stage.hpp"
 
 namespace maille::gpu {
 
-class GpuSelfCollision {
+class GpuSelfCollision final : public GpuStage {
  public:
-  // Whether `st` is a self-collision stage the GPU runs: nullopt when it is not a self-collision
-  // stage at all, "" when it runs, else why not (the primitive).
-  static std::optional<std::string> check(const Stage& st);
+  // Why the self-collision stage `st`, as configured now, has no GPU version: "" when it runs.
+  // Refused: primitive = "triangles", and a broad phase other than uniform (the device builds
+  // its own uniform grid: another choice would be silently ignored).
+  static std::string check(const Stage& st);
 
   // The context must be current. `max_invocations`: what one dispatch reaches (caps the cells).
   GpuSelfCollision(const Model& m, const Stage& st, double max_invocations);
-  ~GpuSelfCollision();
+  ~GpuSelfCollision() override;
   GpuSelfCollision(const GpuSelfCollision&) = delete;
   GpuSelfCollision& operator=(const GpuSelfCollision&) = delete;
 
   // Adds the contacts at the device's x and v into f (the step's buffers bound, f written by
   // the forces kernel). Reads the stage's live options (enabled, exclusion) every time.
-  void evaluate();
+  void evaluate() override;
   // The grid's buffers after the last evaluate (waits for the device).
   SelfCollisionDebug debug() const;
 

@@ -44,8 +44,8 @@ class ImplicitEuler final : public Integrator {
       if (!pool->has_jacobian())
         return "link kind '" + std::string(pool->keyword()) +
                "' provides no Jacobian: implicit_euler cannot integrate it";
-    if (!is_implicit_solver(settings_.solver))
-      return "unknown implicit solver '" + settings_.solver + "' (" + implicit_solver_names() + ")";
+    if (!parse_name<ImplicitSolver>(to_string(settings_.solver)))  // a value off its table
+      return "unknown implicit solver (" + name_list<ImplicitSolver>() + ")";
     return {};
   }
 
@@ -53,7 +53,7 @@ class ImplicitEuler final : public Integrator {
   // contacts, found anew each step, cannot enter it, and leaving them explicit at large steps
   // is what made the cloth blow up on a sphere; such stages are refused by name.
   std::string check_stage(Stage& stage) const override {
-    if (settings_.solver != "eigen") return {};
+    if (settings_.solver != ImplicitSolver::eigen) return {};
     if (!stage.implicit_links() && !stage.point_contacts()) return {};
     return "implicit solver 'eigen' assembles a matrix of fixed pattern and cannot take the "
            "contacts of stage '" +
@@ -69,7 +69,7 @@ class ImplicitEuler final : public Integrator {
     }
     // Every solver reports the residual of the nonlinear step, measured the VBD way.
     vbd_.begin(m, s, h, s.time + h, forces);
-    if (settings_.solver == "vbd") {
+    if (settings_.solver == ImplicitSolver::vbd) {
       if (vbd_colours_ < 0) {
         vbd_colours_ = profile.counter("vbd_colours");
         vbd_resets_ = profile.counter("vbd_acceleration_resets");
@@ -140,7 +140,7 @@ class ImplicitEuler final : public Integrator {
     return {{{-h * h * w2 / det, h / det}, {-h * w2 / det, (-h * h * w2 - h * c) / det}}};
   }
   int force_evaluations() const override {
-    return settings_.solver == "vbd" ? 1 : settings_.newton_iterations;
+    return settings_.solver == ImplicitSolver::vbd ? 1 : settings_.newton_iterations;
   }
   void reset() override {
     system_.reset();

@@ -218,9 +218,9 @@ std::unique_ptr<ImplicitSystem> make_matrix_free_system(const Model& m, int thre
   return std::make_unique<MatrixFreeSystem>(m, threads);
 }
 
-std::unique_ptr<ImplicitSystem> make_implicit_system(const std::string& solver, const Model& m,
+std::unique_ptr<ImplicitSystem> make_implicit_system(ImplicitSolver solver, const Model& m,
                                                      int threads) {
-  if (solver == "eigen") return make_eigen_system(m, threads);
+  if (solver == ImplicitSolver::eigen) return make_eigen_system(m, threads);
   return make_matrix_free_system(m, threads);
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "maille/integrator.hpp"
 #include "maille/model.hpp"
 #include "maille/stage.hpp"
 #include "maille/state.hpp"
@@ -35,8 +36,8 @@ class ImplicitSystem {
   virtual void multiply(const std::vector<Vec3>& u, std::vector<Vec3>& out) = 0;
 };
 
-// solver: "matrix_free" or "eigen".
-std::unique_ptr<ImplicitSystem> make_implicit_system(const std::string& solver, const Model& m,
+// solver: matrix_free or eigen.
+std::unique_ptr<ImplicitSystem> make_implicit_system(ImplicitSolver solver, const Model& m,
                                                      int threads);
 std::unique_ptr<ImplicitSystem> make_matrix_free_system(const Model& m, int threads);
 std::unique_ptr<ImplicitSystem> make_eigen_system(const Model& m, int threads);

@@ -62,25 +62,6 @@ void vtk(std::ostream& o, const Model& m, const Snapshot& s) {
 
 }  // namespace
 
-std::optional<FrameFormat> parse_frame_format(std::string_view name) {
-  if (name == "ply") return FrameFormat::ply;
-  if (name == "obj") return FrameFormat::obj;
-  if (name == "vtk") return FrameFormat::vtk;
-  return std::nullopt;
-}
-
-std::string_view extension(FrameFormat f) {
-  switch (f) {
-    case FrameFormat::ply:
-      return "ply";
-    case FrameFormat::obj:
-      return "obj";
-    case FrameFormat::vtk:
-      return "vtk";
-  }
-  return "";
-}
-
 void write_frame(const std::filesystem::path& path, FrameFormat format, const Model& m,
                  const Snapshot& s) {
   AtomicFile file(path);

@@ -23,7 +23,7 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
   if (s.width <= 0 || s.height <= 0 || !(s.fps > 0) || !(s.zoom > 0))
     throw std::invalid_argument("render: width, height, fps and zoom must be > 0");
   SimulationSettings settings = scene.settings;
-  settings.publish_every = 1 << 30;  // frames are published explicitly, at frame times
+  settings.publish_every = kNeverEvery;  // frames are published explicitly, at frame times
   if (s.threads > 0) settings.threads = s.threads;
   const double duration = s.duration > 0 ? s.duration : settings.duration;
 

@@ -90,7 +90,7 @@ Group flag(TomlCursor& t, Model& m, const std::string& name) {
   p.material = material(t, p.material);
   p.shear_stiffness = stiffness(t, "shear_stiffness", p.material.stiffness / 2);
   p.bending_stiffness = stiffness(t, "bending_stiffness", p.material.stiffness / 10);
-  p.fixed = t.text("fixed", p.fixed, {"pole", "corners", "top", "top_corners", "ends", "none"});
+  p.fixed = t.choice("fixed", p.fixed);
   return guarded(t, [&] { return build_flag(m, p, name); });
 }
 
@@ -103,7 +103,7 @@ Group rope(TomlCursor& t, Model& m, const std::string& name) {
   p.mass = mass(t, p.mass);
   p.material = material(t, p.material);
   p.bending_stiffness = stiffness(t, "bending_stiffness", p.bending_stiffness);
-  p.fixed = t.text("fixed", p.fixed, {"start", "end", "both", "none"});
+  p.fixed = t.choice("fixed", p.fixed);
   p.pretension = t.real("pretension", p.pretension, Bound::non_negative);
   if (p.pretension >= 1) t.fail("pretension", "must be < 1");
   return guarded(t, [&] { return build_rope(m, p, name); });
@@ -123,7 +123,7 @@ Group net(TomlCursor& t, Model& m, const std::string& name) {
   p.ny = static_cast<std::uint32_t>(res[1]);
   p.mass = mass(t, p.mass);
   p.material = material(t, p.material);
-  p.fixed = t.text("fixed", p.fixed, {"corners", "ends", "edges", "top", "all", "none"});
+  p.fixed = t.choice("fixed", p.fixed);
   return guarded(t, [&] { return build_net(m, p, name); });
 }
 
@@ -158,12 +158,12 @@ Group lattice(TomlCursor& t, Model& m, const std::string& name) {
   }
   p.resolution = {static_cast<std::uint32_t>(res[0]), static_cast<std::uint32_t>(res[1]),
                   static_cast<std::uint32_t>(res[2])};
-  p.shape = t.text("shape", p.shape, {"box", "ball"});
+  p.shape = t.choice("shape", p.shape);
   p.mass = mass(t, p.mass);
   p.material = material(t, p.material);
   p.shear_stiffness = stiffness(t, "shear_stiffness", p.material.stiffness / 2);
   p.velocity = t.vec3("velocity", p.velocity);
-  p.fixed = t.text("fixed", p.fixed, {"none", "bottom"});
+  p.fixed = t.choice("fixed", p.fixed);
   return guarded(t, [&] { return build_lattice(m, p, name); });
 }
 

@@ -11,7 +11,7 @@ Group build_crumpled_cloth(Model& m, const CrumpledClothParams& p, const std::st
   f.ny = p.n;
   f.width = p.size;
   f.height = p.size;
-  f.fixed = "none";
+  f.fixed = FlagFixed::none;
   const Group g = build_flag(m, f, name);
   const Real spacing = p.size / Real(p.n - 1);
   const Real fold = Real(std::max<std::uint32_t>(p.fold, 1));

@@ -9,13 +9,21 @@ namespace maille {
 
 namespace {
 bool fixed_in_flag(const FlagParams& p, std::uint32_t i, std::uint32_t j) {
-  if (p.fixed == "pole") return i == 0;
-  if (p.fixed == "corners") return i == 0 && (j == 0 || j == p.ny - 1);
-  if (p.fixed == "top") return j == p.ny - 1;
-  if (p.fixed == "top_corners") return j == p.ny - 1 && (i == 0 || i == p.nx - 1);
-  if (p.fixed == "ends") return i == 0 || i == p.nx - 1;
-  if (p.fixed == "none") return false;
-  throw std::invalid_argument("flag: unknown fixed mode '" + p.fixed + "'");
+  switch (p.fixed) {
+    case FlagFixed::pole:
+      return i == 0;
+    case FlagFixed::corners:
+      return i == 0 && (j == 0 || j == p.ny - 1);
+    case FlagFixed::top:
+      return j == p.ny - 1;
+    case FlagFixed::top_corners:
+      return j == p.ny - 1 && (i == 0 || i == p.nx - 1);
+    case FlagFixed::ends:
+      return i == 0 || i == p.nx - 1;
+    case FlagFixed::none:
+      return false;
+  }
+  return false;
 }
 }  // namespace
 

@@ -14,10 +14,6 @@ Group build_lattice(Model& m, const LatticeParams& p, const std::string& name) {
   // Plain variables, not a structured binding: lambdas below capture them (clang < 16 refuses).
   const std::uint32_t nx = p.resolution[0], ny = p.resolution[1], nz = p.resolution[2];
   if (nx < 2 || ny < 2 || nz < 2) throw std::invalid_argument("lattice resolution must be >= 2");
-  if (p.shape != "box" && p.shape != "ball")
-    throw std::invalid_argument("lattice: unknown shape '" + p.shape + "'");
-  if (p.fixed != "none" && p.fixed != "bottom")
-    throw std::invalid_argument("lattice: unknown fixed mode '" + p.fixed + "'");
   const Vec3 step{p.size.x / Real(nx - 1), p.size.y / Real(ny - 1), p.size.z / Real(nz - 1)};
   const Vec3 centre = p.origin + p.size * Real(0.5);
   const Real radius = std::min({p.size.x, p.size.y, p.size.z}) / 2;
@@ -25,7 +21,8 @@ Group build_lattice(Model& m, const LatticeParams& p, const std::string& name) {
     return p.origin + Vec3{Real(i) * step.x, Real(j) * step.y, Real(k) * step.z};
   };
   auto kept = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) {
-    return p.shape == "box" || norm(position(i, j, k) - centre) <= radius * (1 + Real(1e-9));
+    return p.shape == LatticeShape::box ||
+           norm(position(i, j, k) - centre) <= radius * (1 + Real(1e-9));
   };
   std::uint32_t count = 0;
   for (std::uint32_t k = 0; k < nz; ++k)
@@ -44,7 +41,7 @@ Group build_lattice(Model& m, const LatticeParams& p, const std::string& name) {
     for (std::uint32_t j = 0; j < ny; ++j)
       for (std::uint32_t i = 0; i < nx; ++i)
         if (kept(i, j, k)) {
-          const bool fixed = p.fixed == "bottom" && j == 0;
+          const bool fixed = p.fixed == LatticeFixed::bottom && j == 0;
           index[(std::size_t(k) * ny + j) * nx + i] =
               m.points.add(fixed ? PointKind::fixed : PointKind::free, point_mass,
                            position(i, j, k), p.velocity);

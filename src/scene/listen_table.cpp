@@ -65,10 +65,7 @@ std::uint32_t listened_point(TomlCursor& t, const Model& m, std::string& label) 
 audio::Listener listener(TomlCursor& t, const Model& m) {
   audio::Listener l;
   l.point = listened_point(t, m, l.label);
-  const std::string q = t.text("quantity", "velocity", {"position", "velocity", "force"});
-  l.quantity = q == "position"   ? audio::Quantity::position
-               : q == "velocity" ? audio::Quantity::velocity
-                                 : audio::Quantity::force;
+  l.quantity = t.choice("quantity", l.quantity);
   const Vec3 axis = t.vec3("axis", l.axis);
   const Real length = norm(axis);
   if (!(length > Real(1e-12))) t.fail("axis", "must not be zero");
@@ -85,18 +82,14 @@ audio::AudioSpec read_audio_tables(TomlCursor& top, const Model& m) {
   if (auto t = top.table("audio")) {
     audio::AudioSettings& s = spec.settings;
     s.rate = static_cast<int>(t->integer("rate", s.rate, audio::min_rate, audio::max_rate));
-    s.format = t->text("format", "pcm16", {"pcm16", "float32"}) == "float32"
-                   ? audio::SampleFormat::float32
-                   : audio::SampleFormat::pcm16;
+    s.format = t->choice("format", s.format);
     if (t->has("gain") && !t->has_text("gain")) {
       s.gain = t->real("gain", 1, Bound::positive);
       t->check_range("gain", s.gain, 0, 1e30, "");
     } else if (t->text("gain", "auto", {"auto"}) == "auto") {
       s.gain = 0;
     }
-    s.resampler = t->text("resampler", "sinc", {"sinc", "linear"}) == "linear"
-                      ? audio::Resampler::linear
-                      : audio::Resampler::sinc;
+    s.resampler = t->choice("resampler", s.resampler);
     if (spec.listeners.empty())
       t->fail("", "an [audio] table needs at least one [[listen]] table (its channels)");
     t->finish();

@@ -9,13 +9,21 @@ namespace maille {
 namespace {
 bool fixed_in_net(const NetParams& p, std::uint32_t i, std::uint32_t j) {
   const bool first_i = i == 0, last_i = i + 1 == p.nx, first_j = j == 0, last_j = j + 1 == p.ny;
-  if (p.fixed == "corners") return (first_i || last_i) && (first_j || last_j);
-  if (p.fixed == "ends") return first_i || last_i;
-  if (p.fixed == "edges") return first_i || last_i || first_j || last_j;
-  if (p.fixed == "top") return last_j;
-  if (p.fixed == "all") return true;
-  if (p.fixed == "none") return false;
-  throw std::invalid_argument("net: unknown fixed mode '" + p.fixed + "'");
+  switch (p.fixed) {
+    case NetFixed::corners:
+      return (first_i || last_i) && (first_j || last_j);
+    case NetFixed::ends:
+      return first_i || last_i;
+    case NetFixed::edges:
+      return first_i || last_i || first_j || last_j;
+    case NetFixed::top:
+      return last_j;
+    case NetFixed::all:
+      return true;
+    case NetFixed::none:
+      return false;
+  }
+  return false;
 }
 }  // namespace
 

@@ -8,49 +8,12 @@
 
 #include "maille/limits.hpp"
 #include "maille/obstacle.hpp"
+#include "maille/stage_keys.hpp"
 #include "stage_tables.hpp"
 
 namespace maille {
 
 namespace {
-
-struct MethodKey {
-  const char* key;
-  const char* used_by;  // the methods using it, for the message
-  bool geometric, facets, conditional;
-};
-constexpr MethodKey kMethodKeys[] = {
-    {"stiffness", "geometric and conditional", true, false, true},
-    {"damping", "geometric and conditional", true, false, true},
-    {"normal", "geometric", true, false, false},
-    {"friction", "geometric", true, false, false},
-    {"threshold", "conditional", false, false, true},
-    {"alpha", "facets", false, true, false},
-    {"beta", "facets", false, true, false},
-    {"epsilon", "facets", false, true, false},
-};
-
-bool uses(const MethodKey& k, ObstacleMethod m) {
-  return m == ObstacleMethod::geometric ? k.geometric
-         : m == ObstacleMethod::facets  ? k.facets
-                                        : k.conditional;
-}
-
-ObstacleMethod method_named(const std::string& s) {
-  return s == "facets"        ? ObstacleMethod::facets
-         : s == "conditional" ? ObstacleMethod::conditional
-                              : ObstacleMethod::geometric;
-}
-
-ShapeKind shape_named(const std::string& s) {
-  return s == "cube"       ? ShapeKind::cube
-         : s == "cylinder" ? ShapeKind::cylinder
-         : s == "cone"     ? ShapeKind::cone
-         : s == "torus"    ? ShapeKind::torus
-         : s == "capsule"  ? ShapeKind::capsule
-         : s == "plane"    ? ShapeKind::plane
-                           : ShapeKind::sphere;
-}
 
 Real frequency(SceneTable& t) {
   const Real f = t.real("frequency", Bound::positive);
@@ -97,8 +60,7 @@ void read_shape(SceneTable& t, Obstacle& o) {
              "a mesh has no canonical distance function: use method = \"facets\" or "
              "\"conditional\"");
   } else {
-    o.shape = shape_named(t.text(
-        "shape", "sphere", {"sphere", "cube", "cylinder", "cone", "torus", "capsule", "plane"}));
+    o.shape = t.choice("shape", o.shape);
   }
   if (o.shape != ShapeKind::torus || o.mesh) {
     if (t.has("tube")) t.fail("tube", "only a torus has a tube");
@@ -110,7 +72,6 @@ void read_shape(SceneTable& t, Obstacle& o) {
   if (o.tube > 1) t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
   o.top = t.real("top", o.top, Bound::non_negative);
   if (o.top > 1) t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
-  o.resolution = static_cast<int>(t.integer("resolution", o.resolution, 8, 512));
 }
 
 void read_placement(SceneTable& t, Obstacle& o) {
@@ -123,39 +84,19 @@ void read_placement(SceneTable& t, Obstacle& o) {
   if (auto mt = t.child("motion")) o.motion = motion(*mt, position);
 }
 
-void read_method_keys(SceneTable& t, Obstacle& o) {
-  for (const MethodKey& k : kMethodKeys)
-    if (t.has(k.key) && !uses(k, o.method))
-      t.fail(k.key, std::string("is not used by method = \"") + std::string(to_string(o.method)) +
-                        "\" (it is a key of " + k.used_by + ")");
-  o.stiffness = t.real("stiffness", o.stiffness, Bound::positive);
-  t.check_range("stiffness", o.stiffness, 0, limits::max_stiffness, "N/m");
-  o.damping = t.real("damping", o.damping, Bound::non_negative);
-  t.check_range("damping", o.damping, 0, limits::max_stiffness, "N.s/m");
-  o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
-  o.friction = t.real("friction", o.friction, Bound::non_negative);
-  t.check_range("friction", o.friction, 0, 100, "");
-  o.threshold = t.real("threshold", o.threshold, Bound::positive);
-  t.check_range("threshold", o.threshold, 0, limits::max_coordinate, "m");
-  o.alpha = t.real("alpha", o.alpha, Bound::non_negative);
-  t.check_range("alpha", o.alpha, 0, 1, "");
-  o.beta = t.real("beta", o.beta, Bound::non_negative);
-  t.check_range("beta", o.beta, 0, 1, "");
-  o.epsilon = t.real("epsilon", o.epsilon, Bound::positive);
-  t.check_range("epsilon", o.epsilon, 0, 1, "m");
-}
-
 StageSpec spec_of(const Obstacle& o) {
-  StageSpec spec{"obstacle:" + o.name,
-                 o.method == ObstacleMethod::facets ? Phase::response : Phase::forces,
+  StageSpec spec{obstacle_stage_name(o), obstacle_phase(o.method),
                  [o](const Model& model) { return make_obstacle_stage(model, o); }};
   spec.variant_option = "method";
-  spec.variants = {"geometric", "facets", "conditional"};
+  spec.variants = name_strings<ObstacleMethod>();
   if (o.mesh) spec.variants.erase(spec.variants.begin());  // no distance function
   spec.variant = std::string(to_string(o.method));
+  visit_keys(obstacle_keys(), o, [&](const StageKey<Obstacle>& k, std::string v) {
+    spec.parameters.emplace_back(std::string(k.key), std::move(v));
+  });
   spec.vary = [o](const std::string& method) {
     Obstacle other = o;
-    other.method = method_named(method);
+    other.method = parse_name<ObstacleMethod>(method).value();
     return spec_of(other);
   };
   return spec;
@@ -171,20 +112,18 @@ StageSpec obstacle_table(SceneTable& t, const Model& m) {
   });
   if (!safe) t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
   for (const StageSpec& other : m.stages)
-    if (other.name == "obstacle:" + o.name)
+    if (other.name == obstacle_stage_name(o))
       t.fail("name", "another obstacle is named '" + o.name + "'");
-  o.method = method_named(t.text("method", "geometric", {"geometric", "facets", "conditional"}));
+  o.method = t.choice("method", o.method);
   read_shape(t, o);
   read_placement(t, o);
-  read_method_keys(t, o);
+  // The declared keys (obstacle_keys()): a key the method does not use is refused by name.
+  read_keys(t, o, obstacle_keys(), to_string(o.method));
+  o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
   o.collides_with = t.texts("collides_with", {});
   for (const auto& g : o.collides_with)
     if (!m.group(g)) t.fail("collides_with", "no group named '" + g + "'");
-  try {
-    make_obstacle_stage(m, o);  // checks the colliding points, the mesh, the sampling
-  } catch (const std::invalid_argument& e) {
-    t.fail(o.method == ObstacleMethod::conditional ? "threshold" : "collides_with", e.what());
-  }
+  if (const StageProblem p = check_obstacle(m, o)) t.fail(p.key, p.message);
   return spec_of(o);
 }
 

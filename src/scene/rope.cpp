@@ -9,14 +9,12 @@ namespace maille {
 
 Group build_rope(Model& m, const RopeParams& p, const std::string& name) {
   if (p.points < 2) throw std::invalid_argument("rope needs >= 2 points");
-  if (p.fixed != "start" && p.fixed != "end" && p.fixed != "both" && p.fixed != "none")
-    throw std::invalid_argument("rope: unknown fixed mode '" + p.fixed + "'");
   const std::uint32_t first = m.points.size();
   const Real point_mass = p.mass / Real(p.points);
   for (std::uint32_t i = 0; i < p.points; ++i) {
     const bool at_start = i == 0, at_end = i + 1 == p.points;
-    const bool fixed = (at_start && (p.fixed == "start" || p.fixed == "both")) ||
-                       (at_end && (p.fixed == "end" || p.fixed == "both"));
+    const bool fixed = (at_start && (p.fixed == RopeFixed::start || p.fixed == RopeFixed::both)) ||
+                       (at_end && (p.fixed == RopeFixed::end || p.fixed == RopeFixed::both));
     const Real s = Real(i) / Real(p.points - 1);
     m.points.add(fixed ? PointKind::fixed : PointKind::free, point_mass,
                  p.start + (p.end - p.start) * s);

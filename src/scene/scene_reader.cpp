@@ -19,6 +19,7 @@
 #include "maille/builders.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
+#include "maille/stage_keys.hpp"
 #include "overrides.hpp"
 #include "toml_cursor.hpp"
 #include "toml_guard.hpp"
@@ -112,19 +113,16 @@ class SceneReader {
           << double(limits::max_steps);
       t.fail(t.has("duration") ? "duration" : "step", why.str());
     }
-    s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, 1 << 30));
-    s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, 1 << 30));
+    s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, kNeverEvery));
+    s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, kNeverEvery));
     s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
-    s.backend = t.text("backend", s.backend, {"cpu", "gpu"});
+    s.backend = t.text("backend", s.backend, name_views<BackendKind>());
     s.backend_options.device =
         static_cast<int>(t.integer("gpu_device", s.backend_options.device, -1, 64));
     s.runaway_factor =
         t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
     if (auto i = t.table("implicit")) {
-      s.implicit.solver = i->text("solver", s.implicit.solver);
-      if (!is_implicit_solver(s.implicit.solver))
-        i->fail("solver",
-                "must be one of " + implicit_solver_names() + " (got '" + s.implicit.solver + "')");
+      s.implicit.solver = i->choice("solver", s.implicit.solver);
       s.implicit.tolerance = i->real("tolerance", s.implicit.tolerance, Bound::positive);
       s.implicit.max_iterations =
           static_cast<int>(i->integer("max_iterations", s.implicit.max_iterations, 1, 1 << 20));
@@ -147,19 +145,7 @@ class SceneReader {
     f.air_drag = t.real("air_drag", f.air_drag, Bound::non_negative);
     t.check_range("air_drag", f.air_drag, 0, limits::max_stiffness, "1/s");
     if (auto w = t.table("wind")) {
-      f.wind.velocity = w->vec3("velocity", f.wind.velocity);
-      f.wind.density = w->real("density", f.wind.density, Bound::positive);
-      f.wind.drag_coefficient =
-          w->real("drag_coefficient", f.wind.drag_coefficient, Bound::non_negative);
-      f.wind.turbulence = w->real("turbulence", f.wind.turbulence, Bound::non_negative);
-      f.wind.gust_frequency = w->real("gust_frequency", f.wind.gust_frequency, Bound::positive);
-      f.wind.gust_wavelength = w->real("gust_wavelength", f.wind.gust_wavelength, Bound::positive);
-      // Beyond these the wind's force or phase overflows (see limits.hpp).
-      w->check_range("density", f.wind.density, 0, 1e6, "kg/m^3");
-      w->check_range("drag_coefficient", f.wind.drag_coefficient, 0, 1e6, "");
-      w->check_range("turbulence", f.wind.turbulence, 0, 1e6, "");
-      w->check_range("gust_frequency", f.wind.gust_frequency, 0, 1e6, "Hz");
-      w->check_range("gust_wavelength", f.wind.gust_wavelength, 0, 2 * limits::max_coordinate, "m");
+      read_keys(*w, f.wind, wind_keys());  // declared in src/core/wind_keys.cpp
       w->finish();
     }
     t.finish();
@@ -304,15 +290,7 @@ class SceneReader {
     g.name = t.text("name");
     for (const auto& other : m.geometric_points)
       if (other.name == g.name) t.fail("name", "another geometric point is named '" + g.name + "'");
-    const std::string shape = t.text(
-        "shape", "sphere", {"sphere", "cube", "cylinder", "cone", "torus", "capsule", "plane"});
-    g.shape = shape == "cube"       ? ShapeKind::cube
-              : shape == "cylinder" ? ShapeKind::cylinder
-              : shape == "cone"     ? ShapeKind::cone
-              : shape == "torus"    ? ShapeKind::torus
-              : shape == "capsule"  ? ShapeKind::capsule
-              : shape == "plane"    ? ShapeKind::plane
-                                    : ShapeKind::sphere;
+    g.shape = t.choice("shape", g.shape);
     if (g.shape != ShapeKind::torus && t.has("tube")) t.fail("tube", "only a torus has a tube");
     if (g.shape != ShapeKind::cone && t.has("top")) t.fail("top", "only a cone has a top radius");
     g.tube = t.real("tube", g.tube, Bound::positive);
@@ -365,10 +343,10 @@ class SceneReader {
   }
 
   void install_geometric_contacts(Model& m) {
-    m.stages.push_back(
-        {"geometric_contacts", Phase::forces, [contacts = geometric_contacts_](const Model& model) {
-           return make_geometric_contact_stage(model, contacts);
-         }});
+    m.stages.push_back({std::string(kGeometricContactStage), kGeometricContactPhase,
+                        [contacts = geometric_contacts_](const Model& model) {
+                          return make_geometric_contact_stage(model, contacts);
+                        }});
   }
 
   void link(TomlCursor& t, Model& m) {
@@ -384,10 +362,9 @@ class SceneReader {
       const ParamInfo& f = entry->fields[k];
       if (auto v = t.maybe_real(f.name, f.bound)) {
         values[k] = *v;
-        // A length stays within the scene's box; anything else (stiffness, damping) within
-        // 1e12: beyond, omega^2 = k / m overflows.
-        const Real most = f.unit == "m" ? 2 * limits::max_coordinate : limits::max_stiffness;
-        t.check_range(f.name, *v, -most, most, f.unit);
+        // limits::max_parameter: beyond it, omega^2 = k / m overflows.
+        const Real most = limits::max_parameter(f.unit);
+        t.check_range(f.name, *v, f.bound == Bound::any ? -most : 0, most, f.unit);
       } else if (f.default_value)
         values[k] = *f.default_value;
       else if (f.default_is_distance)
@@ -418,7 +395,7 @@ class SceneReader {
     }
     if (g[0] == g[1]) t.fail("between", "the two groups must differ (self-collision is a stage)");
     ContactParams p;
-    p.stiffness = t.real("stiffness", Bound::positive);
+    p.stiffness = t.real("stiffness", Bound::non_negative);
     t.check_range("stiffness", p.stiffness, 0, limits::max_stiffness, "N/m");
     p.damping = t.real("damping", 0, Bound::non_negative);
     t.check_range("damping", p.damping, 0, limits::max_stiffness, "N.s/m");

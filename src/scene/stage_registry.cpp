@@ -2,8 +2,11 @@
 
 #include <stdexcept>
 
+#include "maille/fields.hpp"
 #include "maille/limits.hpp"
+#include "maille/obstacle.hpp"
 #include "maille/self_collision.hpp"
+#include "maille/stage_keys.hpp"
 #include "stage_tables.hpp"
 
 namespace maille {
@@ -38,65 +41,63 @@ void exclusion_fits(SceneTable& t, const Model& m, const SelfCollisionSettings& 
                " particles, above the memory budget: lower topological_radius");
 }
 
-// [self_collision]: docs/scene-format.md lists the keys.
+// [self_collision]: the keys are declared in self_collision_keys() (docs/scene-format.md's
+// table is checked against them). Validation runs without building the engine.
 StageSpec self_collision_table(SceneTable& t, const Model& m) {
   SelfCollisionSettings s;
   s.groups = t.texts("groups", {});
   for (const auto& g : s.groups)
     if (!m.group(g)) t.fail("groups", "no group named '" + g + "'");
-  // The same bounds as every link's (limits.hpp): values beyond them overflow the arithmetic.
-  s.radius = t.real("radius", 0, Bound::non_negative);
-  t.check_range("radius", s.radius, 0, limits::max_coordinate, "m");
-  s.stiffness = t.real("stiffness", s.stiffness, Bound::positive);
-  t.check_range("stiffness", s.stiffness, 0, limits::max_stiffness, "N/m");
-  s.damping = t.real("damping", s.damping, Bound::non_negative);
-  t.check_range("damping", s.damping, 0, limits::max_stiffness, "N.s/m");
-  s.friction = t.real("friction", s.friction, Bound::non_negative);
-  t.check_range("friction", s.friction, 0, 1e3, "");
-  const std::string bp =
-      t.text("broad_phase", "uniform", {"brute", "uniform", "hashed", "hierarchical"});
-  s.broad_phase = bp == "brute"     ? BroadPhase::brute
-                  : bp == "hashed"  ? BroadPhase::hashed
-                  : bp == "uniform" ? BroadPhase::uniform
-                                    : BroadPhase::hierarchical;
   if (t.has_text("cell_size"))
     t.text("cell_size", "auto", {"auto"});
   else
     s.cell_size = t.real("cell_size", 0, Bound::positive);
   t.check_range("cell_size", s.cell_size, 0, limits::max_coordinate, "m");
-  const std::string ex = t.text("exclusion", "signature", {"none", "matrix", "signature"});
-  s.exclusion = ex == "none"     ? Exclusion::none
-                : ex == "matrix" ? Exclusion::matrix
-                                 : Exclusion::signature;
-  s.topological_radius = static_cast<int>(t.integer("topological_radius", 2, 0, 16));
+  read_keys(t, s, self_collision_keys());
   exclusion_fits(t, m, s);
-  if (t.text("primitive", "points", {"points", "triangles"}) == "triangles")
-    s.primitive = Primitive::triangles;
-  try {
-    SelfCollisionSettings probe = s;  // checks groups, free points and the default radius
-    probe.exclusion = Exclusion::none;
-    const SelfCollisionEngine engine(m, probe);
-    if (s.cell_size > 0 && s.cell_size < engine.settings().radius)
-      t.fail("cell_size", "must be >= radius (" + std::to_string(engine.settings().radius) + " m)");
-  } catch (const std::invalid_argument& e) {
-    t.fail(s.groups.empty() ? "radius" : "groups", e.what());
-  }
-  return {"self_collision", Phase::forces,
-          [s](const Model& model) { return make_self_collision_stage(model, s); }};
+  if (const StageProblem p = resolve_self_collision(m, s)) t.fail(p.key, p.message);
+  StageSpec spec{std::string(kSelfCollisionStage), kSelfCollisionPhase,
+                 [s](const Model& model) { return make_self_collision_stage(model, s); }};
+  visit_keys(self_collision_keys(), s,
+             [&](const StageKey<SelfCollisionSettings>& k, std::string v) {
+               spec.parameters.emplace_back(std::string(k.key), std::move(v));
+             });
+  return spec;
 }
 
 }  // namespace
 
+std::vector<DeclaredTable> declared_tables(const StageRegistry& stages) {
+  std::vector<DeclaredTable> out;
+  for (const auto& e : stages.entries()) {
+    DeclaredTable t{e.array ? "[[" + e.table + "]]" : "[" + e.table + "]", e.description, e.keys};
+    for (const auto& k : e.keys) t.methods = t.methods || k.methods != "all";
+    out.push_back(std::move(t));
+  }
+  out.push_back({"[fields.wind]", "wind on the surface's faces: mean velocity and gusts",
+                 describe_keys(wind_keys(), WindField{})});
+  return out;
+}
+
+std::vector<std::string> markdown_table(const DeclaredTable& t) {
+  std::vector<std::string> lines{
+      t.methods ? "| key | type | unit | default | range | methods | meaning |"
+                : "| key | type | unit | default | range | meaning |",
+      t.methods ? "|---|---|---|---|---|---|---|" : "|---|---|---|---|---|---|"};
+  for (auto& row : markdown_rows(t.keys, t.methods)) lines.push_back(std::move(row));
+  return lines;
+}
+
 // Built-in stage tables register here, one line each.
 StageRegistry StageRegistry::with_builtins() {
   StageRegistry r;
-  r.add({"self_collision", false,
+  r.add({std::string(kSelfCollisionStage), false,
          "self-collision of cloth and ropes: grids, topological exclusion, conditional response",
-         self_collision_table});
+         self_collision_table, describe_keys(self_collision_keys(), SelfCollisionSettings{})});
   r.add({"obstacle", true,
          "fixed or moving geometry (a canonical shape or a mesh file) by one of three methods: "
          "geometric, facets, conditional",
-         obstacle_table});
+         obstacle_table, describe_keys(obstacle_keys(), Obstacle{})});
   return r;
 }
 

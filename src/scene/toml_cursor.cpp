@@ -109,9 +109,9 @@ std::string TomlCursor::text(std::string_view key) {
 }
 
 std::string TomlCursor::text(std::string_view key, std::string fallback,
-                             std::initializer_list<std::string_view> choices) {
+                             std::span<const std::string_view> choices) {
   const std::string v = has(key) ? text(key) : (used_.insert(std::string(key)), fallback);
-  if (choices.size() == 0) return v;
+  if (choices.empty()) return v;
   for (auto c : choices)
     if (c == v) return v;
   std::string list;

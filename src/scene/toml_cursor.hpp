@@ -45,8 +45,9 @@ class TomlCursor final : public SceneTable {
                        std::int64_t max) override;
   bool boolean(std::string_view key, bool fallback) override;
   std::string text(std::string_view key);  // required
+  using SceneTable::text;
   std::string text(std::string_view key, std::string fallback,
-                   std::initializer_list<std::string_view> choices = {}) override;
+                   std::span<const std::string_view> choices) override;
   Vec3 vec3(std::string_view key);  // required
   Vec3 vec3(std::string_view key, Vec3 fallback) override;
   std::vector<std::string> texts(std::string_view key, std::vector<std::string> fallback) override;

@@ -353,6 +353,35 @@ TEST_F(GpuSelfCollision, TrianglesAreRefusedByName) {
   }
 }
 
+// The GPU builds its own uniform grid: another broad phase is refused by name, in the scene and
+// as a live option (set back, the step goes on with the option the device honours).
+TEST_F(GpuSelfCollision, BroadPhasesOtherThanUniformAreRefusedNeverIgnored) {
+  const std::vector<std::string> sets{"self_collision.broad_phase=hashed"};
+  auto scene = load_scene(MAILLE_SOURCE_DIR "/examples/flag_storm.toml", sets);
+  ASSERT_TRUE(scene) << scene.error().to_string();
+  scene->settings.backend = "gpu";
+  try {
+    Simulator sim(scene->model, scene->settings);
+    FAIL() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("broad_phase = \"hashed\" has no GPU version"),
+              std::string::npos)
+        << e.what();
+  }
+  auto uniform = load_scene(MAILLE_SOURCE_DIR "/examples/flag_storm.toml");
+  ASSERT_TRUE(uniform) << uniform.error().to_string();
+  uniform->settings.backend = "gpu";
+  Simulator sim(uniform->model, uniform->settings);
+  EXPECT_THROW(sim.set_stage_option("self_collision", "broad_phase", "brute"),
+               std::invalid_argument);
+  std::string now;
+  for (const auto& st : sim.stage_options())
+    for (const auto& o : st.options)
+      if (st.stage == "self_collision" && o.name == "broad_phase") now = o.value;
+  EXPECT_EQ(now, "uniform");
+  EXPECT_TRUE(sim.run_steps(2));
+}
+
 // A whole run: the cloth heap from a state with contacts (0.4 s into the CPU run), 120 steps on
 // the CPU, on the CPU with x and v rounded to float every step, and on the GPU; the GPU stays
 // within 4 times the float-storage drift (test_gpu_runs.cpp), and its cloth crosses itself no

@@ -53,7 +53,7 @@ long allocations_in_steps(const char* scheme, int threads, const char* solver = 
   SimulationSettings s =
       test::settings(scheme == std::string("implicit_euler") ? 2e-3 : 1e-4, scheme);
   s.threads = threads;
-  s.implicit.solver = solver;
+  s.implicit.solver = *parse_name<ImplicitSolver>(solver);
   s.sample_every = 5;
   s.publish_every = 5;
   Simulator sim(std::move(m), s);

@@ -15,7 +15,7 @@ Model spinning_ball() {
   m.fields.gravity = {0, 0, 0};
   LatticeParams p;
   p.resolution = {5, 5, 5};
-  p.shape = "ball";
+  p.shape = LatticeShape::ball;
   p.mass = 2;
   p.material = {500, 0.5};
   p.shear_stiffness = 250;

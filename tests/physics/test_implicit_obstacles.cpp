@@ -44,7 +44,7 @@ void install(Model& m, const Obstacle& o) {
 
 SimulationSettings implicit(double h, const char* solver) {
   SimulationSettings s = test::settings(h, "implicit_euler");
-  s.implicit.solver = solver;
+  s.implicit.solver = *parse_name<ImplicitSolver>(solver);
   return s;
 }
 
@@ -120,7 +120,7 @@ TEST(ImplicitFacets, ClothThrownAtAThinBoxAtLargeStepsStaysOnIt) {
     p.origin = {-0.3, 0.3, -0.3};
     p.along = {1, 0, 0};
     p.up = {0, 0, 1};
-    p.fixed = "none";
+    p.fixed = FlagFixed::none;
     build_flag(m, p, "cloth");
     for (Vec3& v : m.points.initial_velocity) v = {0, -10, 0};
     // The unit cube [-1, 1]^3 scaled to 2 m x 1 cm x 2 m, its top at y = 0.005.
@@ -224,7 +224,7 @@ TEST(ImplicitConditionalObstacle, HoldsAClothAtLargeSteps) {
     p.origin = {-0.2, 0.015, -0.2};
     p.along = {1, 0, 0};
     p.up = {0, 0, 1};
-    p.fixed = "none";
+    p.fixed = FlagFixed::none;
     build_flag(m, p, "cloth");
     Obstacle o;
     o.name = "ground";
@@ -270,7 +270,7 @@ TEST(ImplicitObstacles, ClothThrownAtAThinBoxOrAPlaneNeverTunnelsAtLargeSteps) {
       p.origin = {-0.3, 0.3, -0.3};
       p.along = {1, 0, 0};
       p.up = {0, 0, 1};
-      p.fixed = "none";
+      p.fixed = FlagFixed::none;
       build_flag(m, p, "cloth");
       for (Vec3& v : m.points.initial_velocity) v = {0, -10, 0};
       Obstacle o;

@@ -153,7 +153,7 @@ Model stiff_flag() {
   p.material = {20000, 2};
   p.shear_stiffness = 10000;
   p.bending_stiffness = 2000;
-  p.fixed = "pole";
+  p.fixed = FlagFixed::pole;
   build_flag(m, p, "flag");
   m.fields.air_drag = 2;
   return m;
@@ -188,7 +188,7 @@ TEST(Integrators, ImplicitEulerStiffFlagRestsAtStaticSolution) {
 // The matrix-free and the assembled (Eigen) solvers agree on a swinging flag.
 TEST(Integrators, MatrixFreeAndEigenSolversAgree) {
   std::vector<Vec3> end[2];
-  const char* solvers[2] = {"matrix_free", "eigen"};
+  const ImplicitSolver solvers[2] = {ImplicitSolver::matrix_free, ImplicitSolver::eigen};
   for (int k = 0; k < 2; ++k) {
     SimulationSettings s = test::settings(2e-3, "implicit_euler");
     s.implicit.solver = solvers[k];

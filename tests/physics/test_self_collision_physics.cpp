@@ -211,7 +211,7 @@ TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
     p.nx = p.ny = 5;
     p.width = p.height = 0.4;
     p.up = {0, 0, 1};  // horizontal, in the plane y = 0
-    p.fixed = "none";
+    p.fixed = FlagFixed::none;
     build_flag(m, p, "cloth");
     for (std::uint32_t i = 0; i < m.points.size(); ++i) m.points.set_kind(i, PointKind::fixed);
     const auto bead = m.points.add(PointKind::free, 0.01, {bx, 0.2, bz});
@@ -254,7 +254,7 @@ TEST(SelfCollisionPhysics, ImplicitEulerKeepsLargeStepsWithContacts) {
   auto run = [&](const char* solver, double& closest) {
     Model model = head_on_pair(m, k, u, r);
     SimulationSettings settings = test::settings(h, "implicit_euler");
-    settings.implicit.solver = solver;
+    settings.implicit.solver = *parse_name<ImplicitSolver>(solver);
     Simulator sim(std::move(model), settings);
     closest = 1;
     for (int i = 0; i < 400 && sim.step(); ++i)
@@ -271,7 +271,7 @@ TEST(SelfCollisionPhysics, ImplicitEulerKeepsLargeStepsWithContacts) {
   EXPECT_LE(after, u);                      // no energy gained
   Model model = head_on_pair(m, k, u, r);
   SimulationSettings settings = test::settings(h, "implicit_euler");
-  settings.implicit.solver = "eigen";
+  settings.implicit.solver = ImplicitSolver::eigen;
   EXPECT_THROW(Simulator(std::move(model), settings), std::invalid_argument);
 }
 

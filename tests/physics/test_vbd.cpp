@@ -38,7 +38,7 @@ Model hanging_cloth() {
 
 SimulationSettings vbd(double h, int iterations, double acceleration) {
   SimulationSettings s = test::settings(h, "implicit_euler");
-  s.implicit.solver = "vbd";
+  s.implicit.solver = ImplicitSolver::vbd;
   s.implicit.iterations = iterations;
   s.implicit.acceleration = acceleration;
   return s;
@@ -233,21 +233,21 @@ TEST(Vbd, SolverSwitchesLiveAroundTheState) {
   Simulator sim(m, vbd(1.0 / 60, 10, 0.9));
   ASSERT_TRUE(sim.run_steps(10));
   ImplicitSettings cg = sim.settings().implicit;
-  cg.solver = "matrix_free";
+  cg.solver = ImplicitSolver::matrix_free;
   sim.set_implicit(cg);
-  EXPECT_EQ(sim.settings().implicit.solver, "matrix_free");
+  EXPECT_EQ(sim.settings().implicit.solver, ImplicitSolver::matrix_free);
   ASSERT_TRUE(sim.run_steps(10));
   ImplicitSettings more = cg;
-  more.solver = "vbd";
+  more.solver = ImplicitSolver::vbd;
   more.iterations = 40;
   sim.set_implicit(more);
   ASSERT_TRUE(sim.run_steps(10));
   EXPECT_EQ(sim.settings().implicit.iterations, 40);
   ImplicitSettings bad = more;
-  bad.solver = "gauss_seidel";
+  bad.solver = static_cast<ImplicitSolver>(7);  // off the name table
   const std::uint64_t before = state_hash(sim.state());
   EXPECT_THROW(sim.set_implicit(bad), std::invalid_argument);
-  EXPECT_EQ(sim.settings().implicit.solver, "vbd");
+  EXPECT_EQ(sim.settings().implicit.solver, ImplicitSolver::vbd);
   EXPECT_EQ(state_hash(sim.state()), before);
   ASSERT_TRUE(sim.run_steps(10));
   EXPECT_LT(sim.energies().kinetic, 1.0);  // still a hanging cloth, not a blow-up
@@ -266,7 +266,7 @@ TEST(Vbd, EigenRefusesStageContactsByName) {
   m.stages.push_back({"obstacle:ball", Phase::forces,
                       [ball](const Model& mm) { return make_obstacle_stage(mm, ball); }});
   SimulationSettings eigen = vbd(1.0 / 60, 10, 0.9);
-  eigen.implicit.solver = "eigen";
+  eigen.implicit.solver = ImplicitSolver::eigen;
   try {
     Simulator refused(m, eigen);
     FAIL() << "eigen accepted a geometric obstacle's contacts";
@@ -278,7 +278,7 @@ TEST(Vbd, EigenRefusesStageContactsByName) {
   ASSERT_TRUE(sim.run_steps(3));
   const std::uint64_t before = state_hash(sim.state());
   EXPECT_THROW(sim.set_implicit(eigen.implicit), std::invalid_argument);
-  EXPECT_EQ(sim.settings().implicit.solver, "vbd");
+  EXPECT_EQ(sim.settings().implicit.solver, ImplicitSolver::vbd);
   EXPECT_EQ(state_hash(sim.state()), before);
   m.stages.clear();  // without the stage, eigen runs the same cloth
   Simulator plain(m, eigen);
@@ -300,7 +300,7 @@ LargeStepRun run_large_steps(const std::string& name, double h, double duration)
   r.scene = std::move(loaded.value());
   SimulationSettings s = r.scene.settings;
   s.integrator = "implicit_euler";
-  s.implicit.solver = "vbd";
+  s.implicit.solver = ImplicitSolver::vbd;
   s.step = h;
   s.threads = 1;
   s.publish_every = 1 << 30;

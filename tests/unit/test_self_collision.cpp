@@ -93,7 +93,7 @@ Model crumpled_flag(std::uint32_t n = 24) {
   p.ny = n;
   p.width = 1;
   p.height = 1;
-  p.fixed = "none";
+  p.fixed = FlagFixed::none;
   build_flag(m, p, "cloth");
   const Real spacing = p.width / Real(n - 1);
   for (std::uint32_t k = 0; k < m.points.size(); ++k) {

@@ -1,5 +1,5 @@
 // The built-in link kinds' force laws, written once and compiled twice. This file is valid C++
-// and valid GLSL 4.50: include/maille/links/shared_laws.hpp includes it in namespace
+// and valid GLSL 4.50: include/maille/shared_laws.hpp includes it in namespace
 // maille::law with `vec3` = Vec3 and `real` = Real (double by default), and the GPU backend's
 // force shader (src/gpu/shaders.cpp) pastes its text after defining `real` as float. The CPU
 // kinds (include/maille/links/*.hpp) call these functions, so the CPU is the GPU's oracle and a

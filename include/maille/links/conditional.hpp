@@ -5,14 +5,17 @@
 // The distance is a policy: `Distance::separation(xa, xb)` returns the length and unit direction
 // the law acts along, `Distance::within(xa, xb, s)` the cheap activity test, and
 // `Distance::keyword` names the instantiation in scenes and registries (so a second policy does
-// not collide with the first). Point-to-point contact uses the Euclidean one. Geometric contacts
-// (a point against a canonical shape through affine maps) need per-link data (which shape, its
-// matrices): they are built as their own kind whose Params carry the geometric point's index
-// (Params may hold members that are not scene fields), reusing `spring_damper_force` for the
-// law; see docs/architecture.md, "Geometric contacts".
+// not collide with the first). Point-to-point contact uses the Euclidean one. The Jacobian (for
+// implicit schemes) is the Euclidean distance's: only that policy provides it, so implicit
+// Euler refuses a model with another policy's links, naming the kind, rather than integrate
+// them with a Jacobian of the wrong distance. Geometric contacts (a point against a canonical
+// shape through affine maps) are not a link kind but a stage (`geometric_contacts`,
+// geometric_point.hpp): their law needs the geometric point's shape and maps at each step; see
+// docs/architecture.md, "Decision notes".
 #pragma once
 
 #include <array>
+#include <concepts>
 
 #include "maille/links/spring_damper.hpp"
 
@@ -82,9 +85,11 @@ struct ConditionalSpringDamperT {
       return spring_damper_force(s, vb - va, p.stiffness, p.rest_length, p.damping);
     }
   }
-  // Zero while inactive; a spring-damper toward rest_length while active.
-  static LinkJacobian jacobian(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
-                               const Params& p, JacobianMode mode) {
+  // Zero while inactive; a spring-damper toward rest_length while active. The Euclidean policy
+  // only: the blocks below differentiate |xb - xa|.
+  static LinkJacobian jacobian(
+      const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb, const Params& p,
+      JacobianMode mode) requires std::same_as<Distance, EuclideanDistance> {
     if (!Distance::within(xa, xb, p.threshold)) return {};
     LinkJacobian j = damper_jacobian(xb - xa, vb - va, p.damping, mode);
     j.dx += spring_jacobian(xb - xa, p.stiffness, p.rest_length, mode);

@@ -55,6 +55,23 @@ inline LinkJacobian damper_jacobian(const Vec3& d, const Vec3& dv, Real z, Jacob
   return j;
 }
 
+// The spring's two scene fields, shared by every kind with a spring term (spring,
+// spring_damper): one declaration of their unit, bound, default and doc.
+template <class Params>
+constexpr ParamField<Params> stiffness_field() {
+  return {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"};
+}
+template <class Params>
+constexpr ParamField<Params> rest_length_field() {
+  return {"rest_length",
+          "m",
+          &Params::rest_length,
+          Bound::non_negative,
+          {},
+          true,
+          "L0; default: the distance between the points in the scene"};
+}
+
 struct Spring {
   static constexpr std::string_view keyword = "spring";
   static constexpr std::string_view shared_law = "spring_law";  // link_laws.glsl
@@ -62,16 +79,8 @@ struct Spring {
     Real stiffness = 0;    // k, N/m
     Real rest_length = 0;  // L0, m
   };
-  static constexpr std::array<ParamField<Params>, 2> fields{{
-      {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
-      {"rest_length",
-       "m",
-       &Params::rest_length,
-       Bound::non_negative,
-       {},
-       true,
-       "L0; default: the distance between the points in the scene"},
-  }};
+  static constexpr std::array<ParamField<Params>, 2> fields{
+      {stiffness_field<Params>(), rest_length_field<Params>()}};
 
   static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                     const Params& p) {

@@ -21,17 +21,10 @@ struct SpringDamper {
     Real rest_length = 0;  // L0, m
     Real damping = 0;      // z, N.s/m
   };
-  static constexpr std::array<ParamField<Params>, 3> fields{{
-      {"stiffness", "N/m", &Params::stiffness, Bound::non_negative, {}, false, "k"},
-      {"rest_length",
-       "m",
-       &Params::rest_length,
-       Bound::non_negative,
-       {},
-       true,
-       "L0; default: the distance between the points in the scene"},
-      {"damping", "N.s/m", &Params::damping, Bound::non_negative, Real(0), false, "z"},
-  }};
+  static constexpr std::array<ParamField<Params>, 3> fields{
+      {stiffness_field<Params>(),
+       rest_length_field<Params>(),
+       {"damping", "N.s/m", &Params::damping, Bound::non_negative, Real(0), false, "z"}}};
 
   // Written on d itself (one sqrt, one division, no normalised n): with inv = 1/|d|,
   //   f_a = [k (1 - L0 inv) + z (dv.d) inv^2] d

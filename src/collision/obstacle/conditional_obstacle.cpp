@@ -22,6 +22,7 @@
 #include "maille/obstacle.hpp"
 #include "maille/profile.hpp"
 #include "maille/state.hpp"
+#include "obstacle_check.hpp"
 #include "obstacle_surface.hpp"
 
 namespace maille {
@@ -31,8 +32,6 @@ namespace {
 // Samples per particle that can act at once, for the stability estimate: on a flat surface
 // sampled at spacing s, a particle within s of it is within s of at most about 4 samples.
 constexpr Real kSamplesAtOnce = 4;
-// Refuse samplings that would not fit in memory (a huge obstacle with a tiny threshold).
-constexpr std::uint64_t kMaxSamples = 20'000'000;
 
 struct CellKey {
   std::int64_t i, j, k;
@@ -47,6 +46,10 @@ struct CellHash {
 
 std::vector<Vec3> sample_surface(const TriMesh& mesh, const shapes::Affine& place, Real spacing,
                                  const std::string& name) {
+  if (planned_surface_samples(mesh, place, spacing) > kMaxSurfaceSamples)
+    throw std::invalid_argument("obstacle '" + name + "': sampling the surface at the threshold (" +
+                                std::to_string(spacing) + " m) would need more than " +
+                                std::to_string(kMaxSurfaceSamples) + " points: raise threshold");
   std::vector<Vec3> world(mesh.vertices.size());
   for (std::size_t i = 0; i < world.size(); ++i) world[i] = place.to_world(mesh.vertices[i]);
   // Merge coincident samples (shared edges and vertices) by a grid far finer than the spacing.
@@ -57,17 +60,10 @@ std::vector<Vec3> sample_surface(const TriMesh& mesh, const shapes::Affine& plac
     const CellKey key{std::llround(x.x / snap), std::llround(x.y / snap), std::llround(x.z / snap)};
     if (seen.emplace(key, std::uint32_t(samples.size())).second) samples.push_back(x);
   };
-  std::uint64_t planned = 0;
   for (const auto& t : mesh.triangles) {
     const Vec3 &a = world[t[0]], &b = world[t[1]], &c = world[t[2]];
     const Real longest = std::max({norm(b - a), norm(c - b), norm(a - c)});
     const auto divisions = std::uint64_t(std::ceil(longest / spacing));
-    planned += (divisions + 1) * (divisions + 2) / 2;
-    if (planned > kMaxSamples)
-      throw std::invalid_argument("obstacle '" + name +
-                                  "': sampling the surface at the threshold (" +
-                                  std::to_string(spacing) + " m) would need more than " +
-                                  std::to_string(kMaxSamples) + " points: raise threshold");
     const Real inv = divisions > 0 ? Real(1) / Real(divisions) : 0;
     for (std::uint64_t i = 0; i <= divisions; ++i)
       for (std::uint64_t j = 0; i + j <= divisions; ++j)
@@ -100,8 +96,8 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
     params_.rest_length = o_.threshold;  // continuous at the threshold, as [[contact]] does
   }
 
-  std::string name() const override { return "obstacle:" + o_.name; }
-  Phase phase() const override { return Phase::forces; }
+  std::string name() const override { return obstacle_stage_name(o_); }
+  Phase phase() const override { return obstacle_phase(o_.method); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
     // The rigid motion since t = 0 (x_now = R x_0 + d): particles go back by its inverse.

@@ -111,8 +111,8 @@ class FacetObstacleStage final : public Stage {
     rounding_ = Real(1e-12) * (norm(corner) + std::numeric_limits<Real>::min());
   }
 
-  std::string name() const override { return "obstacle:" + o_.name; }
-  Phase phase() const override { return Phase::response; }
+  std::string name() const override { return obstacle_stage_name(o_); }
+  Phase phase() const override { return obstacle_phase(o_.method); }
 
   void apply(const Model& m, State& s, const StageContext& ctx) override {
     const Real h = Real(ctx.h);
@@ -124,7 +124,14 @@ class FacetObstacleStage final : public Stage {
     const int threads = std::max(1, ctx.threads);
     if (scratch_.size() < std::size_t(threads)) scratch_.resize(threads);
     counts_.assign(threads, Counts{});
-    if (!swept_inside_) sweep_inside(s, now, counts_[0]);
+    // Whether the sweep was made lives in the State (a checkpoint resumed by a fresh stage must
+    // not sweep again): the number of particles it covered, so a model change that changes the
+    // colliding set sweeps anew.
+    std::vector<double>& swept = s.memory(name());
+    if (swept.size() != 1 || swept[0] != double(set_.size())) {
+      sweep_inside(s, now, counts_[0]);
+      swept.assign(1, double(set_.size()));
+    }
     auto& counts = counts_;
     const auto n = static_cast<std::int64_t>(set_.size());
     Vec3* x = s.x().data();
@@ -469,14 +476,12 @@ class FacetObstacleStage final : public Stage {
     set_ = colliding_points(m, o_);
     row_.assign(set_.size(), {});
     clearance_.assign(set_.size(), {});
-    swept_inside_ = false;
   }
 
   // Once, before the first step (and after a model change): a particle may start inside a
   // closed mesh (a scene that overlaps it), deeper than the per-step check looks. Each particle
   // in the mesh's box gets the exact test (nearest facet, pseudo-normal sign) and is put out.
   void sweep_inside(State& s, const shapes::Affine& now, Counts& c) {
-    swept_inside_ = true;
     if (!grid_.closed()) return;
     for (std::uint32_t p : set_) {
       const Vec3 local = to_frame(now, s.x()[p]);
@@ -548,7 +553,6 @@ class FacetObstacleStage final : public Stage {
   std::vector<Terms> terms_;
   Real widest_eps_ = 0;        // the largest of them
   Real rounding_ = 0;          // bound on the rounding of a facet's N.AP (Clearance)
-  bool swept_inside_ = false;  // the first step's full inside test was made
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
   std::vector<Resting> resting_;                     // per thread: its block's resting contacts

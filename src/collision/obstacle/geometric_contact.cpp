@@ -48,8 +48,8 @@ class GeometricContactStage final : public Stage {
     }
   }
 
-  std::string name() const override { return "geometric_contacts"; }
-  Phase phase() const override { return Phase::forces; }
+  std::string name() const override { return std::string(kGeometricContactStage); }
+  Phase phase() const override { return kGeometricContactPhase; }
 
   void apply(const Model& m, State& s, const StageContext& ctx) override {
     const Vec3* x = s.x().data();

@@ -58,8 +58,8 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
     for (const std::uint32_t p : set_) member_[p] = 1;
   }
 
-  std::string name() const override { return "obstacle:" + o_.name; }
-  Phase phase() const override { return Phase::forces; }
+  std::string name() const override { return obstacle_stage_name(o_); }
+  Phase phase() const override { return obstacle_phase(o_.method); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
     const Vec3* x = s.x().data();

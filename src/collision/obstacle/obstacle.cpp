@@ -1,4 +1,4 @@
-// What the three obstacle methods share (include/maille/obstacle.hpp): the method's name, the
+// What the three obstacle methods share (include/maille/obstacle.hpp): the
 // rigid motion, the colliding points, the obstacle's mesh and the dispatch on the method.
 #include <algorithm>
 #include <cmath>
@@ -8,18 +8,6 @@
 #include "maille/obstacle.hpp"
 
 namespace maille {
-
-std::string_view to_string(ObstacleMethod m) {
-  switch (m) {
-    case ObstacleMethod::geometric:
-      return "geometric";
-    case ObstacleMethod::facets:
-      return "facets";
-    case ObstacleMethod::conditional:
-      return "conditional";
-  }
-  return "?";
-}
 
 namespace {
 
@@ -83,7 +71,16 @@ std::vector<std::uint32_t> colliding_points(const Model& m, const Obstacle& o) {
   return set;
 }
 
+std::string obstacle_stage_name(const Obstacle& o) {
+  return "obstacle:" + o.name;
+}
+
+Phase obstacle_phase(ObstacleMethod m) {
+  return m == ObstacleMethod::facets ? Phase::response : Phase::forces;
+}
+
 std::unique_ptr<Stage> make_obstacle_stage(const Model& m, const Obstacle& o) {
+  if (const StageProblem p = check_obstacle(m, o)) throw std::invalid_argument(p.message);
   switch (o.method) {
     case ObstacleMethod::geometric:
       return make_geometric_obstacle_stage(m, o);

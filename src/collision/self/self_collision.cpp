@@ -16,51 +16,24 @@
 #include "maille/profile.hpp"
 #include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
+#include "self_collision_view.hpp"
 #include "triangle_proximity.hpp"
 
 namespace maille {
 
-std::string_view to_string(BroadPhase b) {
-  switch (b) {
-    case BroadPhase::brute:
-      return "brute";
-    case BroadPhase::uniform:
-      return "uniform";
-    case BroadPhase::hashed:
-      return "hashed";
-    case BroadPhase::hierarchical:
-      return "hierarchical";
-  }
-  return "?";
-}
-
-std::string_view to_string(Exclusion e) {
-  switch (e) {
-    case Exclusion::none:
-      return "none";
-    case Exclusion::matrix:
-      return "matrix";
-    case Exclusion::signature:
-      return "signature";
-  }
-  return "?";
-}
-
 namespace {
 
-// 1 for every point of the named groups (all groups when none is named).
+// 1 for every point of the named groups (all groups when none is named); the groups exist
+// (resolve_self_collision checked them).
 std::vector<std::uint8_t> group_mask(const Model& m, const std::vector<std::string>& groups) {
   std::vector<std::uint8_t> in(m.points.size(), 0);
-  if (groups.empty()) {
-    for (const Group& g : m.groups)
-      for (std::uint32_t p = g.first; p < g.first + g.count; ++p) in[p] = 1;
-  } else {
-    for (const auto& name : groups) {
-      const Group* g = m.group(name);
-      if (!g) throw std::invalid_argument("self_collision: no group named '" + name + "'");
-      for (std::uint32_t p = g->first; p < g->first + g->count; ++p) in[p] = 1;
-    }
-  }
+  auto mark = [&](const Group& g) {
+    for (std::uint32_t p = g.first; p < g.first + g.count; ++p) in[p] = 1;
+  };
+  if (groups.empty())
+    for (const Group& g : m.groups) mark(g);
+  for (const auto& name : groups)
+    if (const Group* g = m.group(name)) mark(*g);
   return in;
 }
 
@@ -74,21 +47,17 @@ std::vector<std::uint32_t> colliding_points(const Model& m, const std::vector<st
 
 // Half the shortest link touching the set, at rest (the initial positions): close enough that
 // neighbours never touch at rest, far enough that particles cannot slip between two others.
-Real default_radius(const Model& m, const std::vector<std::uint32_t>& set) {
-  std::vector<std::uint8_t> in(m.points.size(), 0);
-  for (auto p : set) in[p] = 1;
+// 0 when no link touches the set.
+Real default_radius(const Model& m, const std::vector<std::uint8_t>& in) {
   Real shortest = std::numeric_limits<Real>::max();
   for (const auto& pool : m.links.pools()) {
     if (pool->conditional()) continue;
     for (const LinkEnds& e : pool->slot_ends())
-      if (in[e.a] || in[e.b])
+      if ((in[e.a] && m.points.inv_mass[e.a] > 0) || (in[e.b] && m.points.inv_mass[e.b] > 0))
         shortest = std::min(shortest,
                             norm(m.points.initial_position[e.b] - m.points.initial_position[e.a]));
   }
-  if (shortest == std::numeric_limits<Real>::max() || shortest <= 0)
-    throw std::invalid_argument(
-        "self_collision: cannot default the radius (no link among the colliding points): set "
-        "radius");
+  if (shortest == std::numeric_limits<Real>::max() || shortest <= 0) return 0;
   return shortest / 2;
 }
 
@@ -101,12 +70,10 @@ constexpr double kRetuneDensity = 2.0;  // ... or the particles per occupied cel
 class SelfCollision {
  public:
   SelfCollision(const Model& m, SelfCollisionSettings s) : s_(std::move(s)) {
+    if (const StageProblem p = resolve_self_collision(m, s_))
+      throw std::invalid_argument(p.message);
     const std::vector<std::uint8_t> mask = group_mask(m, s_.groups);
     set_ = colliding_points(m, mask);
-    if (set_.empty()) throw std::invalid_argument("self_collision: no free point in the groups");
-    if (s_.radius <= 0) s_.radius = default_radius(m, set_);
-    if (s_.cell_size != 0 && s_.cell_size < s_.radius)
-      throw std::invalid_argument("self_collision: cell_size must be >= radius");
     xs_.resize(set_.size());
     model_ = &m;
     rebuild_exclusion();
@@ -392,8 +359,8 @@ class SelfCollisionStage final : public Stage {
  public:
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s)
       : settings_(s), engine_(m, s) {}
-  std::string name() const override { return "self_collision"; }
-  Phase phase() const override { return Phase::forces; }
+  std::string name() const override { return std::string(kSelfCollisionStage); }
+  Phase phase() const override { return kSelfCollisionPhase; }
   void model_changed(const Model& m) override {
     engine_ = SelfCollision(m, settings_);
     wide_.reset();
@@ -443,37 +410,30 @@ class SelfCollisionStage final : public Stage {
     const auto& s = engine_.settings();
     auto on_off = [](bool b) { return std::string(b ? "on" : "off"); };
     return {{"enabled", {"on", "off"}, on_off(enabled_)},
-            {"broad_phase",
-             {"brute", "uniform", "hashed", "hierarchical"},
-             std::string(to_string(s.broad_phase))},
-            {"exclusion", {"none", "matrix", "signature"}, std::string(to_string(s.exclusion))},
+            {"broad_phase", name_strings<BroadPhase>(), std::string(to_string(s.broad_phase))},
+            {"exclusion", name_strings<Exclusion>(), std::string(to_string(s.exclusion))},
             {"draw_contacts", {"on", "off"}, on_off(draw_contacts_)},
             {"draw_cells", {"on", "off"}, on_off(draw_cells_)}};
   }
 
   void set_option(const std::string& name, const std::string& value) override {
-    auto choice = [&](std::initializer_list<const char*> choices) {
-      for (const char* c : choices)
-        if (value == c) return;
+    auto refuse = [&] {
       throw std::invalid_argument("self_collision: option " + name + " cannot be '" + value + "'");
     };
     if (name == "enabled" || name == "draw_contacts" || name == "draw_cells") {
-      choice({"on", "off"});
+      if (value != "on" && value != "off") refuse();
       (name == "enabled"         ? enabled_
        : name == "draw_contacts" ? draw_contacts_
                                  : draw_cells_) = value == "on";
     } else if (name == "broad_phase") {
-      choice({"brute", "uniform", "hashed", "hierarchical"});
-      engine_.set_broad_phase(value == "brute"     ? BroadPhase::brute
-                              : value == "uniform" ? BroadPhase::uniform
-                              : value == "hashed"  ? BroadPhase::hashed
-                                                   : BroadPhase::hierarchical);
+      const auto b = parse_name<BroadPhase>(value);
+      if (!b) refuse();
+      engine_.set_broad_phase(*b);
       settings_.broad_phase = engine_.settings().broad_phase;
     } else if (name == "exclusion") {
-      choice({"none", "matrix", "signature"});
-      engine_.set_exclusion(value == "none"     ? Exclusion::none
-                            : value == "matrix" ? Exclusion::matrix
-                                                : Exclusion::signature);
+      const auto e = parse_name<Exclusion>(value);
+      if (!e) refuse();
+      engine_.set_exclusion(*e);
       settings_.exclusion = engine_.settings().exclusion;
     } else {
       Stage::set_option(name, value);
@@ -565,6 +525,27 @@ class SelfCollisionStage final : public Stage {
 };
 
 }  // namespace
+
+StageProblem resolve_self_collision(const Model& m, SelfCollisionSettings& s) {
+  for (const auto& name : s.groups)
+    if (!m.group(name)) return {"groups", "self_collision: no group named '" + name + "'"};
+  // Problems of the set as a whole are blamed on the groups when named, else on the radius.
+  const std::string set_key = s.groups.empty() ? "radius" : "groups";
+  const std::vector<std::uint8_t> in = group_mask(m, s.groups);
+  bool any_free = false;
+  for (std::uint32_t p = 0; p < m.points.size() && !any_free; ++p)
+    any_free = in[p] && m.points.inv_mass[p] > 0;
+  if (!any_free) return {set_key, "self_collision: no free point in the groups"};
+  if (s.radius <= 0) s.radius = default_radius(m, in);
+  if (s.radius <= 0)
+    return {set_key,
+            "self_collision: cannot default the radius (no link among the colliding points): set "
+            "radius"};
+  if (s.cell_size != 0 && s.cell_size < s.radius)
+    return {"cell_size",
+            "self_collision: cell_size must be >= radius (" + std::to_string(s.radius) + " m)"};
+  return {};
+}
 
 std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfCollisionSettings& s) {
   return std::make_unique<SelfCollisionStage>(m, s);

@@ -210,27 +210,3 @@ Distance canonical(ShapeKind s, const Vec3& p, Real top, Real tube) {
 }
 
 }  // namespace maille::shapes
-
-namespace maille {
-
-std::string_view to_string(ShapeKind s) {
-  switch (s) {
-    case ShapeKind::sphere:
-      return "sphere";
-    case ShapeKind::cube:
-      return "cube";
-    case ShapeKind::cylinder:
-      return "cylinder";
-    case ShapeKind::cone:
-      return "cone";
-    case ShapeKind::torus:
-      return "torus";
-    case ShapeKind::capsule:
-      return "capsule";
-    case ShapeKind::plane:
-      return "plane";
-  }
-  return "?";
-}
-
-}  // namespace maille

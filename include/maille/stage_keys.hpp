@@ -1,0 +1,320 @@
+// Keys of a stage table ([self_collision], [[obstacle]], [fields.wind], ...), declared once, the
+// way link kinds declare their `fields`: key, type, unit, bound and range, default (the settings
+// struct's member initialiser), which methods use it, one line of doc. From the declarations
+// come
+//   - parsing: read_keys() reads every declared key into the settings, with the table getters'
+//     checks and messages (bound first, then "must be in [lo, hi] UNIT (got v)");
+//   - the "not used by method" gate: a key that the chosen method does not use is an error
+//     naming the key and the method (check_methods());
+//   - the documentation: describe_keys() gives one KeyInfo per key, markdown_rows() the rows of
+//     docs/scene-format.md's tables (unit.StageKeys.* fails when the two disagree), and
+//     `maille info --keys` prints them;
+//   - the resolved values: visit_keys() calls a function with every declared key and its value
+//     as text (`maille info` shows them; checkpoints' model fingerprints can hash them).
+// Keys whose reading is structural (groups, a mesh file, a placement, a sub-table) are declared
+// too, with `custom`: the stage's parser reads them, the declaration documents them and takes
+// part in the gate.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "maille/names.hpp"
+#include "maille/scene_table.hpp"
+#include "maille/vec3.hpp"
+
+namespace maille {
+
+enum class KeyType : std::uint8_t { number, integer, choice, vector, text, texts, table, custom };
+
+// The documentation half of a declaration (designated initialisers: {.unit = "m", .doc = ...}).
+struct KeyDoc {
+  std::string_view unit{};
+  std::string_view methods{};      // names of the methods using the key, ", "-separated; empty: all
+  std::string_view doc{};          // one line
+  std::string_view default_doc{};  // when the default is not the member's initial value
+  std::string_view range_doc{};    // when the range is not the declared bound and [lo, hi]
+  std::string_view type_doc{};     // custom keys: their type as the docs say it
+};
+
+template <class S>
+struct StageKey {
+  std::string_view key;
+  KeyType type = KeyType::custom;
+  KeyDoc info{};
+  Bound bound = Bound::any;  // number keys
+  Real lo = 0, hi = 0;       // number and integer keys: the range checked after the bound
+  // Reads the key into the settings (null for custom keys: the stage's parser reads them).
+  void (*read)(SceneTable&, S&, const StageKey&) = nullptr;
+  // The value in the settings as text (null: a key whose value is not kept as such).
+  std::string (*value)(const S&) = nullptr;
+  std::string (*choices)() = nullptr;  // choice keys: "a, b, c"
+};
+
+// The type-erased view of a declaration, as the docs and `maille info --keys` show it.
+struct KeyInfo {
+  std::string key, type, unit, default_value, range, methods, doc;
+};
+
+namespace key_detail {
+
+template <class M>
+struct member;
+template <class C, class T>
+struct member<T C::*> {
+  using owner = C;
+  using type = T;
+};
+template <auto M>
+using owner_t = typename member<decltype(M)>::owner;
+
+// Every `from` in s replaced by `to` (built by appending: GCC 12's -Wrestrict misreads
+// std::string::replace at -O3).
+inline std::string replace_all(std::string_view s, std::string_view from, std::string_view to) {
+  std::string out;
+  for (std::size_t at = 0;;) {
+    const std::size_t next = s.find(from, at);
+    if (next == std::string_view::npos) return out.append(s.substr(at));
+    out.append(s.substr(at, next - at)).append(to);
+    at = next + from.size();
+  }
+}
+
+// Shortest text that reads back to the same double ("0.5", "1e-06" -> "1e-6", "2000").
+inline std::string number_text(double v) {
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;  // shortest round trip
+  return replace_all(
+      replace_all(replace_all(std::string_view(buf, std::size_t(end - buf)), "e-0", "e-"), "e+0",
+                  "e"),
+      "e+", "e");
+}
+inline std::string vector_text(const Vec3& v) {
+  std::string out = "[";
+  out.append(number_text(double(v.x))).append(", ").append(number_text(double(v.y)));
+  return out.append(", ").append(number_text(double(v.z))).append("]");
+}
+
+}  // namespace key_detail
+
+// A number member: bound (> 0, >= 0 or any), then lo <= value <= hi when hi > lo.
+template <auto M>
+constexpr StageKey<key_detail::owner_t<M>> number(std::string_view key, Bound bound, Real lo,
+                                                  Real hi, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  return {key,
+          KeyType::number,
+          d,
+          bound,
+          lo,
+          hi,
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            s.*M = t.real(k.key, s.*M, k.bound);
+            if (k.hi > k.lo) t.check_range(k.key, s.*M, k.lo, k.hi, k.info.unit);
+          },
+          [](const S& s) { return key_detail::number_text(double(s.*M)); }};
+}
+
+// An integer member in [lo, hi].
+template <auto M>
+constexpr StageKey<key_detail::owner_t<M>> integer(std::string_view key, std::int64_t lo,
+                                                   std::int64_t hi, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  return {key,
+          KeyType::integer,
+          d,
+          Bound::any,
+          Real(lo),
+          Real(hi),
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            using T = typename key_detail::member<decltype(M)>::type;
+            s.*M = static_cast<T>(t.integer(k.key, s.*M, static_cast<std::int64_t>(k.lo),
+                                            static_cast<std::int64_t>(k.hi)));
+          },
+          [](const S& s) { return std::to_string(s.*M); }};
+}
+
+// A named choice (names.hpp) member.
+template <auto M>
+constexpr StageKey<key_detail::owner_t<M>> choice(std::string_view key, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  using E = typename key_detail::member<decltype(M)>::type;
+  return {key,
+          KeyType::choice,
+          d,
+          Bound::any,
+          0,
+          0,
+          [](SceneTable& t, S& s, const StageKey<S>& k) { s.*M = t.choice(k.key, s.*M); },
+          [](const S& s) { return std::string(to_string(s.*M)); },
+          [] { return name_list<E>(); }};
+}
+
+// A vector member (any finite components; the table's vec3 getter checks them).
+template <auto M>
+constexpr StageKey<key_detail::owner_t<M>> vector(std::string_view key, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  return {key,
+          KeyType::vector,
+          d,
+          Bound::any,
+          0,
+          0,
+          [](SceneTable& t, S& s, const StageKey<S>& k) { s.*M = t.vec3(k.key, s.*M); },
+          [](const S& s) { return key_detail::vector_text(s.*M); }};
+}
+
+// A choice the stage's parser reads itself (it decides what else is read: a method, a shape).
+template <auto M>
+constexpr StageKey<key_detail::owner_t<M>> parsed_choice(std::string_view key, KeyDoc d) {
+  auto k = choice<M>(key, d);
+  k.read = nullptr;
+  return k;
+}
+
+// A key the stage's parser reads itself; `value` (optional) shows what it resolved to.
+template <class S>
+constexpr StageKey<S> custom(std::string_view key, KeyType type, KeyDoc d,
+                             std::string (*value)(const S&) = nullptr) {
+  return {key, type, d, Bound::any, 0, 0, nullptr, value};
+}
+
+// Whether `method` is among the key's methods (every method when the key names none).
+template <class S>
+bool used_by(const StageKey<S>& k, std::string_view method) {
+  if (k.info.methods.empty() || method.empty()) return true;
+  std::string_view rest = k.info.methods;
+  while (!rest.empty()) {
+    const auto comma = rest.find(',');
+    std::string_view word = rest.substr(0, comma);
+    while (!word.empty() && word.front() == ' ') word.remove_prefix(1);
+    if (word == method) return true;
+    rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+  }
+  return false;
+}
+
+// "geometric and conditional" from "geometric, conditional".
+inline std::string methods_in_words(std::string_view methods) {
+  const auto last = methods.rfind(", ");
+  if (last == std::string_view::npos) return std::string(methods);
+  return std::string(methods.substr(0, last)).append(" and ").append(methods.substr(last + 2));
+}
+
+// Fails at the first key present in the table that `method` does not use.
+template <class S>
+void check_methods(SceneTable& t, std::span<const StageKey<S>> keys, std::string_view method) {
+  for (const auto& k : keys)
+    if (t.has(k.key) && !used_by(k, method))
+      t.fail(k.key, std::string("is not used by method = \"")
+                        .append(method)
+                        .append("\" (it is a key of ")
+                        .append(methods_in_words(k.info.methods))
+                        .append(")"));
+}
+
+// Reads every declared key that has a reader (after the gate, when a method is given).
+template <class S>
+void read_keys(SceneTable& t, S& s, std::span<const StageKey<S>> keys,
+               std::string_view method = {}) {
+  if (!method.empty()) check_methods(t, keys, method);
+  for (const auto& k : keys)
+    if (k.read) k.read(t, s, k);
+}
+
+// Calls f(key, value text) for every declared key whose value the settings hold.
+template <class S, class F>
+void visit_keys(std::span<const StageKey<S>> keys, const S& s, F&& f) {
+  for (const auto& k : keys)
+    if (k.value) f(k, k.value(s));
+}
+
+inline std::string type_text(KeyType t) {
+  switch (t) {
+    case KeyType::number:
+      return "number";
+    case KeyType::integer:
+      return "integer";
+    case KeyType::choice:
+    case KeyType::text:
+      return "string";
+    case KeyType::vector:
+      return "vector";
+    case KeyType::texts:
+      return "array of strings";
+    case KeyType::table:
+      return "table";
+    case KeyType::custom:
+      return "";
+  }
+  return "";
+}
+
+// Units as messages write them (ASCII: "N.s/m", "kg/m^3") and as the docs do ("N·s/m", "kg/m³").
+inline std::string unit_for_docs(std::string_view unit) {
+  return key_detail::replace_all(
+      key_detail::replace_all(key_detail::replace_all(unit, "N.s/m", "N·s/m"), "^2", "²"), "^3",
+      "³");
+}
+
+// The declarations as the docs show them; defaults are the values in `defaults`.
+template <class S>
+std::vector<KeyInfo> describe_keys(std::span<const StageKey<S>> keys, const S& defaults) {
+  using key_detail::number_text;
+  std::vector<KeyInfo> out;
+  for (const auto& k : keys) {
+    KeyInfo i;
+    i.key = k.key;
+    i.type = k.info.type_doc.empty() ? type_text(k.type) : std::string(k.info.type_doc);
+    i.unit = unit_for_docs(k.info.unit);
+    if (!k.info.default_doc.empty())
+      i.default_value = k.info.default_doc;
+    else if (k.value)
+      i.default_value = std::string(k.type == KeyType::choice ? "`\"" : "`")
+                            .append(k.value(defaults))
+                            .append(k.type == KeyType::choice ? "\"`" : "`");
+    if (!k.info.range_doc.empty()) {
+      i.range = k.info.range_doc;
+    } else if (k.type == KeyType::choice) {
+      i.range = std::string("`").append(key_detail::replace_all(k.choices(), ", ", "`, `")) + "`";
+    } else if (k.type == KeyType::number) {
+      const std::string open = k.bound == Bound::positive ? "(" : "[";
+      if (k.hi > k.lo)
+        i.range = std::string(open)
+                      .append(number_text(double(k.lo)))
+                      .append(", ")
+                      .append(number_text(double(k.hi))) +
+                  "]";
+      else
+        i.range = k.bound == Bound::positive ? "> 0" : k.bound == Bound::non_negative ? ">= 0" : "";
+    } else if (k.type == KeyType::integer) {
+      i.range = number_text(double(k.lo)) + " to " + number_text(double(k.hi));
+    }
+    i.methods = k.info.methods.empty() ? "all" : std::string(k.info.methods);
+    i.doc = k.info.doc;
+    out.push_back(std::move(i));
+  }
+  return out;
+}
+
+// docs/scene-format.md's rows: | `key` | type | unit | default | range | [methods |] meaning |
+inline std::vector<std::string> markdown_rows(std::span<const KeyInfo> keys, bool with_methods) {
+  std::vector<std::string> rows;
+  for (const auto& k : keys) {
+    std::string r = "| `";
+    r.append(k.key).append("` | ").append(k.type).append(" | ").append(k.unit).append(" | ");
+    r.append(k.default_value).append(" | ").append(k.range).append(" | ");
+    if (with_methods) r += k.methods + " | ";
+    r += k.doc + " |";
+    // Empty cells are written "| |", as the hand-written tables did.
+    while (r.find("|  |") != std::string::npos) r = key_detail::replace_all(r, "|  |", "| |");
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+}  // namespace maille

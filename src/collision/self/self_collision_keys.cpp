@@ -1,0 +1,65 @@
+// [self_collision]'s keys, declared once (stage_keys.hpp). The bounds are every link's
+// (limits.hpp): beyond them the arithmetic overflows.
+#include <array>
+
+#include "maille/limits.hpp"
+#include "maille/self_collision.hpp"
+#include "maille/stage_keys.hpp"
+
+namespace maille {
+
+std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
+  using S = SelfCollisionSettings;
+  static const std::array<StageKey<S>, 10> keys{
+      custom<S>("groups", KeyType::texts,
+                {.doc = "which points collide, with themselves and with each other",
+                 .default_doc = "every group",
+                 .range_doc = "existing groups with free points"},
+                [](const S& s) {
+                  std::string out;
+                  for (const auto& g : s.groups) out.append(out.empty() ? "" : ",").append(g);
+                  return out.empty() ? std::string("every group") : out;
+                }),
+      number<&S::radius>("radius", Bound::non_negative, 0, limits::max_coordinate,
+                         {.unit = "m",
+                          .doc = "contact distance s",
+                          .default_doc = "half the shortest link among those points",
+                          .range_doc = "[0, 1e6] (0: the default)"}),
+      number<&S::stiffness>("stiffness", Bound::non_negative, 0, limits::max_stiffness,
+                            {.unit = "N/m", .doc = "k of the response"}),
+      number<&S::damping>("damping", Bound::non_negative, 0, limits::max_stiffness,
+                          {.unit = "N.s/m", .doc = "z of the response (along the contact normal)"}),
+      number<&S::friction>("friction", Bound::non_negative, 0, 1e3,
+                           {.doc = "μ: a tangential force μ·|F_n| against the relative sliding "
+                                   "velocity (viscous below 1 mm/s)"}),
+      choice<&S::broad_phase>(
+          "broad_phase",
+          {.doc = "how candidate pairs are found; all give exactly the same pairs (the GPU "
+                  "backend runs its own uniform grid and refuses the others)"}),
+      custom<S>("cell_size", KeyType::custom,
+                {.unit = "m",
+                 .doc = "grid cell size; `auto`: measured (below)",
+                 .default_doc = "`\"auto\"`",
+                 .range_doc = "`\"auto\"` or >= radius",
+                 .type_doc = "string or number"},
+                [](const S& s) {
+                  return s.cell_size > 0 ? key_detail::number_text(double(s.cell_size))
+                                         : std::string("auto");
+                }),
+      choice<&S::exclusion>("exclusion",
+                            {.doc = "how topological neighbours are excluded; `matrix` and "
+                                    "`signature` exclude the same pairs"}),
+      integer<&S::topological_radius>(
+          "topological_radius", 0, 16,
+          {.unit = "links",
+           .doc = "pairs at graph distance <= R (through every non-conditional link) never "
+                  "interact"}),
+      choice<&S::primitive>("primitive",
+                            {.doc = "`points`: particle-particle contacts; `triangles`: also "
+                                    "particle-triangle proximity with the groups' surface faces "
+                                    "(below)"}),
+  };
+  return keys;
+}
+
+}  // namespace maille
