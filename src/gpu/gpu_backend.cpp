@@ -287,7 +287,11 @@ class GpuBackend final : public Backend {
       }
       return "stage '" + st->name() +
              "' has no GPU version yet: run this scene with --backend cpu" +
-             (st->name() == "self_collision" ? " (or without it: --no-self-collision)" : "");
+             (st->name() == "self_collision" ? " (or without it: --no-self-collision)"
+              : st->name() == "group_contacts"
+                  ? " (or give its [[contact]] tables method = \"links\": one conditional "
+                    "link per pair, which the GPU runs)"
+                  : "");
     }
     if (const std::string why = too_big(m, max_block_); !why.empty()) return why;
     const double biggest = std::max<double>(m.points.size(), double(m.surface.triangles.size()));
