@@ -1,7 +1,7 @@
-// Contacts between groups through the self-collision broad phase (include/maille/group_contact.hpp):
-// the two groups' points in one uniform grid, pairs on the same side or with two fixed ends
-// skipped before their distance is tested, close pairs into per-point rows, the conditional law
-// per pair.
+// Contacts between groups through the self-collision broad phase
+// (include/maille/group_contact.hpp): the two groups' points in one uniform grid, pairs on the same
+// side or with two fixed ends skipped before their distance is tested, close pairs into per-point
+// rows, the conditional law per pair.
 #include "maille/group_contact.hpp"
 
 #include <algorithm>
@@ -124,8 +124,8 @@ class GroupContact {
   }
 
   GroupContactSpec spec_;
-  std::vector<std::uint32_t> set_;  // global ids: A's points, then B's
-  std::vector<std::uint8_t> tag_;   // per local point: side (bit 0), fixed (bit 1)
+  std::vector<std::uint32_t> set_;         // global ids: A's points, then B's
+  std::vector<std::uint8_t> tag_;          // per local point: side (bit 0), fixed (bit 1)
   bool free_partner_[2] = {false, false};  // side 0 (A) / 1 (B): the other side has a free point
   std::vector<Vec3> xs_;
   collision::UniformGrid grid_;
@@ -135,7 +135,8 @@ class GroupContact {
 
 class GroupContactStage final : public Stage {
  public:
-  GroupContactStage(const Model& m, std::vector<GroupContactSpec> specs) : specs_(std::move(specs)) {
+  GroupContactStage(const Model& m, std::vector<GroupContactSpec> specs)
+      : specs_(std::move(specs)) {
     build(m);
   }
   std::string name() const override { return "group_contacts"; }
@@ -154,7 +155,8 @@ class GroupContactStage final : public Stage {
     }
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
-    if (ids_[0] < 0) ids_ = {p.counter("active_conditional_links"), p.counter("group_contact_candidates")};
+    if (ids_[0] < 0)
+      ids_ = {p.counter("active_conditional_links"), p.counter("group_contact_candidates")};
     p.add_count(ids_[0], active);
     p.set_count(ids_[1], tested);
   }

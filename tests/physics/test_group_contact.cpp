@@ -27,8 +27,7 @@ std::string read_text(const std::filesystem::path& p) {
 }
 
 std::size_t contact_tables(const std::string& name) {
-  const std::string text =
-      read_text(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
+  const std::string text = read_text(std::string(MAILLE_SOURCE_DIR "/examples/") + name + ".toml");
   std::size_t n = 0;
   for (std::size_t at = text.find("[[contact]]"); at != std::string::npos;
        at = text.find("[[contact]]", at + 1))
@@ -84,7 +83,7 @@ struct Case {
 std::vector<Case> cases() {
   return {
       {"jelly_cube_bounce", 1500, {"lattice[0].origin=[-0.25,0.06,-0.25]"}},
-      {"hanging_net", 3600, {}},  // the first contacts: step ~2900
+      {"hanging_net", 3600, {}},            // the first contacts: step ~2900
       {"lattice_balls_collide", 5000, {}},  // ~4300
       {"rope_bridge", 7000, {}},            // ~6200
       {"drum_membrane", 3000, {}},          // ~2300
@@ -173,7 +172,8 @@ TEST(GroupContact, ImplicitEulerAgreesWithAllPairs) {
                                            "simulation.integrator=\"implicit_euler\""};
   std::vector<std::string> links = common;
   links.push_back("contact[0].method=\"links\"");
-  const Scene broad = example("jelly_cube_bounce", common), all = example("jelly_cube_bounce", links);
+  const Scene broad = example("jelly_cube_bounce", common),
+              all = example("jelly_cube_bounce", links);
   const Trace a = run(broad, 150, 1), b = run(all, 150, 1);
   EXPECT_GT(*std::max_element(b.active.begin(), b.active.end()), 0u);
   const double d = max_distance(a.x, b.x);
