@@ -182,8 +182,19 @@ class GroupContactStage final : public Stage {
 
   const LinkPoolBase* implicit_links() const override { return &links_; }
 
-  // This step's contacts, in green (the viewer's overlay).
+  std::vector<StageOption> options() const override {
+    return {{"draw_contacts", {"on", "off"}, draw_contacts_ ? "on" : "off"}};
+  }
+  void set_option(const std::string& name, const std::string& value) override {
+    if (name != "draw_contacts") return Stage::set_option(name, value);
+    if (value != "on" && value != "off")
+      throw std::invalid_argument("group_contacts: option draw_contacts cannot be '" + value + "'");
+    draw_contacts_ = value == "on";
+  }
+
+  // This step's contacts, in green (the viewer's overlay), when draw_contacts is on.
   void overlay(const Model&, const State& s, std::vector<OverlaySegment>& out) const override {
+    if (!draw_contacts_) return;
     const Vec3* x = s.x().data();
     for (const auto& c : contacts_)
       c.for_each_pair([&](std::uint32_t a, std::uint32_t b) {
@@ -225,6 +236,7 @@ class GroupContactStage final : public Stage {
   std::vector<GroupContact> contacts_;
   LinkPool<ConditionalSpringDamper> links_;  // implicit schemes: this step's candidates
   std::array<int, 2> ids_{-1, -1};
+  bool draw_contacts_ = false;
 };
 
 }  // namespace
