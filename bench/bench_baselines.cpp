@@ -121,5 +121,7 @@ void BM_StructuredGrid(benchmark::State& st) {
 
 }  // namespace
 
-BENCHMARK(BM_GenericLinkList)->Arg(32)->Arg(128)->Arg(512)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_StructuredGrid)->Arg(32)->Arg(128)->Arg(512)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GenericLinkList)->Arg(32)->Arg(64)->Arg(128)->Arg(512)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StructuredGrid)->Arg(32)->Arg(64)->Arg(128)->Arg(512)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_GenericLinkList)->Arg(2048)->Iterations(3)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StructuredGrid)->Arg(2048)->Iterations(3)->Unit(benchmark::kMicrosecond);
