@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "maille/link_pool.hpp"
@@ -45,7 +46,10 @@ class GroupContact {
                                   "' hold no free point");
     free_partner_[0] = free[1];
     free_partner_[1] = free[0];
+    first_b_ = g[0]->count;
     xs_.resize(set_.size());
+    qtag_.resize(set_.size());
+    near_.reserve(set_.size());
   }
 
   const GroupContactSpec& spec() const { return spec_; }
@@ -53,18 +57,30 @@ class GroupContact {
   bool side_b(std::size_t local) const { return (tag_[local] & kSideB) != 0; }
   bool partner_may_be_free(std::size_t local) const { return free_partner_[side_b(local)]; }
 
-  // Pairs closer than r into rows (CSR by local point, partners sorted); returns the pairs
-  // whose distance was tested.
+  // Pairs closer than r into rows (CSR by query point, partners sorted); returns the pairs
+  // whose distance was tested. Only the points of each group within r of the other group's
+  // bounding box enter the grid (a bead over a drum skin: the bead and the skin under it), which
+  // drops no pair closer than r.
   std::uint64_t find(const Vec3* x, Real r, int threads) {
-    for (std::size_t k = 0; k < set_.size(); ++k) xs_[k] = x[set_[k]];
-    collision::Query q;
-    q.x = xs_.data();
-    q.n = std::uint32_t(xs_.size());
-    q.r = r;
-    q.tag = tag_.data();
-    sinks_.resize(std::size_t(std::max(threads, 1)));
+    const collision::Box a = grown_bounds(x, 0, first_b_, r);
+    const collision::Box b = grown_bounds(x, first_b_, set_.size(), r);
+    near_.clear();
+    for (std::size_t k = 0; k < set_.size(); ++k)
+      if (inside(k < first_b_ ? b : a, x[set_[k]])) near_.push_back(std::uint32_t(k));
+    for (std::size_t q = 0; q < near_.size(); ++q) {
+      xs_[q] = x[set_[near_[q]]];
+      qtag_[q] = tag_[near_[q]];
+    }
     for (auto& s : sinks_) s.clear();
-    grid_.find(q, r, sinks_, threads);
+    sinks_.resize(std::size_t(std::max(threads, 1)));
+    if (!near_.empty()) {
+      collision::Query q;
+      q.x = xs_.data();
+      q.n = std::uint32_t(near_.size());
+      q.r = r;
+      q.tag = qtag_.data();
+      grid_.find(q, r, sinks_, threads);
+    }
     std::uint64_t tested = 0;
     for (const auto& s : sinks_) tested += s.tested;
     build_rows();
@@ -76,17 +92,17 @@ class GroupContact {
   // atomics, the same sums whatever the thread count. The law is evaluated as the link (a in A,
   // b in B) evaluates it, so each pair's force is the conditional link's to the bit.
   void apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) const {
-    const auto n = static_cast<std::int64_t>(set_.size());
+    const auto n = static_cast<std::int64_t>(near_.size());
     const Real k = spec_.stiffness, z = spec_.damping, s = spec_.threshold, l0 = spec_.rest_length;
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
     for (std::int64_t a = 0; a < n; ++a) {
-      const std::size_t la = std::size_t(a);
-      if (start_[la] == start_[la + 1]) continue;
-      const std::uint32_t pa = set_[la];
-      const bool b_side = side_b(la);
+      const std::size_t qa = std::size_t(a);
+      if (start_[qa] == start_[qa + 1]) continue;
+      const std::uint32_t pa = set_[near_[qa]];
+      const bool b_side = (qtag_[qa] & kSideB) != 0;
       Vec3 sum{};
-      for (std::uint32_t e = start_[la]; e < start_[la + 1]; ++e) {
-        const std::uint32_t pb = set_[partners_[e]];
+      for (std::uint32_t e = start_[qa]; e < start_[qa + 1]; ++e) {
+        const std::uint32_t pb = set_[near_[partners_[e]]];
         if (b_side)
           sum -= law::conditional_law(x[pb], x[pa], v[pb], v[pa], k, z, s, l0);
         else
@@ -100,13 +116,33 @@ class GroupContact {
   template <class F>
   void for_each_pair(F&& fn) const {
     for (std::uint32_t a = 0; a + 1 < start_.size(); ++a)
-      if (!side_b(a))
-        for (std::uint32_t e = start_[a]; e < start_[a + 1]; ++e) fn(set_[a], set_[partners_[e]]);
+      if (!(qtag_[a] & kSideB))
+        for (std::uint32_t e = start_[a]; e < start_[a + 1]; ++e)
+          fn(set_[near_[a]], set_[near_[partners_[e]]]);
   }
 
  private:
+  collision::Box grown_bounds(const Vec3* x, std::size_t begin, std::size_t end, Real r) const {
+    if (begin == end) {  // an empty group: a box that holds nothing
+      const Real big = std::numeric_limits<Real>::max();
+      return {{big, big, big}, {-big, -big, -big}};
+    }
+    Vec3 lo = x[set_[begin]], hi = lo;
+    for (std::size_t k = begin + 1; k < end; ++k) {
+      const Vec3& p = x[set_[k]];
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    const Vec3 g{r, r, r};
+    return {lo - g, hi + g};
+  }
+  static bool inside(const collision::Box& b, const Vec3& p) {
+    return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z &&
+           p.z <= b.hi.z;
+  }
+
   void build_rows() {
-    const std::size_t n = set_.size();
+    const std::size_t n = near_.size();
     start_.assign(n + 1, 0);
     std::size_t total = 0;
     for (const auto& s : sinks_) {
@@ -127,7 +163,10 @@ class GroupContact {
   std::vector<std::uint32_t> set_;         // global ids: A's points, then B's
   std::vector<std::uint8_t> tag_;          // per local point: side (bit 0), fixed (bit 1)
   bool free_partner_[2] = {false, false};  // side 0 (A) / 1 (B): the other side has a free point
-  std::vector<Vec3> xs_;
+  std::size_t first_b_ = 0;                // B's points start here in set_
+  std::vector<std::uint32_t> near_;        // this query's points (indices into set_, increasing)
+  std::vector<Vec3> xs_;                   // their positions
+  std::vector<std::uint8_t> qtag_;         // their tags
   collision::UniformGrid grid_;
   std::vector<collision::Sink> sinks_;
   std::vector<std::uint32_t> start_, cursor_, partners_;
