@@ -1,7 +1,8 @@
 // Contacts between groups through the broad phase (include/maille/group_contact.hpp) against the
 // all-pairs conditional links they replace (`method = "links"`): the same trajectories on every
 // example that has a [[contact]] table, to the rounding of a different summation order, and the
-// same active-pair counts step by step; bit-identical on 1 and 2 threads and across a resume.
+// same active-pair counts step by step; bit-identical on 1 and 2 threads and across a resume;
+// a mass resting on the contact where it carries its weight.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -208,6 +209,30 @@ TEST(GroupContact, DrawsItsContactsWhenAsked) {
   EXPECT_GT(last.overlay.size(), 0u);
   EXPECT_THROW(sim.set_stage_option("group_contacts", "draw_contacts", "maybe"),
                std::invalid_argument);
+}
+
+// Against physics: a mass resting on a fixed point through the contact, rest length = the
+// threshold s, sits where the spring carries its weight: s - m g / k above it (the damper
+// settles it; leapfrog's equilibrium is exact, so only the decay of the oscillation is left:
+// e^(-z/(2m) t) at t = 1 s is e^-25 of the 1 mm initial offset).
+TEST(GroupContact, MassRestsWhereTheContactCarriesItsWeight) {
+  const Real mass = Real(0.01), k = 100, z = Real(0.5), s = Real(0.1), g = Real(9.81);
+  Model m;
+  m.fields.gravity = {0, -g, 0};
+  m.points.add(PointKind::fixed, 1, {0, 0, 0});
+  m.points.add(PointKind::free, mass, {0, Real(0.098), 0});
+  m.groups.push_back({"ground", "points", 0, 1});
+  m.groups.push_back({"ball", "points", 1, 1});
+  const std::vector<GroupContactSpec> specs{{"ball", "ground", k, z, s, s}};
+  m.stages.push_back({"group_contacts", Phase::forces,
+                      [specs](const Model& mm) { return make_group_contact_stage(mm, specs); }});
+  SimulationSettings st;
+  st.step = 1e-4;
+  st.threads = 1;
+  Simulator sim(std::move(m), st);
+  ASSERT_TRUE(sim.run_steps(10000));
+  EXPECT_NEAR(sim.state().x()[1].y, s - mass * g / k, 1e-9);
+  EXPECT_EQ(counter(sim, "active_conditional_links"), 1u);
 }
 
 // Errors name the table's field.
