@@ -31,6 +31,9 @@ class Profile {
   int gauge(const std::string& name);
   void add_time(int stage, double ns);
   void set_count(int counter, std::uint64_t value);
+  // Adds to a counter another stage set this evaluation (contacts between groups add their
+  // active pairs to the link stage's active_conditional_links).
+  void add_count(int counter, std::uint64_t value);
   void set_gauge(int gauge, double value) { gauges_[gauge].last = value; }
   void begin_step();  // zeroes the `last` values
 

@@ -20,6 +20,8 @@ import sys
 import time
 import tomllib
 
+from gallery_timings import TIMINGS_BEGIN, TIMINGS_END
+
 # Simulated time of the thumbnail, s: the moment the scene shows best.
 GALLERY_TIME = {
     "flag_in_wind": 2.5, "hanging_net": 1.5, "rope_bridge": 1.5, "jelly_cube_bounce": 1.0,
@@ -50,6 +52,18 @@ GALLERY_FLAGS = {"smooth_flag_16": ["--smooth", "--lod", "4"],
 # The binary the page's commands name: the README's build (the thumbnails may come from another
 # preset's identical build).
 SHOWN_MAILLE = "build/release/apps/maille/maille"
+
+
+def kept_timings(md):
+    """The speed table of the page being replaced (scripts/gallery_timings.sh writes it), so
+    that rendering again keeps it: lines to append, empty when the page has none."""
+    if not os.path.exists(md):
+        return []
+    text = open(md).read()
+    if TIMINGS_BEGIN not in text or TIMINGS_END not in text:
+        return []
+    block = text.split(TIMINGS_BEGIN, 1)[1].split(TIMINGS_END, 1)[0]
+    return [""] + (TIMINGS_BEGIN + block + TIMINGS_END).split("\n")
 
 
 def main():
@@ -114,6 +128,7 @@ def main():
     ] + rows
     if failed:
         page += ["", "Failed to render: " + ", ".join(f"`{n}`" for n in failed)]
+    page += kept_timings(a.md)
     with open(a.md + ".tmp", "w") as f:
         f.write("\n".join(page) + "\n")
     os.replace(a.md + ".tmp", a.md)

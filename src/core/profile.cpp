@@ -33,6 +33,11 @@ void Profile::set_count(int counter, std::uint64_t value) {
   counters_[counter].total += value;
 }
 
+void Profile::add_count(int counter, std::uint64_t value) {
+  counters_[counter].last += value;
+  counters_[counter].total += value;
+}
+
 void Profile::begin_step() {
   ++steps_;
   for (auto& s : stages_) s.last_ns = 0;

@@ -17,6 +17,7 @@
 #include "builder_tables.hpp"
 #include "listen_table.hpp"
 #include "maille/builders.hpp"
+#include "maille/group_contact.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
 #include "maille/stage_keys.hpp"
@@ -71,6 +72,7 @@ class SceneReader {
     for (auto& t : top.tables("link")) link(t, scene.model);
     if (!geometric_contacts_.empty()) install_geometric_contacts(scene.model);
     for (auto& t : top.tables("contact")) contact(t, scene.model);
+    if (!group_contacts_.empty()) install_group_contacts(scene.model);
     stage_tables(top, scene.model);
     scene.audio = read_audio_tables(top, scene.model);  // [[listen]], [audio]
     top.finish();
@@ -403,6 +405,24 @@ class SceneReader {
     t.check_range("threshold", p.threshold, 0, 2 * limits::max_coordinate, "m");
     p.rest_length = t.real("rest_length", p.threshold, Bound::non_negative);
     t.check_range("rest_length", p.rest_length, 0, 2 * limits::max_coordinate, "m");
+    const std::string method = t.text("method", "broad_phase");
+    if (method == "broad_phase") {
+      bool any_free = false;
+      for (const Group* gr : g)
+        for (std::uint32_t i = gr->first; i < gr->first + gr->count && !any_free; ++i)
+          any_free = m.points.inv_mass[i] > 0;
+      if (!any_free) t.fail("between", "the two groups hold no free point: nothing can collide");
+      if (g[0]->first < g[1]->first + g[1]->count && g[1]->first < g[0]->first + g[0]->count)
+        t.fail("between", "the two groups share points");
+      group_contacts_.push_back(
+          {g[0]->name, g[1]->name, p.stiffness, p.damping, p.threshold, p.rest_length});
+      t.finish();
+      return;
+    }
+    if (method != "links")
+      t.fail("method", "unknown method '" + method +
+                           "' (known: broad_phase: pairs found each step by a grid; links: one "
+                           "conditional link per pair, the CORDIS way, also run by the GPU)");
     const std::uint64_t pairs = std::uint64_t(g[0]->count) * g[1]->count;
     const limits::SizeEstimate total{m.points.size(), m.links.total() + pairs,
                                      m.surface.triangles.size()};
@@ -416,9 +436,17 @@ class SceneReader {
     t.finish();
   }
 
+  void install_group_contacts(Model& m) {
+    m.stages.push_back(
+        {"group_contacts", Phase::forces, [specs = group_contacts_](const Model& model) {
+           return make_group_contact_stage(model, specs);
+         }});
+  }
+
   const LinkKindRegistry& kinds_;
   const StageRegistry& stages_;
   std::vector<GeometricContact> geometric_contacts_;
+  std::vector<GroupContactSpec> group_contacts_;
   std::string file_;
   std::set<std::string> names_;
 };

@@ -65,8 +65,8 @@ TEST_F(GpuRun, FlagInWindStaysWithinTheFloatStorageDriftOfTheCpu) {
 TEST_F(GpuRun, LatticeOnAConditionalFloorStaysWithinTheFloatStorageDrift) {
   // Its bottom starts inside the floor's reach (0.06 m < threshold 0.1 m): contacts push it up
   // while it falls, made and broken from the first steps.
-  const Scene s =
-      test::example_scene("jelly_cube_bounce", {"lattice[0].origin=[-0.25,0.06,-0.25]"});
+  const Scene s = test::example_scene(
+      "jelly_cube_bounce", {"lattice[0].origin=[-0.25,0.06,-0.25]", "contact[0].method=\"links\""});
   const auto x = expect_within_float_storage_drift(s, 600);
   // The floor acts: in free fall the cube's centre would drop g t^2 / 2 = 17.7 mm in these
   // 0.06 s; its compressed contacts (4 cm into their 10 cm threshold at 3000 N/m) throw it up.

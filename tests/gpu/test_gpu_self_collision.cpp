@@ -387,7 +387,9 @@ TEST_F(GpuSelfCollision, BroadPhasesOtherThanUniformAreRefusedNeverIgnored) {
 // within 4 times the float-storage drift (test_gpu_runs.cpp), and its cloth crosses itself no
 // more than the CPU's does.
 TEST_F(GpuSelfCollision, ClothHeapStaysWithinTheFloatStorageDriftOfTheCpu) {
-  auto loaded = load_scene(MAILLE_SOURCE_DIR "/examples/cloth_heap.toml");
+  // The heap on its former floor of fixed points and conditional links (the example's floor is
+  // now a plane obstacle, a stage the GPU lacks).
+  auto loaded = load_scene(MAILLE_SOURCE_DIR "/tests/data/cloth_heap_links.toml");
   ASSERT_TRUE(loaded) << loaded.error().to_string();
   const Scene& scene = *loaded;
   SimulationSettings settings = scene.settings;

@@ -4,6 +4,7 @@
 // are bit-identical on 1 and 2 threads.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -112,7 +113,7 @@ TEST(SelfCollisionPhysics, BitIdenticalAcrossThreadsAndBroadPhases) {
     sc.damping = Real(0.2);
     sc.friction = Real(0.3);
     sc.broad_phase = std::string(broad_phase) == "brute" ? BroadPhase::brute : BroadPhase::uniform;
-    m.stages.clear();
+    std::erase_if(m.stages, [](const StageSpec& st) { return st.name == "self_collision"; });
     m.stages.push_back({"self_collision", Phase::forces,
                         [sc](const Model& mm) { return make_self_collision_stage(mm, sc); }});
     Simulator sim(std::move(m), s);
@@ -155,8 +156,8 @@ TEST(SelfCollisionPhysics, LiveOptionsSwitchWithoutChangingTheTrajectory) {
   ASSERT_TRUE(b.run_steps(800));
   EXPECT_EQ(state_hash(a.state()), state_hash(b.state()));
   const auto options = b.stage_options();
-  ASSERT_EQ(options.size(), 1u);
-  EXPECT_EQ(options[0].stage, "self_collision");
+  EXPECT_TRUE(std::any_of(options.begin(), options.end(),
+                          [](const auto& o) { return o.stage == "self_collision"; }));
   EXPECT_THROW(b.set_stage_option("self_collision", "broad_phase", "quadtree"),
                std::invalid_argument);
   EXPECT_THROW(b.set_stage_option("obstacle", "enabled", "on"), std::invalid_argument);

@@ -47,9 +47,20 @@ struct Query {
   Real r = 0;                                       // contact distance
   const TopologicalExclusion* exclusion = nullptr;  // null: nothing excluded
   bool signatures = false;                          // skip cell pairs by signatures
+  // Contacts between two groups (group_contact.cpp): per particle, bit 0 its side and bit 1
+  // "fixed". Null: every pair counts. Otherwise a pair counts only across the sides and with at
+  // least one free end; other pairs are skipped before the distance test (not counted tested).
+  const std::uint8_t* tag = nullptr;
 };
 
+inline bool skipped_by_tag(const Query& q, std::uint32_t a, std::uint32_t b) {
+  if (!q.tag) return false;
+  const unsigned ta = q.tag[a], tb = q.tag[b];
+  return ((ta ^ tb) & 1u) == 0 || (ta & tb & 2u) != 0;
+}
+
 inline void test_pair(const Query& q, std::uint32_t a, std::uint32_t b, Sink& s) {
+  if (skipped_by_tag(q, a, b)) return;
   ++s.tested;
   const Vec3 d = q.x[b] - q.x[a];
   if (dot(d, d) >= q.r * q.r) return;

@@ -1,0 +1,44 @@
+// Contacts between groups (`[[contact]] between = [A, B]`): the CORDIS conditional spring-damper
+// between every point of A and every point of B (at least one end free), without one link per
+// pair. Each step a uniform grid (the self-collision broad phase, cells of the threshold) finds
+// the pairs closer than the threshold; only those exert a force, exactly as the all-pairs
+// conditional links would (a pair at or beyond its threshold exerts nothing).
+//
+//   results    each point sums its contacts in its partners' order and adds the sum to its force
+//              once, after the link and field forces: the same law and the same pairs as the
+//              conditional links of `method = "links"`, summed in another order, so the two
+//              agree to rounding (tests/physics/test_group_contact.cpp bounds it); one and two
+//              threads give bit-identical trajectories
+//   counters   active pairs are added to `active_conditional_links`, as the links counted them;
+//              `group_contact_candidates` counts the pairs whose distance was tested
+//   implicit   for implicit schemes the stage offers this step's pairs within the threshold plus
+//              the step's motion margin as conditional links (Stage::implicit_links), like
+//              self-collision's contacts
+//
+// Installed by the scene reader, one stage ("group_contacts") for every [[contact]] table of a
+// scene whose method is "broad_phase" (the default).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "maille/model.hpp"
+#include "maille/stage.hpp"
+
+namespace maille {
+
+struct GroupContactSpec {
+  std::string a, b;      // group names (distinct groups, no shared point)
+  Real stiffness = 0;    // k, N/m
+  Real damping = 0;      // z, N.s/m
+  Real threshold = 0;    // s, m: a pair acts while closer than s
+  Real rest_length = 0;  // L0, m
+};
+
+// The force stage. Throws std::invalid_argument for an unknown group, groups that share points,
+// or a pair of groups without a free point.
+std::unique_ptr<Stage> make_group_contact_stage(const Model& m,
+                                                const std::vector<GroupContactSpec>& specs);
+
+}  // namespace maille
