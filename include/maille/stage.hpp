@@ -127,6 +127,10 @@ class Stage {
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.
   virtual void surfaces(double /*t*/, std::vector<SurfaceInstance>& /*out*/) const {}
+  // Settings that make the stage's result doubtful (self-collision whose points can slip
+  // between a group's particles), one sentence each, naming the values and the fixes: apps
+  // print them (validate, info, run) and the viewer shows them, with no stage-specific code.
+  virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator
@@ -148,6 +152,9 @@ struct StageSpec {
   std::vector<std::string> variants;
   std::string variant;  // the current choice
   std::function<StageSpec(const std::string&)> vary;
+  // A hash of what the stage is made from that the scene's text does not show (an obstacle's
+  // mesh file contents); the checkpoint fingerprint includes it with the name and the variant.
+  std::uint64_t fingerprint = 0;
 };
 
 }  // namespace maille

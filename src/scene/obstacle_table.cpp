@@ -85,6 +85,7 @@ void read_shape(SceneTable& t, Obstacle& o) {
   if (t.has("mesh")) {
     if (t.has("shape")) t.fail("mesh", "give either shape or mesh, not both");
     const std::string file = t.text("mesh", "");
+    if (file.find('\0') != std::string::npos) t.fail("mesh", "the path contains a NUL byte");
     const std::filesystem::path where = std::filesystem::path(t.file()).parent_path() / file;
     try {
       o.mesh = std::make_shared<const TriMesh>(read_mesh(where.string()));
@@ -145,6 +146,19 @@ void read_method_keys(SceneTable& t, Obstacle& o) {
   t.check_range("epsilon", o.epsilon, 0, 1, "m");
 }
 
+// The mesh's vertices and triangles (the scene names only the file): a checkpoint taken before
+// the file changed is refused.
+std::uint64_t mesh_fingerprint(const TriMesh& mesh) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto bytes = [&](const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  bytes(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
+  bytes(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
+  return h;
+}
+
 StageSpec spec_of(const Obstacle& o) {
   StageSpec spec{"obstacle:" + o.name,
                  o.method == ObstacleMethod::facets ? Phase::response : Phase::forces,
@@ -153,6 +167,7 @@ StageSpec spec_of(const Obstacle& o) {
   spec.variants = {"geometric", "facets", "conditional"};
   if (o.mesh) spec.variants.erase(spec.variants.begin());  // no distance function
   spec.variant = std::string(to_string(o.method));
+  if (o.mesh) spec.fingerprint = mesh_fingerprint(*o.mesh);
   spec.vary = [o](const std::string& method) {
     Obstacle other = o;
     other.method = method_named(method);
