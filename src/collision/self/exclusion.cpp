@@ -211,16 +211,23 @@ std::uint64_t TopologicalExclusion::sampled_row_bound(const Model& m,
   BoundedBfs bfs(adj);
   std::vector<std::uint8_t> in(m.points.size(), 0);
   for (const std::uint32_t p : set) in[p] = 1;
-  constexpr std::size_t kSamples = 64;
   std::uint64_t longest = 0;
-  for (std::size_t k = 0; k < kSamples && k < set.size(); ++k) {
-    // Spread over the set, the middle first (a cloth's middle has the longest rows).
-    const std::size_t at =
-        (set.size() / 2 + k * set.size() / std::min(kSamples, set.size())) % set.size();
+  auto sample = [&](std::uint32_t p) {
     std::uint64_t row = 0;
-    bfs.run(set[at], radius, [&](std::uint32_t q) { row += in[q]; });
+    bfs.run(p, radius, [&](std::uint32_t q) { row += in[q]; });
     longest = std::max(longest, row);
-  }
+  };
+  // The middle of each grid group (the longest rows of a cloth), then 64 particles spread by
+  // multiplicative hashing: evenly spaced indices would all fall in one column of a grid whose
+  // width divides their spacing (a 256-wide cloth's left edge: half rows).
+  for (const Group& g : m.groups)
+    if (g.grid_nx >= 2 && g.grid_ny >= 2) {
+      const std::uint32_t centre = g.first + (g.grid_ny / 2) * g.grid_nx + g.grid_nx / 2;
+      if (in[centre]) sample(centre);
+    }
+  constexpr std::uint64_t kSamples = 64;
+  for (std::uint64_t k = 0; k < kSamples && k < set.size(); ++k)
+    sample(set[std::size_t((k * 0x9E3779B97F4A7C15ull >> 11) % set.size())]);
   return longest;
 }
 

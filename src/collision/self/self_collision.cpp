@@ -199,6 +199,9 @@ class SelfCollision {
     s_.exclusion = e;
     rebuild_exclusion();
   }
+  // Gives back the exclusion's rows before a new engine is built in this one's place, so that
+  // the two never hold them at once (hundreds of MB at large radii).
+  void release_exclusion() { exclusion_.reset(); }
 
   // Close pairs into rows_ (CSR by local particle, partners sorted).
   SelfCollisionStats find(const Vec3* x, int threads) {
@@ -454,6 +457,8 @@ class SelfCollisionStage final : public Stage {
   std::string name() const override { return "self_collision"; }
   Phase phase() const override { return Phase::forces; }
   void model_changed(const Model& m) override {
+    engine_.release_exclusion();
+    wide_.reset();
     engine_ = SelfCollision(m, settings_);
     warnings_ = leak_warnings(m, engine_.settings());
     wide_.reset();
