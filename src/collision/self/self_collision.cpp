@@ -461,7 +461,6 @@ class SelfCollisionStage final : public Stage {
     wide_.reset();
     engine_ = SelfCollision(m, settings_);
     warnings_ = leak_warnings(m, engine_.settings());
-    wide_.reset();
     last_cell_ = 0;
   }
   std::vector<std::string> warnings() const override { return warnings_; }
