@@ -1,11 +1,15 @@
 #include "free_cores.hpp"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "maille/cores.hpp"
 
 namespace maille::detail {
 
@@ -46,3 +50,18 @@ int free_cores(int cores) {
 }
 
 }  // namespace maille::detail
+
+namespace maille {
+
+int cores_available() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return 1;
+  return std::max(CPU_COUNT(&set), 1);
+}
+
+int free_cores_now() {
+  return detail::free_cores(cores_available());
+}
+
+}  // namespace maille
