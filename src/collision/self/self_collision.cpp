@@ -133,7 +133,7 @@ std::vector<std::string> leak_warnings(const Model& m, const SelfCollisionSettin
 }
 
 constexpr double kCellFactors[] = {1.0, 1.25, 1.5, 2.0, 3.0, 4.0};
-constexpr std::uint64_t kBytesPerContact = 160;  // see SelfCollision::max_contacts
+constexpr std::uint64_t kBytesPerContact = 160;  // see SelfCollision::max_contacts_
 constexpr double kRetuneBox = 1.5;      // re-tune when the box diagonal changes by this factor
 constexpr double kRetuneDensity = 2.0;  // ... or the particles per occupied cell
 
@@ -213,7 +213,7 @@ class SelfCollision {
     q.exclusion = s_.exclusion == Exclusion::none ? nullptr : exclusion_.get();
     q.signatures = s_.exclusion == Exclusion::signature;
     sinks_.resize(std::size_t(std::max(threads, 1)));
-    for (auto& sink : sinks_) sink.cap = 4 * (max_contacts() / sinks_.size());
+    for (auto& sink : sinks_) sink.cap = 4 * (max_contacts_ / sinks_.size());
     SelfCollisionStats st;
     switch (s_.broad_phase) {
       case BroadPhase::brute:
@@ -354,12 +354,11 @@ class SelfCollision {
   // Contacts are bounded by the memory budget (limits.hpp: half the physical memory, or of the
   // address-space limit), at kBytesPerContact each: the sinks (both orders, with the slack of
   // a growing vector), the rows, and an implicit scheme's contact links.
-  static std::size_t max_contacts() {
-    return std::size_t(limits::memory_budget_bytes() / kBytesPerContact);
-  }
+  // (Asked once per engine: the budget reads the environment and makes system calls.)
+  std::size_t max_contacts_ = std::size_t(limits::memory_budget_bytes() / kBytesPerContact);
   [[noreturn]] void refuse_contacts() const {
     std::ostringstream why;
-    why << "self_collision: more than " << max_contacts() << " contact pairs (" << kBytesPerContact
+    why << "self_collision: more than " << max_contacts_ << " contact pairs (" << kBytesPerContact
         << " bytes each, above the memory budget of "
         << double(limits::memory_budget_bytes()) / double(1 << 30) << " GiB) among " << set_.size()
         << " particles: the radius " << s_.radius
