@@ -26,7 +26,7 @@ if [ -z "${MAILLE_NO_BUILD:-}" ]; then
   cmake --build --preset "$preset" --target maille
 fi
 maille=build/$preset/apps/maille/maille
-if ! "$maille" render --help >/dev/null 2>&1; then
+if ! "$maille" render --help 2>&1 | grep -q -- '--fps'; then  # (--help alone exits 0 without it)
   echo "gallery: $maille has no render command (configured with MAILLE_BUILD_RENDER=OFF?)" >&2
   exit 1
 fi

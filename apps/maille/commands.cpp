@@ -12,6 +12,8 @@
 #include <map>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "maille/backend.hpp"
 #include "maille/checkpoint.hpp"
 #include "maille/io.hpp"
@@ -20,10 +22,9 @@
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"
+#include "maille/temporary_files.hpp"
 #include "sound.hpp"
 #ifdef MAILLE_WITH_RENDER
-#include <unistd.h>
-
 #include <cstdlib>
 #include <memory>
 
@@ -35,15 +36,29 @@ namespace maille::app {
 namespace {
 
 std::atomic<bool> g_stop{false};
+// While a scene loads and its simulator is set up, nothing of this run is written yet and no
+// loop polls g_stop: an interrupt then ends the process at once (exit 130), whatever step of
+// the loading it is in (a long sampling, a large build).
+std::atomic<bool> g_loading{false};
 extern "C" void on_signal(int) {
   g_stop = true;
+  if (!g_loading) return;
+  remove_open_temporaries();
+  constexpr char msg[] = "interrupted while loading the scene: nothing written\n";
+  [[maybe_unused]] const auto n = ::write(2, msg, sizeof msg - 1);
+  ::_exit(interrupted);
 }
 
-// Installed first thing by the commands that write files, so that an interrupt while a large
-// scene builds or while frame 0 is written still ends with complete files (and exit 130).
+// Installed first thing by the commands, in the loading state; the commands that write files
+// leave it (loading_done) once their simulator is built, so that an interrupt while frame 0 is
+// written or during the run ends with complete files (and exit 130).
 void install_interrupt_handler() {
+  g_loading = true;
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+}
+void loading_done() {
+  g_loading = false;
 }
 
 std::optional<Scene> load_or_report(const std::string& path,
@@ -96,6 +111,11 @@ void warn_if_unstable(const Simulator& sim) {
               << st.link_kind << " links at point " << st.point << "); expect a blow-up\n";
 }
 
+// What the stages find doubtful in their settings (self-collision that can leak).
+void warn_stages(const Simulator& sim) {
+  for (const std::string& w : sim.stage_warnings()) std::cerr << "warning: " << w << '\n';
+}
+
 // The header and the first `rows` rows of a previous stats.csv (resuming from a checkpoint taken
 // after those rows). Throws std::invalid_argument when the file has fewer.
 std::vector<std::string> kept_stats(const std::filesystem::path& path, std::uint64_t rows) {
@@ -110,8 +130,9 @@ std::vector<std::string> kept_stats(const std::filesystem::path& path, std::uint
 }
 
 Checkpoint checkpoint_of(const Simulator& sim, std::uint64_t stats_rows) {
-  return {sim.state(), sim.settings().integrator,     sim.settings().step, sim.frames_published(),
-          stats_rows,  model_fingerprint(sim.model())};
+  return {sim.state(),         sim.settings().integrator,
+          sim.settings().step, sim.frames_published(),
+          stats_rows,          model_fingerprint(sim.model(), sim.settings())};
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -121,11 +142,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int validate(const std::string& path, const std::vector<std::string>& sets) {
+  install_interrupt_handler();  // writes nothing: an interrupt ends it at once
   auto scene = load_or_report(path, sets);
   if (!scene) return bad_input;
   try {
     Simulator sim(std::move(scene->model), scene->settings);
     warn_if_unstable(sim);
+    warn_stages(sim);
     std::cout << path << ": ok (" << sim.model().points.size() << " points, "
               << sim.model().links.total() << " links";
     if (const auto n = scene->audio.listeners.size())
@@ -166,6 +189,7 @@ int describe_backend(const std::string& name, std::optional<int> device) {
 
 int info(const std::string& path, const std::vector<std::string>& sets, const std::string& backend,
          std::optional<int> gpu_device) {
+  install_interrupt_handler();  // writes nothing: an interrupt ends it at once
   if (!backend.empty())
     if (const int code = describe_backend(backend, gpu_device); code != ok) return code;
   if (path.empty()) return ok;
@@ -183,6 +207,7 @@ int info(const std::string& path, const std::vector<std::string>& sets, const st
   Simulator& sim = *built;
   const Model& m = sim.model();
   const auto& s = sim.settings();
+  warn_stages(sim);
   std::cout << "scene        " << scene->name << '\n';
   if (!scene->description.empty()) std::cout << "description  " << scene->description << '\n';
   std::cout << "points       " << m.points.size() << "  (masses " << points_of(m, PointKind::free)
@@ -295,25 +320,30 @@ int run(const RunOptions& o) {
     std::cerr << o.scene << ": error: " << e.what() << '\n';
     return bad_input;
   }
+  loading_done();  // from here on the loop polls g_stop and the files end complete
+  if (g_stop) {
+    std::cerr << "interrupted while loading the scene: nothing written\n";
+    return interrupted;
+  }
   if (!make_output_directory(out)) return output_error;
   try {
     Simulator& sim = *built;
     warn_if_unstable(sim);
+    warn_stages(sim);
     // Resuming: the state, the frame count and the statistics rows continue from the
     // checkpoint; `--steps`/`--duration` still count from the start of the simulation.
     std::vector<std::string> kept;
     if (!o.resume.empty()) {
       const auto path = std::filesystem::path(o.resume) / "checkpoint.bin";
-      Result<Checkpoint> c = read_checkpoint(path, sim.model());
+      Result<Checkpoint> c = read_checkpoint(path, model_fingerprint(sim.model(), sim.settings()));
       if (!c) {
         std::cerr << c.error().to_string() << '\n';
         return bad_input;
       }
       if (c->integrator != settings.integrator || c->step != settings.step)
-        throw std::invalid_argument("the checkpoint was taken with " + c->integrator +
-                                    " at h = " + std::to_string(c->step) +
-                                    " s; the scene now says " + settings.integrator +
-                                    " at h = " + std::to_string(settings.step) + " s");
+        throw std::invalid_argument(path.string() + ": " +
+                                    scheme_mismatch(c->integrator, c->step, "the scene now says",
+                                                    settings.integrator, settings.step));
       kept = kept_stats(std::filesystem::path(o.resume) / "stats.csv", c->stats_rows);
       sim.restore(std::move(c->state), c->frames_published);
     }
@@ -360,6 +390,10 @@ int run(const RunOptions& o) {
       return interrupted;
     }
     const Energies e = sim.energies();
+    if (!std::isfinite(e.total())) {  // check_energy catches it; never exit 0 with one
+      std::cerr << "error: the final energy is not finite\n";
+      return blow_up;
+    }
     std::printf("maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g)\n",
                 e.total(), e.kinetic, e.elastic, e.gravity);
   } catch (const std::runtime_error& e) {
@@ -547,6 +581,7 @@ int render(const RenderCommandOptions& o) {
   install_interrupt_handler();
   auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
+  loading_done();  // the movie's loop polls g_stop (its simulator is built inside it)
   if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
   if (!o.backend.empty()) scene->settings.backend = o.backend;
   if (o.gpu_device) scene->settings.backend_options.device = *o.gpu_device;

@@ -12,9 +12,12 @@
 // `maille study all` runs the four studies into OUT/<study>/ and writes OUT/durations.csv.
 #include "study.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -29,6 +32,7 @@
 #include "maille/io.hpp"
 #include "maille/links/spring.hpp"
 #include "maille/simulator.hpp"
+#include "maille/temporary_files.hpp"
 
 namespace maille::app {
 
@@ -275,6 +279,16 @@ namespace {
 
 const char* const kStudies[] = {"validity", "integrators", "self-collision", "obstacles"};
 
+// Ctrl-C or SIGTERM: the studies' loops poll nothing, so the process ends at once (exit 130),
+// after removing the temporary of the CSV being written: the files already written stay
+// complete, and no NAME.tmp is left.
+extern "C" void on_study_signal(int) {
+  remove_open_temporaries();
+  constexpr char msg[] = "interrupted: the CSV files written so far are complete\n";
+  [[maybe_unused]] const auto n = ::write(2, msg, sizeof msg - 1);
+  ::_exit(130);
+}
+
 // `maille study all`: every study into OUT/<study>/, in the order of the report, and the wall
 // time of each into OUT/durations.csv (the report quotes them). Stops at the first failure.
 int study_all(const StudyOptions& o) {
@@ -305,6 +319,8 @@ int study_all(const StudyOptions& o) {
 }  // namespace
 
 int study(const StudyOptions& o) {
+  std::signal(SIGINT, on_study_signal);
+  std::signal(SIGTERM, on_study_signal);
   if (o.topic == "all") return study_all(o);
   if (o.topic != "integrators" && o.topic != "self-collision" && o.topic != "validity" &&
       o.topic != "obstacles") {

@@ -133,6 +133,7 @@ void link_controls(const Scene& scene, PhysicsThread& physics, Tuning& t) {
 // combo shows the stage's current choice, so a refused switch leaves it where it was, with the
 // reason under the stage.
 void stage_controls(PhysicsThread& physics, const PhysicsStatus& st) {
+  for (const auto& w : st.stage_warnings) notice("warning: " + w);  // a leaking self-collision
   for (const auto& stage : st.stage_options) {
     ImGui::TextUnformatted(stage.stage.c_str());
     for (const auto& o : stage.options) {

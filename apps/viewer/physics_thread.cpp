@@ -232,8 +232,10 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
   for (const auto& c : sim.profile().counters()) counters.push_back({c.name, c.last});
 
   auto stage_options = sim.stage_options();
+  auto stage_warnings = sim.stage_warnings();
   std::lock_guard lock(mutex_);
   status_.stage_options = std::move(stage_options);
+  status_.stage_warnings = std::move(stage_warnings);
   status_.running = running_;
   status_.step = sim.steps_taken();
   status_.time = sim.time();

@@ -51,6 +51,7 @@ struct PhysicsStatus {
   std::vector<CounterValue> counters;
   std::vector<std::string> gauges;                     // names, in PlotSample::gauges order
   std::vector<Simulator::StageOptions> stage_options;  // plugged-in stages' live settings
+  std::vector<std::string> stage_warnings;             // Simulator::stage_warnings
 };
 
 // One sample of the plots: energies and counters at a simulated time.

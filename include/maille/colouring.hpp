@@ -16,6 +16,14 @@ struct Colouring {
 };
 Colouring colour_sets(std::span<const std::uint32_t> offsets,
                       std::span<const std::uint32_t> indices, std::uint32_t point_count);
+// The same into `out`, with its working arrays in `scratch`: once both have grown to the size
+// needed, nothing is allocated (a stage's contact pool is coloured again every step).
+struct ColouringScratch {
+  std::vector<std::uint32_t> colour, pending, later;
+  std::vector<std::uint64_t> used;
+};
+void colour_sets(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> indices,
+                 std::uint32_t point_count, Colouring& out, ColouringScratch& scratch);
 // The same for sets of a fixed size (triangles: arity 3).
 Colouring colour_elements(std::span<const std::uint32_t> indices, int arity,
                           std::uint32_t point_count);

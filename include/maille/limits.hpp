@@ -14,6 +14,9 @@ namespace maille::limits {
 // Physical values. Beyond these, omega^2 = k/m or positions overflow double arithmetic long
 // before a simulation could mean anything.
 inline constexpr Real min_mass = Real(1e-12);      // kg, any point mass or builder total
+inline constexpr Real max_mass = Real(1e12);       // kg, the same: with speeds and heights
+                                                   // within max_coordinate, energies stay
+                                                   // below 1e30 J (1e308 gave "inf J")
 inline constexpr Real max_stiffness = Real(1e12);  // N/m (and N.s/m for damping): every
                                                    // link parameter, by magnitude
 inline constexpr Real max_coordinate = Real(1e6);  // m (m/s, m/s^2): every vector component
@@ -42,7 +45,9 @@ inline constexpr std::uint64_t max_links = std::uint64_t{1} << 31;
 inline constexpr std::uint64_t bytes_per_point = 400;
 inline constexpr std::uint64_t bytes_per_link = 200;
 inline constexpr std::uint64_t bytes_per_face = 24;
-// Half the physical memory (sysconf), or MAILLE_MEMORY_BUDGET bytes when that is set (tests).
+// Half the physical memory (sysconf), or half the address-space limit (ulimit -v) when lower, or
+// MAILLE_MEMORY_BUDGET bytes when that is set (tests). Besides the model, it bounds the
+// conditional obstacles' surface samples and the self-collision contacts.
 std::uint64_t memory_budget_bytes();
 
 // Files and threads.

@@ -155,21 +155,33 @@ class LinkPool final : public LinkPoolBase {
 
   // Stores the links in the CPU schedule's order (detail/cpu_schedule.hpp) and remembers
   // where each id went.
+  // A pool prepared again and again (a stage's contacts, every step) keeps its working arrays
+  // from the third time on and then allocates nothing once they have grown; the others give
+  // them back (a cloth's pools would otherwise hold their links twice).
   void prepare(std::uint32_t point_count) override {
-    const std::vector<std::uint32_t> order = schedule_.order(ends_, kAlwaysActive);
-    std::vector<LinkEnds> e(ends_.size());
-    std::vector<Params> p(params_.size());
-    std::vector<std::uint32_t> ids(ends_.size());
+    const std::span<const std::uint32_t> order = schedule_.order(ends_, kAlwaysActive);
+    std::vector<LinkEnds>& e = spare_ends_;
+    std::vector<Params>& p = spare_params_;
+    std::vector<std::uint32_t>& ids = spare_ids_;
+    e.resize(ends_.size());
+    p.resize(params_.size());
+    ids.resize(ends_.size());
     for (std::size_t s = 0; s < order.size(); ++s) {
       e[s] = ends_[order[s]];
       p[s] = params_[order[s]];
       ids[s] = id_of_slot_[order[s]];
       slot_of_id_[ids[s]] = static_cast<std::uint32_t>(s);
     }
-    ends_ = std::move(e);
-    params_ = std::move(p);
-    id_of_slot_ = std::move(ids);
+    ends_.swap(e);
+    params_.swap(p);
+    id_of_slot_.swap(ids);
     schedule_.build(ends_, point_count);
+    if (++prepared_count_ < 3) {
+      std::vector<LinkEnds>().swap(spare_ends_);
+      std::vector<Params>().swap(spare_params_);
+      std::vector<std::uint32_t>().swap(spare_ids_);
+      schedule_.release_scratch();
+    }
   }
 
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
@@ -414,6 +426,11 @@ class LinkPool final : public LinkPoolBase {
   std::vector<std::uint32_t> slot_of_id_;  // [links] id -> storage slot
   std::vector<std::uint32_t> id_of_slot_;  // [links] storage slot -> id
   detail::CpuSchedule schedule_;
+  // prepare()'s working arrays, kept by pools prepared often (see prepare).
+  std::vector<LinkEnds> spare_ends_;
+  std::vector<Params> spare_params_;
+  std::vector<std::uint32_t> spare_ids_;
+  int prepared_count_ = 0;
 };
 
 }  // namespace maille

@@ -59,6 +59,10 @@ struct Model {
   // Stages the scene installed ([self_collision], [[obstacle]], ...): every Simulator built from
   // this model instantiates them (see stage_registry.hpp).
   std::vector<StageSpec> stages;
+  // A hash of the scene this model was read from, every key after --set overrides but those
+  // that only choose outputs (src/scene/scene_digest.cpp); 0 for a model built in code. The
+  // checkpoint fingerprint includes it, so no trajectory-changing key can be left out of it.
+  std::uint64_t scene_digest = 0;
 
   const Group* group(const std::string& name) const;
   // Groups links and faces for parallel, deterministic force passes. Call once after building

@@ -116,6 +116,14 @@ std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfColli
 // Below this tangential speed, friction turns viscous (contact_friction_law's `slip`), m/s.
 inline constexpr Real kSelfCollisionSlip = Real(1e-3);
 
+// The bytes the matrix exclusion will hold for `particles` (sorted global ids) at the given
+// radius, before building it: the longest row of a bounded search from up to 64 of them, times
+// their number, 4 bytes each, plus the row offsets and the search's arrays (adjacency, marks).
+// The scene reader refuses a [self_collision] table whose estimate exceeds the memory budget.
+std::uint64_t self_collision_exclusion_bytes(const Model& m,
+                                             std::span<const std::uint32_t> particles,
+                                             int topological_radius);
+
 // The engine behind the stage, usable alone (tests, studies, benchmarks).
 class SelfCollisionEngine {
  public:

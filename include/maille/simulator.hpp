@@ -46,7 +46,7 @@ struct SimulationSettings {
   double duration = 5;                       // s, > 0 (used by apps; step() ignores it)
   int publish_every = 10;                    // steps between snapshots, >= 1
   int sample_every = 0;                      // steps between energy samples; 0: publish_every
-  int threads = 0;                           // 0: all cores when the scene is large, else 1
+  int threads = 0;  // 0: the cores free now when the scene is large (>= 4096 points), else 1
   double runaway_factor = 1e3;               // blow-up when energy exceeds this times its scale
   ImplicitSettings implicit;                 // used by implicit_euler only
   std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
@@ -161,6 +161,8 @@ class Simulator : private ForceEvaluator {
     std::vector<StageOption> options;
   };
   std::vector<StageOptions> stage_options() const;
+  // Every installed stage's warnings (Stage::warnings), each prefixed by the stage's name.
+  std::vector<std::string> stage_warnings() const;
   // Throws std::invalid_argument for an unknown stage, option or choice.
   void set_stage_option(const std::string& stage, const std::string& option,
                         const std::string& value);

@@ -134,6 +134,10 @@ class Stage {
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.
   virtual void surfaces(double /*t*/, std::vector<SurfaceInstance>& /*out*/) const {}
+  // Settings that make the stage's result doubtful (self-collision whose points can slip
+  // between a group's particles), one sentence each, naming the values and the fixes: apps
+  // print them (validate, info, run) and the viewer shows them, with no stage-specific code.
+  virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 // What a stage's validation found (Stage factories and scene tables share one check, run without
@@ -166,6 +170,9 @@ struct StageSpec {
   // visit_keys), in declaration order: `maille info` lists them, and a fingerprint of the model
   // that must change with every trajectory-changing parameter can hash them.
   std::vector<std::pair<std::string, std::string>> parameters;
+  // A hash of what the stage is made from that the scene's text does not show (an obstacle's
+  // mesh file contents); the checkpoint fingerprint includes it with the name and the variant.
+  std::uint64_t fingerprint = 0;
 };
 
 }  // namespace maille

@@ -41,8 +41,8 @@ Vec3 vec3_arg(const py::handle& value, const std::string& where, const std::stri
 Real mass_arg(double mass, const std::string& where) {
   if (!(mass > 0) || !std::isfinite(mass))
     fail(where, "mass", "must be > 0 and finite (got " + std::to_string(mass) + ")");
-  if (mass < double(limits::min_mass))
-    fail(where, "mass", "must be at least 1e-12 kg (got " + std::to_string(mass) + ")");
+  if (mass < double(limits::min_mass) || mass > double(limits::max_mass))
+    fail(where, "mass", "must be in [1e-12, 1e12] kg (got " + std::to_string(mass) + ")");
   return Real(mass);
 }
 

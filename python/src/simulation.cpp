@@ -233,7 +233,7 @@ class Simulation {
     Busy busy(*this);
     const Checkpoint c{sim_->state(),         sim_->settings().integrator,
                        sim_->settings().step, sim_->frames_published(),
-                       stats_rows_,           model_fingerprint(sim_->model())};
+                       stats_rows_,           model_fingerprint(sim_->model(), sim_->settings())};
     try {
       write_checkpoint(path, c);
     } catch (const std::runtime_error& e) {
@@ -244,15 +244,15 @@ class Simulation {
 
   void load_checkpoint(const std::string& path) {
     Busy busy(*this);
-    Result<Checkpoint> r = read_checkpoint(path, sim_->model());
+    Result<Checkpoint> r =
+        read_checkpoint(path, model_fingerprint(sim_->model(), sim_->settings()));
     if (!r) throw CheckpointError(r.error());
     Checkpoint& c = r.value();
     if (c.integrator != sim_->settings().integrator || c.step != sim_->settings().step)
-      throw CheckpointError(InputError{
-          path, 0, 0, "simulation.step",
-          "the checkpoint was taken with " + c.integrator + " at h = " + std::to_string(c.step) +
-              " s; the simulation runs " + sim_->settings().integrator +
-              " at h = " + std::to_string(sim_->settings().step) + " s"});
+      throw CheckpointError(
+          InputError{path, 0, 0, "simulation.step",
+                     scheme_mismatch(c.integrator, c.step, "the simulation runs",
+                                     sim_->settings().integrator, sim_->settings().step)});
     replace_state(c.state, c.frames_published);
     stats_rows_ = c.stats_rows;
   }

@@ -40,3 +40,25 @@ def test_stats_rows_continue(tmp_path):
     b.step(1)
     a.step(1)
     assert b.time == a.time
+
+
+def test_corrupt_edited_and_restepped_checkpoints_are_refused(tmp_path):
+    """A checksum closes the file; the fingerprint covers every key that changes a trajectory
+    (the wind's density here); another step is shown to 17 digits (issue 24)."""
+    path = tmp_path / "c.bin"
+    a = maille.Simulation(FLAG, threads=1)
+    a.step(10)
+    a.save_checkpoint(str(path))
+    data = bytearray(path.read_bytes())
+    data[55] ^= 0xFF  # the frame counter's top byte
+    bad = tmp_path / "bad.bin"
+    bad.write_bytes(bytes(data))
+    with pytest.raises(maille.CheckpointError, match="corrupt"):
+        a.load_checkpoint(str(bad))
+    windier = maille.Simulation(FLAG, {"fields.wind.density": 1.3}, threads=1)
+    with pytest.raises(maille.CheckpointError, match="another model"):
+        windier.load_checkpoint(str(path))
+    finer = maille.Simulation(FLAG, threads=1, step=0.00025000000000000006)
+    with pytest.raises(maille.CheckpointError,
+                       match=r"h = 0\.00025000000000000001 s.*h = 0\.00025000000000000006 s"):
+        finer.load_checkpoint(str(path))

@@ -11,16 +11,20 @@ namespace maille {
 // used yet. A per-point 64-bit mask of used colours keeps it linear; sets that find all 64
 // colours of a round taken wait for the next round (fresh masks, colours 64..127, ...), so any
 // topology gets a valid colouring.
-Colouring colour_sets(std::span<const std::uint32_t> offsets,
-                      std::span<const std::uint32_t> indices, std::uint32_t point_count) {
+void colour_sets(std::span<const std::uint32_t> offsets, std::span<const std::uint32_t> indices,
+                 std::uint32_t point_count, Colouring& out, ColouringScratch& scratch) {
   const std::size_t n = offsets.empty() ? 0 : offsets.size() - 1;
-  std::vector<std::uint32_t> colour(n, 0);
-  std::vector<std::uint32_t> pending(n);
+  std::vector<std::uint32_t>& colour = scratch.colour;
+  std::vector<std::uint32_t>& pending = scratch.pending;
+  std::vector<std::uint32_t>& later = scratch.later;
+  std::vector<std::uint64_t>& used = scratch.used;
+  colour.assign(n, 0);
+  pending.resize(n);
   for (std::size_t e = 0; e < n; ++e) pending[e] = static_cast<std::uint32_t>(e);
   std::uint32_t colours = 0;
   for (std::uint32_t base = 0; !pending.empty(); base += 64) {
-    std::vector<std::uint64_t> used(point_count, 0);
-    std::vector<std::uint32_t> later;
+    used.assign(point_count, 0);
+    later.clear();
     for (std::uint32_t e : pending) {
       std::uint64_t mask = 0;
       for (std::uint32_t k = offsets[e]; k < offsets[e + 1]; ++k) mask |= used[indices[k]];
@@ -37,13 +41,20 @@ Colouring colour_sets(std::span<const std::uint32_t> offsets,
     pending.swap(later);
   }
   // Counting sort by colour, stable within a colour (keeps memory order inside each group).
-  std::vector<std::uint32_t> start(colours + 1, 0);
-  for (std::size_t e = 0; e < n; ++e) ++start[colour[e] + 1];
-  for (std::uint32_t c = 0; c < colours; ++c) start[c + 1] += start[c];
-  Colouring out;
-  out.offsets = start;
+  out.offsets.assign(colours + 1, 0);
+  for (std::size_t e = 0; e < n; ++e) ++out.offsets[colour[e] + 1];
+  for (std::uint32_t c = 0; c < colours; ++c) out.offsets[c + 1] += out.offsets[c];
   out.order.resize(n);
-  for (std::size_t e = 0; e < n; ++e) out.order[start[colour[e]]++] = static_cast<std::uint32_t>(e);
+  pending.assign(out.offsets.begin(), out.offsets.end());  // the next slot of each colour
+  for (std::size_t e = 0; e < n; ++e)
+    out.order[pending[colour[e]]++] = static_cast<std::uint32_t>(e);
+}
+
+Colouring colour_sets(std::span<const std::uint32_t> offsets,
+                      std::span<const std::uint32_t> indices, std::uint32_t point_count) {
+  Colouring out;
+  ColouringScratch scratch;
+  colour_sets(offsets, indices, point_count, out, scratch);
   return out;
 }
 

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "free_cores.hpp"
 #include "health.hpp"
 #include "simulator_detail.hpp"
 #include "stages.hpp"
@@ -41,7 +42,11 @@ Simulator::Simulator(Model model, SimulationSettings settings)
 #else
   const int cores = 1;
 #endif
-  threads_ = settings_.threads > 0 ? settings_.threads : (n >= kParallelThreshold ? cores : 1);
+  // The default: one thread for small scenes, else the cores free now (free_cores.hpp): a
+  // thread that shares its core with another program makes every barrier wait for it.
+  threads_ = settings_.threads > 0     ? settings_.threads
+             : n >= kParallelThreshold ? detail::free_cores(cores)
+                                       : 1;
   model_.prepare();
   build_integrator(settings_.integrator);
 
@@ -343,14 +348,21 @@ Energies Simulator::energies() {
   return compute_energies(model_, state_, scratch_velocity_);
 }
 
+namespace {
+// What the runaway check watches: kinetic + elastic, and gravity's share only when it is not
+// finite (a falling body is not a blow-up, an infinite potential is).
+double watched_energy(const Energies& e) {
+  return e.kinetic + e.elastic + (std::isfinite(e.gravity) ? 0.0 : e.gravity);
+}
+}  // namespace
+
 bool Simulator::check_energy() {
   if (blow_up_) return false;
   if (backend_) {
     check_backend_health();
     if (blow_up_) return false;
   }
-  const Energies e = energies();
-  return !runaway(e.kinetic + e.elastic);
+  return !runaway(watched_energy(energies()));
 }
 
 void Simulator::sample_energies() {
@@ -358,7 +370,7 @@ void Simulator::sample_energies() {
                                      scratch_velocity_);
   const EnergySample sample{state_.step, state_.time,
                             compute_energies(model_, state_, scratch_velocity_)};
-  if (runaway(sample.energies.kinetic + sample.energies.elastic)) return;
+  if (runaway(watched_energy(sample.energies))) return;
   pending_sample_ = sample;  // handed to listeners at the end of the step, with its timings
 }
 
@@ -367,8 +379,12 @@ void Simulator::sample_energies() {
 bool Simulator::runaway(double e) {
   if (std::isfinite(e) && e <= settings_.runaway_factor * energy_scale_) return false;
   std::ostringstream why;
-  why << "runaway energy " << e << " J (" << settings_.runaway_factor
-      << " times the scene's energy scale " << energy_scale_ << " J)";
+  if (std::isfinite(e))
+    why << "runaway energy " << e << " J (" << settings_.runaway_factor
+        << " times the scene's energy scale " << energy_scale_ << " J)";
+  else  // never "-nan J": say what it is
+    why << "the energy is " << (std::isnan(e) ? "not a number" : "infinite")
+        << " (a value of the scene overflows: masses, stiffnesses or speeds too large)";
   fail("", why.str());
   return true;
 }
@@ -413,6 +429,14 @@ std::vector<Simulator::StageOptions> Simulator::stage_options() const {
           o.insert(o.begin(), {spec.variant_option, spec.variants, spec.variant});
       if (!o.empty()) out.push_back({st.stage->name(), std::move(o)});
     }
+  return out;
+}
+
+std::vector<std::string> Simulator::stage_warnings() const {
+  std::vector<std::string> out;
+  for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    for (const auto& st : *list)
+      for (const std::string& w : st.stage->warnings()) out.push_back(st.stage->name() + ": " + w);
   return out;
 }
 

@@ -1,13 +1,45 @@
+#include <unistd.h>
+
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
 #include <system_error>
 
 #include "maille/io.hpp"
+#include "maille/temporary_files.hpp"
 
 namespace maille {
 
 namespace {
+
+// The open temporaries, for remove_open_temporaries: a slot is claimed (1), its path written,
+// then published (2); the handler reads published slots only. Paths longer than a slot, or
+// more files open at once than slots, go unlisted (their temporaries would stay behind).
+struct Slot {
+  std::atomic<int> state{0};  // 0 free, 1 being written, 2 listed
+  char path[4096];
+};
+Slot g_open[64];
+
+void list_temporary(const std::string& path) {
+  if (path.size() >= sizeof g_open[0].path) return;
+  for (Slot& s : g_open) {
+    int free = 0;
+    if (!s.state.compare_exchange_strong(free, 1)) continue;
+    std::memcpy(s.path, path.c_str(), path.size() + 1);
+    s.state.store(2);
+    return;
+  }
+}
+
+void unlist_temporary(const std::string& path) {
+  for (Slot& s : g_open)
+    if (s.state.load() == 2 && path == s.path) {
+      s.state.store(0);
+      return;
+    }
+}
 
 // The cause of the last failed system call, for messages ("No space left on device").
 std::string cause(int err) {
@@ -19,12 +51,17 @@ std::string cause(int err) {
 AtomicFile::AtomicFile(std::filesystem::path path)
     : path_(std::move(path)), tmp_(path_.string() + ".tmp") {
   errno = 0;
+  list_temporary(tmp_.string());
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
-  if (!out_) throw std::runtime_error("cannot write " + tmp_.string() + ": " + cause(errno));
+  if (!out_) {
+    unlist_temporary(tmp_.string());
+    throw std::runtime_error("cannot write " + tmp_.string() + ": " + cause(errno));
+  }
   out_.precision(9);
 }
 
 AtomicFile::~AtomicFile() {
+  unlist_temporary(tmp_.string());
   if (committed_) return;
   out_.close();
   std::error_code ec;
@@ -62,6 +99,11 @@ void AtomicFile::commit() {
                              ec.message());
   }
   committed_ = true;
+}
+
+void remove_open_temporaries() noexcept {
+  for (Slot& s : g_open)
+    if (s.state.load() == 2) ::unlink(s.path);
 }
 
 }  // namespace maille

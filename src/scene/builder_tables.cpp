@@ -35,7 +35,7 @@ Real length(TomlCursor& t, std::string_view key, Real fallback) {
 
 Real mass(TomlCursor& t, Real fallback) {
   const Real kg = t.real("mass", fallback, Bound::positive);
-  t.check_range("mass", kg, limits::min_mass, std::numeric_limits<Real>::max(), "kg");
+  t.check_range("mass", kg, limits::min_mass, limits::max_mass, "kg");
   return kg;
 }
 

@@ -1,7 +1,9 @@
 #include "maille/limits.hpp"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 
@@ -14,8 +16,14 @@ std::uint64_t memory_budget_bytes() {
     if (end && *end == '\0' && v > 0) return v;
   }
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page <= 0) return std::uint64_t{4} << 30;  // unknown: assume 8 GiB
-  return std::uint64_t(pages) / 2 * std::uint64_t(page);
+  std::uint64_t budget = pages <= 0 || page <= 0 ? std::uint64_t{4} << 30  // unknown: assume 8 GiB
+                                                 : std::uint64_t(pages) / 2 * std::uint64_t(page);
+  // Under an address-space limit (ulimit -v), half of it: beyond, an allocation fails with
+  // std::bad_alloc, which inside a parallel region aborts the process.
+  rlimit as{};
+  if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+    budget = std::min<std::uint64_t>(budget, std::uint64_t(as.rlim_cur) / 2);
+  return budget;
 }
 
 std::string check_size(const SizeEstimate& total) {

@@ -48,6 +48,7 @@ void read_shape(SceneTable& t, Obstacle& o) {
   if (t.has("mesh")) {
     if (t.has("shape")) t.fail("mesh", "give either shape or mesh, not both");
     const std::string file = t.text("mesh", "");
+    if (file.find('\0') != std::string::npos) t.fail("mesh", "the path contains a NUL byte");
     const std::filesystem::path where = std::filesystem::path(t.file()).parent_path() / file;
     try {
       o.mesh = std::make_shared<const TriMesh>(read_mesh(where.string()));
@@ -84,6 +85,19 @@ void read_placement(SceneTable& t, Obstacle& o) {
   if (auto mt = t.child("motion")) o.motion = motion(*mt, position);
 }
 
+// The mesh's vertices and triangles (the scene names only the file): a checkpoint taken before
+// the file changed is refused.
+std::uint64_t mesh_fingerprint(const TriMesh& mesh) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto bytes = [&](const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  bytes(mesh.vertices.data(), mesh.vertices.size() * sizeof(Vec3));
+  bytes(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
+  return h;
+}
+
 StageSpec spec_of(const Obstacle& o) {
   StageSpec spec{obstacle_stage_name(o), obstacle_phase(o.method),
                  [o](const Model& model) { return make_obstacle_stage(model, o); }};
@@ -94,6 +108,7 @@ StageSpec spec_of(const Obstacle& o) {
   visit_keys(obstacle_keys(), o, [&](const StageKey<Obstacle>& k, std::string v) {
     spec.parameters.emplace_back(std::string(k.key), std::move(v));
   });
+  if (o.mesh) spec.fingerprint = mesh_fingerprint(*o.mesh);
   spec.vary = [o](const std::string& method) {
     Obstacle other = o;
     other.method = parse_name<ObstacleMethod>(method).value();

@@ -22,6 +22,7 @@
 #include "maille/scene.hpp"
 #include "maille/stage_keys.hpp"
 #include "overrides.hpp"
+#include "scene_digest.hpp"
 #include "toml_cursor.hpp"
 #include "toml_guard.hpp"
 
@@ -164,7 +165,7 @@ class SceneReader {
     const std::string name = t.text("name", "");
     const Vec3 x = t.vec3("position");
     const Real mass = t.real("mass", 1, Bound::positive);
-    t.check_range("mass", mass, limits::min_mass, std::numeric_limits<Real>::max(), "kg");
+    t.check_range("mass", mass, limits::min_mass, limits::max_mass, "kg");
     const Vec3 v = kind == PointKind::free ? t.vec3("velocity", Vec3{}) : Vec3{};
     std::optional<DrivePath> path;
     if (kind == PointKind::fixed)
@@ -467,6 +468,7 @@ Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
     toml::table root = toml::parse(text, source_name);
     if (auto bad = apply_overrides(root, overrides)) return *bad;
     Scene scene = SceneReader(kinds, stages, source_name).read(root);
+    scene.model.scene_digest = scene_digest(root);
     return scene;
   } catch (const toml::parse_error& e) {
     return InputError{source_name, static_cast<int>(e.source().begin.line),

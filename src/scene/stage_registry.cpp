@@ -1,6 +1,7 @@
 #include "maille/stage_registry.hpp"
 
 #include <stdexcept>
+#include <vector>
 
 #include "maille/fields.hpp"
 #include "maille/limits.hpp"
@@ -25,19 +26,23 @@ namespace {
 // ropes and lattices: the same bound is used).
 void exclusion_fits(SceneTable& t, const Model& m, const SelfCollisionSettings& s) {
   if (s.exclusion == Exclusion::none || s.topological_radius == 0) return;
-  std::uint64_t particles = 0;  // the free points of the colliding groups (every group: all)
-  auto count = [&](std::uint32_t first, std::uint32_t n) {
-    for (std::uint32_t p = first; p < first + n; ++p) particles += m.points.inv_mass[p] > 0;
+  std::vector<std::uint8_t> in(m.points.size(), 0);  // the colliding groups (none named: all)
+  auto mark = [&](std::uint32_t first, std::uint32_t n) {
+    for (std::uint32_t p = first; p < first + n; ++p) in[p] = 1;
   };
-  if (s.groups.empty()) count(0, m.points.size());
+  if (s.groups.empty()) mark(0, m.points.size());
   for (const auto& name : s.groups)
-    if (const Group* g = m.group(name)) count(g->first, g->count);
-  const double side = 2.0 * s.topological_radius + 1;
-  const double bytes = double(particles) * side * side * 4;
-  if (bytes > double(limits::memory_budget_bytes()))
+    if (const Group* g = m.group(name)) mark(g->first, g->count);
+  std::vector<std::uint32_t> particles;  // their free points
+  for (std::uint32_t p = 0; p < m.points.size(); ++p)
+    if (in[p] && m.points.inv_mass[p] > 0) particles.push_back(p);
+  // Measured by a bounded search from some particles (self_collision.hpp), not (2R + 1)^2:
+  // bending links make rows longer (285 MB estimated, 1.28 GB used at R = 16 on 256^2).
+  const std::uint64_t bytes = self_collision_exclusion_bytes(m, particles, s.topological_radius);
+  if (bytes > limits::memory_budget_bytes())
     t.fail("topological_radius",
-           "the exclusion rows would need about " + std::to_string(std::uint64_t(bytes)) +
-               " bytes for " + std::to_string(particles) +
+           "the exclusion rows would need about " + std::to_string(bytes) + " bytes for " +
+               std::to_string(particles.size()) +
                " particles, above the memory budget: lower topological_radius");
 }
 

@@ -1,6 +1,9 @@
-// No allocation in the step: after the first step (which sizes scratch buffers), stepping a
+// No allocation in the step: after the first steps (which size scratch buffers), stepping a
 // flag allocates nothing, with leapfrog and with implicit Euler (matrix-free CG), on one thread
-// and two. Counted by replacing the global operator new in this test binary.
+// and two; and so does every scheme (every implicit solver) on a scene with every stage kind
+// on: wind, a drive, [[contact]] links, a geometric contact, self-collision (points and
+// triangles), obstacles by every method (facets with the single-pass schemes that take them).
+// Counted by replacing the global operator new in this test binary.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -84,6 +87,126 @@ TEST(Allocation, NoneInTheStepAfterTheFirst) {
   for (int threads : {1, 2})
     EXPECT_EQ(allocations_in_steps("implicit_euler", threads, "vbd"), 0)
         << "implicit_euler (vbd) on " << threads << " threads";
+}
+
+// Every stage kind at once; `extra` adds tables (the facet obstacle, the triangle primitive).
+std::string every_stage_scene(const std::string& extra) {
+  return R"(
+[fields]
+gravity = [0.0, -9.81, 0.0]
+air_drag = 0.1
+[fields.wind]
+velocity = [3.0, 0.0, 1.0]
+turbulence = 0.3
+[[flag]]
+name = "cloth"
+origin = [0.0, 1.0, 0.0]
+width = 0.6
+height = 0.4
+resolution = [16, 12]
+mass = 0.1
+stiffness = 200.0
+shear_stiffness = 60.0
+bending_stiffness = 5.0
+damping = 0.02
+fixed = "pole"
+[flag.drive]
+path = "sine"
+amplitude = [0.0, 0.0, 0.05]
+frequency = 2.0
+[[rope]]
+name = "rope"
+start = [0.3, 0.9, 0.02]
+end = [0.3, 0.5, 0.02]
+points = 8
+mass = 0.05
+stiffness = 100.0
+damping = 0.01
+fixed = "start"
+[[contact]]
+between = ["cloth", "rope"]
+stiffness = 100.0
+threshold = 0.03
+[[geometric_point]]
+name = "post"
+position = [0.25, 0.75, 0.0]
+scale = [0.08, 0.08, 0.08]
+[[link]]
+kind = "geometric_contact"
+a = "post"
+b = "cloth"
+stiffness = 100.0
+[[obstacle]]
+name = "ball"
+method = "geometric"
+position = [0.45, 0.8, 0.0]
+scale = [0.08, 0.08, 0.08]
+stiffness = 300.0
+collides_with = ["cloth", "rope"]
+[[obstacle]]
+name = "pebble"
+method = "conditional"
+position = [0.15, 0.7, 0.0]
+scale = [0.06, 0.06, 0.06]
+resolution = 16
+threshold = 0.02
+stiffness = 300.0
+collides_with = ["cloth"]
+)" + extra;
+}
+
+long allocations_with_every_stage(const std::string& scheme, const std::string& solver,
+                                  const std::string& extra, int threads) {
+  static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
+  static const StageRegistry stages = StageRegistry::with_builtins();
+  auto scene = parse_scene(every_stage_scene(extra), "every_stage", kinds, stages);
+  if (!scene) {
+    ADD_FAILURE() << scene.error().to_string();
+    return -1;
+  }
+  SimulationSettings s = test::settings(scheme == "implicit_euler" ? 1e-3 : 1e-4, scheme.c_str());
+  s.threads = threads;
+  s.implicit.solver = solver;
+  s.sample_every = 5;
+  s.publish_every = 5;
+  Simulator sim(std::move(scene->model), s);
+  sim.on_publish([](const Snapshot&) {});
+  if (!sim.run_steps(30)) {  // sizes the scratch buffers, the contacts' and the snapshot
+    ADD_FAILURE() << sim.blow_up()->message;
+    return -1;
+  }
+  g_allocations = 0;
+  g_counting = true;
+  sim.run_steps(20);
+  g_counting = false;
+  return g_allocations.load();
+}
+
+TEST(Allocation, NoneInTheStepWithEveryStageKind) {
+  const std::string self = "[self_collision]\ngroups = [\"cloth\"]\nradius = 0.02\n";
+  const std::string triangles = self + "primitive = \"triangles\"\n";
+  const std::string facets =
+      "[[obstacle]]\nname = \"box\"\nmethod = \"facets\"\nshape = \"cube\"\n"
+      "position = [0.35, 0.6, 0.1]\nscale = [0.06, 0.06, 0.06]\ncollides_with = [\"cloth\"]\n";
+  struct Case {
+    std::string scheme, solver, extra;
+  };
+  std::vector<Case> cases;
+  for (const char* scheme : {"leapfrog", "symplectic_euler", "explicit_euler"})
+    for (const std::string& sc : {self, triangles}) cases.push_back({scheme, "", sc + facets});
+  for (const char* scheme : {"velocity_verlet", "rk4"})
+    for (const std::string& sc : {self, triangles}) cases.push_back({scheme, "", sc});
+  for (const char* solver : {"matrix_free", "eigen", "vbd"})
+    for (const std::string& sc : {self, triangles}) cases.push_back({"implicit_euler", solver, sc});
+  for (const Case& c : cases)
+    for (int threads : {1, 2})
+      EXPECT_EQ(allocations_with_every_stage(c.scheme, c.solver.empty() ? "matrix_free" : c.solver,
+                                             c.extra, threads),
+                0)
+          << c.scheme << (c.solver.empty() ? "" : " (" + c.solver + ")") << " on " << threads
+          << " threads, "
+          << (c.extra.find("triangles") != std::string::npos ? "triangles" : "points")
+          << (c.extra.find("facets") != std::string::npos ? ", facets" : "");
 }
 
 }  // namespace

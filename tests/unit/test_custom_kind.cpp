@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "maille/link_registry.hpp"
 #include "maille/links/spring.hpp"
@@ -126,6 +127,46 @@ stiffness = 10.0
   maille::Simulator sim(std::move(scene->model), scene->settings);
   sim.energies();
   EXPECT_NEAR(sim.state().f()[bob].x / 0.1, -(5000 * 0.008) / 0.1, 1e-9);
+}
+
+}  // namespace
+
+namespace {
+
+// A spring whose energy is not a number while its force is finite (a kind with a bad energy
+// law): the run must stop as a blow-up that says so in words, never "-nan J" (issue 24).
+struct NanEnergySpring {
+  static constexpr std::string_view keyword = "nan_energy_spring";
+  struct Params {
+    Real k = 0;  // N/m
+  };
+  static constexpr std::array<maille::ParamField<Params>, 1> fields{{
+      {"k", "N/m", &Params::k, maille::Bound::positive},
+  }};
+  static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3&, const Vec3&, const Params& p) {
+    return (xb - xa) * p.k;
+  }
+  static Real energy(const Vec3&, const Vec3&, const Params&) {
+    return std::numeric_limits<Real>::quiet_NaN();
+  }
+  static Real stiffness(const Params& p) { return p.k; }
+  static Real damping(const Params&) { return 0; }
+};
+
+TEST(CustomKind, NonFiniteEnergyIsABlowUpSaidInWords) {
+  maille::Model m;
+  const auto a = m.points.add(maille::PointKind::fixed, 1, {0, 0, 0});
+  const auto b = m.points.add(maille::PointKind::free, 1, {0, -1, 0});
+  m.links.pool<NanEnergySpring>().add({a, b}, {10});
+  maille::SimulationSettings s;
+  s.step = 1e-3;
+  s.sample_every = 10;
+  maille::Simulator sim(std::move(m), s);
+  EXPECT_FALSE(sim.run_steps(100));
+  ASSERT_TRUE(sim.blow_up());
+  const std::string& why = sim.blow_up()->message;
+  EXPECT_NE(why.find("the energy is not a number"), std::string::npos) << why;
+  EXPECT_EQ(why.find("nan J"), std::string::npos) << why;
 }
 
 }  // namespace

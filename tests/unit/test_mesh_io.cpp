@@ -137,6 +137,18 @@ TEST(mesh_io, ExampleModelsAreClosedAndOutward) {
 
 // Each file in tests/data/meshes/bad: the message starts with the file's path (and its line
 // where one is known) and says what is wrong.
+// A path that is not a mesh (a scene's `mesh` climbing out with ../ to a system file) is
+// refused without its contents in the message; a NUL in a path is refused, not cut short.
+TEST(mesh_io, ErrorsNeverQuoteAFileThatIsNoMesh) {
+  const std::string secret = "root:x:0:0:root:/root:/bin/bash\ndaemon:x:1:1\n";
+  const std::string message = error_of([&] { parse_obj(secret, "passwd"); });
+  EXPECT_NE(message.find("passwd:1: not a mesh file"), std::string::npos) << message;
+  EXPECT_EQ(message.find("root"), std::string::npos) << message;
+  const std::string nul = error_of([] { read_mesh(std::string("/etc/passwd\0.obj", 16)); });
+  EXPECT_NE(nul.find("the path contains a NUL byte"), std::string::npos) << nul;
+  EXPECT_EQ(nul.find("root"), std::string::npos) << nul;
+}
+
 TEST(mesh_io, BadFilesSayWhatAndWhere) {
   const struct {
     const char* file;
@@ -198,6 +210,9 @@ TEST(mesh_io, MalformedObjIsRefused) {
       {tri + "f 1 2 3\nf 1 2 3\nf 1 3 2 2\n", "m.obj:6: zero-area face 3"},
       {tri + "s 99999999999\nf 1 2 3\n", "m.obj:4: bad smoothing group"},
       {tri + "vw 1 2 3\n", "m.obj:4: unknown statement 'vw'"},
+      {tri + "abcdefghijklmnopqrstuvwxyz\n", "m.obj:4: unknown statement 'abcdefghijklmnop...'"},
+      {"root:x:0:0:root:/root:/bin/bash\n",
+       "m.obj:1: not a mesh file: its first statement is none"},
       {tri + "f 1 2 3\n\x01\x02\n", "m.obj:5: unknown statement '\\x01\\x02'"},
       {tri + std::string("f 1 2\0 3\n", 9), "m.obj:4: NUL byte"},
       {"# nothing\n\n", "m.obj: empty mesh (no triangles)"},

@@ -247,3 +247,66 @@ TEST(SelfCollision, TunerLogsItsCandidatesAndKeepsOne) {
 }
 
 }  // namespace
+
+namespace maille {
+namespace {
+
+// A radius below half the spacing lets points slip between particles: the stage says so, with
+// the radius, the spacing and both fixes; at half the spacing, by default, or with triangles, it
+// says nothing (issue 24: a 24 x 24 cloth 3.5 cm apart at radius 1.2 cm folded through itself).
+TEST(SelfCollision, WarnsWhenPointsCanSlipBetweenParticles) {
+  Model m;
+  FlagParams p;
+  p.nx = p.ny = 24;
+  p.width = p.height = Real(0.035 * 23);
+  p.fixed = "none";
+  build_flag(m, p, "cloth");
+  m.prepare();
+  auto warnings = [&](Real radius, Primitive primitive) {
+    SelfCollisionSettings s;
+    s.radius = radius;
+    s.primitive = primitive;
+    return make_self_collision_stage(m, s)->warnings();
+  };
+  const auto leaky = warnings(Real(0.012), Primitive::points);
+  ASSERT_EQ(leaky.size(), 1u);
+  for (const char* part : {"radius 0.012 m", "group 'cloth' (0.035 m)", "radius >= 0.0175 m",
+                           "primitive = \"triangles\""})
+    EXPECT_NE(leaky[0].find(part), std::string::npos) << part << " not in: " << leaky[0];
+  EXPECT_TRUE(warnings(Real(0.0175), Primitive::points).empty());
+  EXPECT_TRUE(warnings(0, Primitive::points).empty());  // the default: half the shortest link
+  EXPECT_TRUE(warnings(Real(0.012), Primitive::triangles).empty());
+}
+
+}  // namespace
+}  // namespace maille
+
+namespace maille {
+namespace {
+
+// The matrix exclusion's memory estimate (what the scene reader checks against the budget)
+// covers what its rows hold and stays within 1.6 times it: at R = 4 on a 96 x 96 cloth with
+// bending links, rows are about (4R + 1)^2 / 2 long, not the (2R + 1)^2 the old estimate
+// assumed (which said 285 MB where 1.28 GB were used at R = 16 on 256^2).
+TEST(SelfCollision, ExclusionEstimateCoversTheRows) {
+  Model m;
+  FlagParams p;
+  p.nx = p.ny = 96;
+  p.fixed = "none";
+  build_flag(m, p, "cloth");
+  m.prepare();
+  std::vector<std::uint32_t> particles(m.points.size());
+  for (std::uint32_t i = 0; i < particles.size(); ++i) particles[i] = i;
+  const int radius = 4;
+  const ExclusionRows rows = self_collision_exclusion_rows(m, particles, radius);
+  const double held = 4.0 * double(rows.offset.size() + rows.partner.size());
+  const double estimate = double(self_collision_exclusion_bytes(m, particles, radius));
+  EXPECT_GE(estimate, held);
+  EXPECT_LE(estimate, 1.6 * held);
+  const double old_estimate = double(particles.size()) * (2 * radius + 1) * (2 * radius + 1) * 4;
+  EXPECT_LT(old_estimate, held);  // what the old formula missed
+  RecordProperty("estimate_over_rows", std::to_string(estimate / held));
+}
+
+}  // namespace
+}  // namespace maille

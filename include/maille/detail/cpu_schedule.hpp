@@ -18,6 +18,7 @@
 #include <span>
 #include <vector>
 
+#include "maille/colouring.hpp"
 #include "maille/link_kind.hpp"
 
 namespace maille::detail {
@@ -27,13 +28,17 @@ class CpuSchedule {
   static constexpr std::size_t kChunk = 256;  // links per chunk, at most
   static constexpr std::size_t kMinRun = 8;   // shorter runs are not worth a chunk of their own
 
-  // Step 1: the order the links should be stored in: order[slot] = current position.
-  // `by_reach`: sort by (b - a, a) inside bands (always-active kinds; conditional kinds keep
-  // their order inside a band).
-  std::vector<std::uint32_t> order(std::span<const LinkEnds> ends, bool by_reach);
+  // Step 1: the order the links should be stored in: order[slot] = current position (valid
+  // until the next call). `by_reach`: sort by (b - a, a) inside bands (always-active kinds;
+  // conditional kinds keep their order inside a band).
+  std::span<const std::uint32_t> order(std::span<const LinkEnds> ends, bool by_reach);
   // Step 2, once the pool stored its links in that order: chunks, bands and colours.
   void build(std::span<const LinkEnds> ends, std::uint32_t point_count);
   void clear();
+  // The working arrays of order() and build() are kept between calls, so that a pool prepared
+  // every step (a stage's contacts) allocates nothing once they have grown; a pool prepared
+  // once gives them back.
+  void release_scratch();
   bool ready() const { return ready_; }
 
   std::uint32_t chunk_begin(std::size_t c) const { return chunk_begin_[c]; }
@@ -70,6 +75,10 @@ class CpuSchedule {
   std::vector<std::uint32_t> band_begin_;            // band b spans chunks [begin[b], begin[b+1])
   std::vector<std::uint32_t> band_order_;            // bands grouped by colour
   std::vector<std::uint32_t> groups_;  // colour c spans band_order_[groups_[c]..[c+1])
+  // Scratch (see release_scratch): the order, runs, each band's points, the colouring.
+  std::vector<std::uint32_t> order_, run_, offsets_, idx_;
+  Colouring colouring_;
+  ColouringScratch colour_scratch_;
 };
 
 }  // namespace maille::detail

@@ -15,7 +15,7 @@ void fail(const std::string& name, std::size_t line, const std::string& what) {
 }
 
 std::string quote(std::string_view token) {
-  constexpr std::size_t kShown = 32;
+  constexpr std::size_t kShown = 16;  // a token, never a line of a file that is no mesh
   std::string out = "'";
   for (std::size_t i = 0; i < token.size() && i < kShown; ++i) {
     const auto c = static_cast<unsigned char>(token[i]);

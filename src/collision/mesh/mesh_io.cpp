@@ -19,6 +19,9 @@ using mesh_detail::fail;
 // refused before reading, since /dev/zero or a pipe would be read without end.
 std::string read_bytes(const std::string& path) {
   namespace fs = std::filesystem;
+  // The system would read the path up to the NUL: another file than the one named.
+  if (path.find('\0') != std::string::npos)
+    fail(path.substr(0, path.find('\0')) + "\\0...", 0, "the path contains a NUL byte");
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (ec || !fs::exists(status))

@@ -116,9 +116,14 @@ class Scanner {
       smoothing(fields);
     } else if (keyword == "usemtl" || keyword == "mtllib") {
       scan_.text[offset + first] = '#';
-    } else {
+    } else if (known_) {
       fail(name_, line_, "unknown statement " + quote(keyword));
+    } else {  // nothing of a mesh yet: quote none of it (a path may lead to any file)
+      fail(name_, line_,
+           "not a mesh file: its first statement is none of OBJ's (v, vt, vn, vp, f, l, p, g, o, "
+           "s, usemtl, mtllib), and it is no STL ('solid' or 84 + 50 n bytes)");
     }
+    known_ = true;
   }
 
   void count_vertex_like() {
@@ -263,6 +268,7 @@ class Scanner {
   Scan scan_;
   std::size_t line_ = 0;
   std::size_t vertex_like_ = 0, texcoords_ = 0, normals_ = 0;
+  bool known_ = false;  // a statement of OBJ was read
 };
 
 // An istream over the scan's copy, without another copy (ObjReader::ParseFromString copies).

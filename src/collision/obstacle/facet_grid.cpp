@@ -149,11 +149,15 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
   // Cells a third of a facet: a particle's query (one cell, most steps) meets about three
   // facets rather than ten; a surface fills few cells of its box, hence the generous budget.
   cell_ = std::max(extent_sum / Real(3 * facets_.size()), diagonal * Real(1e-3));
+  // Two budgets: the cells, and the (cell, facet) visits of the build below, so that a few
+  // large facets among many small ones (which set a fine cell) cannot make the build test
+  // billions of cells (a 24 MB OBJ of 200,000 small and 1,000 large triangles took 284 s).
   const double budget = std::min(256.0 * double(facets_.size()) + 4096, double(1u << 24));
+  const double visit_budget = 64.0 * double(facets_.size()) + double(1u << 22);
   for (;;) {
     for (int d = 0; d < 3; ++d)
       dims_[d] = std::max(1, static_cast<int>(std::ceil((hi_[d] - lo_[d]) / cell_)));
-    if (double(dims_[0]) * dims_[1] * dims_[2] <= budget) break;
+    if (double(dims_[0]) * dims_[1] * dims_[2] <= budget && planned_visits() <= visit_budget) break;
     cell_ *= Real(1.26);  // about 2x fewer cells per round
   }
   inv_cell_ = 1 / cell_;
@@ -170,14 +174,49 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
     // margin): a query in one cell then meets about two facets on a tessellated sphere, not
     // the six whose boxes and planes reach it, and a facet through a cell is never left out.
     const Real half = cell_ / 2 + margin_;
-    for (int k = c0[2]; k <= c1[2]; ++k)
-      for (int j = c0[1]; j <= c1[1]; ++j)
-        for (int i = c0[0]; i <= c1[0]; ++i) {
-          const Vec3 centre =
-              lo_ + Vec3{Real(i) + Real(0.5), Real(j) + Real(0.5), Real(k) + Real(0.5)} * cell_;
-          if (triangle_meets_cube(f.a - centre, b - centre, c - centre, f.n, half))
-            visit(cell_index(i, j, k));
+    auto test = [&](int i, int j, int k) {
+      const Vec3 centre =
+          lo_ + Vec3{Real(i) + Real(0.5), Real(j) + Real(0.5), Real(k) + Real(0.5)} * cell_;
+      if (triangle_meets_cube(f.a - centre, b - centre, c - centre, f.n, half))
+        visit(cell_index(i, j, k));
+    };
+    // Only the cells near the facet's plane, column by column along the normal's largest
+    // axis m: over a column (a cell's square on the other two axes, grown by the margin) the
+    // plane's m coordinate spans [lowest, highest] of its four corners, and only the cells of
+    // that span (grown by the margin) can meet the triangle: about dims^2 cells for a facet
+    // across the grid, not dims^3.
+    const int m = std::abs(f.n.x) >= std::abs(f.n.y) && std::abs(f.n.x) >= std::abs(f.n.z) ? 0
+                  : std::abs(f.n.y) >= std::abs(f.n.z)                                     ? 1
+                                                                                           : 2;
+    const int u = (m + 1) % 3, w = (m + 2) % 3;
+    if (f.n[m] == 0) {  // degenerate (no normal): every cell of its box
+      for (int k = c0[2]; k <= c1[2]; ++k)
+        for (int j = c0[1]; j <= c1[1]; ++j)
+          for (int i = c0[0]; i <= c1[0]; ++i) test(i, j, k);
+      return;
+    }
+    const Real level = dot(f.n, f.a);  // the plane: n . x = level
+    for (int iu = c0[u]; iu <= c1[u]; ++iu)
+      for (int iw = c0[w]; iw <= c1[w]; ++iw) {
+        Real low = std::numeric_limits<Real>::max(), high = -low;
+        for (int corner = 0; corner < 4; ++corner) {
+          const Real xu =
+              lo_[u] + Real(iu + (corner & 1)) * cell_ + (corner & 1 ? 1 : -1) * margin_;
+          const Real xw =
+              lo_[w] + Real(iw + (corner >> 1)) * cell_ + (corner >> 1 ? 1 : -1) * margin_;
+          const Real xm = (level - f.n[u] * xu - f.n[w] * xw) / f.n[m];
+          low = std::min(low, xm), high = std::max(high, xm);
         }
+        const Real lo_m = low - margin_, hi_m = high + margin_;
+        const Vec3 at_low{lo_m, lo_m, lo_m}, at_high{hi_m, hi_m, hi_m};
+        const int k0 = std::max(c0[m], axis_cell(at_low, m));
+        const int k1 = std::min(c1[m], axis_cell(at_high, m));
+        for (int km = k0; km <= k1; ++km) {
+          std::array<int, 3> q{};
+          q[m] = km, q[u] = iu, q[w] = iw;
+          test(q[0], q[1], q[2]);
+        }
+      }
   };
   for (std::size_t f = 0; f < facets_.size(); ++f)
     each_cell(f, [&](std::uint64_t cell) { ++starts_[cell + 1]; });
@@ -186,6 +225,27 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
   std::vector<std::uint32_t> fill(starts_.begin(), starts_.end() - 1);
   for (std::size_t f = 0; f < facets_.size(); ++f)
     each_cell(f, [&](std::uint64_t cell) { entries_[fill[cell]++] = std::uint32_t(f); });
+}
+
+// The build's (cell, facet) tests at the current cell size, as each_cell makes them: per facet,
+// the columns of its box across its normal's largest axis, at most 4 cells each (the plane
+// crosses at most 1 + |n_u| / |n_m| + |n_w| / |n_m| <= 3 cells of a column, and the margin one).
+double FacetGrid::planned_visits() const {
+  double visits = 0;
+  for (const Facet& f : facets_) {
+    const Vec3 b = f.a + f.e1, c = f.a + f.e2;
+    const Vec3 extent =
+        component_max(component_max(f.a, b), c) - component_min(component_min(f.a, b), c);
+    const int m = std::abs(f.n.x) >= std::abs(f.n.y) && std::abs(f.n.x) >= std::abs(f.n.z) ? 0
+                  : std::abs(f.n.y) >= std::abs(f.n.z)                                     ? 1
+                                                                                           : 2;
+    double cells[3];
+    for (int d = 0; d < 3; ++d)
+      cells[d] = std::min(double(dims_[d]), std::floor(extent[d] / cell_) + 2);
+    visits += cells[(m + 1) % 3] * cells[(m + 2) % 3] *
+              (f.n[m] == 0 ? cells[m] : std::min(cells[m], 4.0));
+  }
+  return visits;
 }
 
 void FacetGrid::inner_box(const std::array<int, 3>& c, Row& row) const {

@@ -155,6 +155,7 @@ class FacetGrid {
   // then puts every point between them in c too: a query box inside (lo <= hi) has both
   // corners in c and meets the grid's box, as the full test requires. Else the box is empty.
   void inner_box(const std::array<int, 3>& c, Row& row) const;
+  double planned_visits() const;  // the build's cell tests at cell_ and dims_ (facet_grid.cpp)
   // A query over several cells: their facets gathered into scratch (or every facet, beyond
   // kMaxQueryCells cells).
   std::span<const std::uint32_t> candidates_in_cells(const std::array<int, 3>& c0,

@@ -38,7 +38,11 @@ inline int thread_id() {
 struct Sink {
   std::vector<std::uint32_t> pairs;  // a, b, b, a, ... (close pairs, both orders)
   std::uint64_t tested = 0, excluded = 0, skipped = 0;
-  void clear() { pairs.clear(), tested = excluded = skipped = 0; }
+  // At most `cap` entries: a pair beyond it is dropped and `full` set, and the caller refuses
+  // the pass (an allocation failing inside an OpenMP region would abort the process).
+  std::size_t cap = ~std::size_t{0};
+  bool full = false;
+  void clear() { pairs.clear(), tested = excluded = skipped = 0, full = false; }
 };
 
 struct Query {
@@ -66,6 +70,10 @@ inline void test_pair(const Query& q, std::uint32_t a, std::uint32_t b, Sink& s)
   if (dot(d, d) >= q.r * q.r) return;
   if (q.exclusion && q.exclusion->excluded(a, b)) {
     ++s.excluded;
+    return;
+  }
+  if (s.pairs.size() + 4 > s.cap) {
+    s.full = true;
     return;
   }
   s.pairs.push_back(a), s.pairs.push_back(b), s.pairs.push_back(b), s.pairs.push_back(a);

@@ -54,6 +54,12 @@ class TopologicalExclusion {
     s.add(g.group, g.i, g.j);
   }
   std::size_t bytes() const;
+  // The longest matrix row among up to 64 particles spread over `set` (a bounded search from
+  // each): rows are about that long inside a cloth, shorter at its edges. What the memory
+  // estimate and the rows' reservation use (on grid cloth a row is not (2R + 1)^2 long: bending
+  // links reach two points a hop, about (4R + 1)^2 / 2 in all).
+  static std::uint64_t sampled_row_bound(const Model& m, const std::vector<std::uint32_t>& set,
+                                         int radius);
   std::size_t matrix_entries() const { return neighbours_.size(); }
   // The matrix rows (CSR over local indices; without signatures, every particle's full row).
   const std::vector<std::uint32_t>& row_offsets() const { return offsets_; }

@@ -7,10 +7,12 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "broad_phase.hpp"
+#include "maille/limits.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/spring_damper.hpp"
 #include "maille/profile.hpp"
@@ -61,7 +63,47 @@ Real default_radius(const Model& m, const std::vector<std::uint8_t>& in) {
   return shortest / 2;
 }
 
+// Points can slip between a group's particles when the contact distance is below half their
+// spacing: two particles a spacing apart leave a gap a point of the same group passes through
+// without coming within s of either (the 24 x 24 cloth, 3.5 cm apart, with s = 1.2 cm
+// folded through itself). The spacing is a particle's nearest linked neighbour at rest, the
+// largest over the group. Nothing to say for primitive = "triangles", which closes the gaps.
+std::vector<std::string> leak_warnings(const Model& m, const SelfCollisionSettings& s) {
+  std::vector<std::string> out;
+  if (s.primitive == Primitive::triangles) return out;
+  std::vector<const Group*> groups;
+  for (const Group& g : m.groups)
+    if (s.groups.empty() || std::find(s.groups.begin(), s.groups.end(), g.name) != s.groups.end())
+      groups.push_back(&g);
+  const auto& x0 = m.points.initial_position;
+  std::vector<Real> nearest(m.points.size(), std::numeric_limits<Real>::max());
+  for (const auto& pool : m.links.pools()) {
+    if (pool->conditional()) continue;
+    for (const LinkEnds& e : pool->slot_ends()) {
+      const Real d = norm(x0[e.b] - x0[e.a]);
+      nearest[e.a] = std::min(nearest[e.a], d);
+      nearest[e.b] = std::min(nearest[e.b], d);
+    }
+  }
+  for (const Group* g : groups) {
+    Real spacing = 0;
+    for (std::uint32_t p = g->first; p < g->first + g->count; ++p)
+      if (m.points.inv_mass[p] > 0 && nearest[p] < std::numeric_limits<Real>::max())
+        spacing = std::max(spacing, nearest[p]);
+    if (!(s.radius < spacing / 2 * (1 - 1e-9))) continue;  // (spacings carry rounding)
+    std::ostringstream w;
+    w.precision(4);
+    w << "radius " << s.radius << " m is below half the rest spacing of group '" << g->name << "' ("
+      << spacing << " m): points can slip between its particles and the cloth pass "
+      << "through itself; set radius >= " << spacing / 2
+      << " m, or primitive = \"triangles\" (docs/scene-format.md, [self_collision])";
+    out.push_back(w.str());
+  }
+  return out;
+}
+
 constexpr double kCellFactors[] = {1.0, 1.25, 1.5, 2.0, 3.0, 4.0};
+constexpr std::uint64_t kBytesPerContact = 160;  // see SelfCollision::max_contacts_
 constexpr double kRetuneBox = 1.5;      // re-tune when the box diagonal changes by this factor
 constexpr double kRetuneDensity = 2.0;  // ... or the particles per occupied cell
 
@@ -125,6 +167,9 @@ class SelfCollision {
     s_.exclusion = e;
     rebuild_exclusion();
   }
+  // Gives back the exclusion's rows before a new engine is built in this one's place, so that
+  // the two never hold them at once (hundreds of MB at large radii).
+  void release_exclusion() { exclusion_.reset(); }
 
   // Close pairs into rows_ (CSR by local particle, partners sorted).
   SelfCollisionStats find(const Vec3* x, int threads) {
@@ -136,6 +181,7 @@ class SelfCollision {
     q.exclusion = s_.exclusion == Exclusion::none ? nullptr : exclusion_.get();
     q.signatures = s_.exclusion == Exclusion::signature;
     sinks_.resize(std::size_t(std::max(threads, 1)));
+    for (auto& sink : sinks_) sink.cap = 4 * (max_contacts_ / sinks_.size());
     SelfCollisionStats st;
     switch (s_.broad_phase) {
       case BroadPhase::brute:
@@ -157,6 +203,7 @@ class SelfCollision {
       st.candidate_pairs += sink.tested;
       st.excluded += sink.excluded;
       st.skipped_cells += sink.skipped;
+      if (sink.full) refuse_contacts();
     }
     build_rows();
     st.contacts = partners_.size() / 2;
@@ -272,6 +319,21 @@ class SelfCollision {
     return used;
   }
 
+  // Contacts are bounded by the memory budget (limits.hpp: half the physical memory, or of the
+  // address-space limit), at kBytesPerContact each: the sinks (both orders, with the slack of
+  // a growing vector), the rows, and an implicit scheme's contact links.
+  // (Asked once per engine: the budget reads the environment and makes system calls.)
+  std::size_t max_contacts_ = std::size_t(limits::memory_budget_bytes() / kBytesPerContact);
+  [[noreturn]] void refuse_contacts() const {
+    std::ostringstream why;
+    why << "self_collision: more than " << max_contacts_ << " contact pairs (" << kBytesPerContact
+        << " bytes each, above the memory budget of "
+        << double(limits::memory_budget_bytes()) / double(1 << 30) << " GiB) among " << set_.size()
+        << " particles: the radius " << s_.radius
+        << " m takes in most of them; lower [self_collision] radius";
+    throw std::invalid_argument(why.str());
+  }
+
   void build_rows() {
     const std::size_t n = set_.size();
     start_.assign(n + 1, 0);
@@ -358,14 +420,17 @@ namespace {
 class SelfCollisionStage final : public Stage {
  public:
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s)
-      : settings_(s), engine_(m, s) {}
+      : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {}
   std::string name() const override { return std::string(kSelfCollisionStage); }
   Phase phase() const override { return kSelfCollisionPhase; }
   void model_changed(const Model& m) override {
-    engine_ = SelfCollision(m, settings_);
+    engine_.release_exclusion();
     wide_.reset();
+    engine_ = SelfCollision(m, settings_);
+    warnings_ = leak_warnings(m, engine_.settings());
     last_cell_ = 0;
   }
+  std::vector<std::string> warnings() const override { return warnings_; }
 
   // Like conditional links: at most 4 contacts at once per particle (a particle in the hollow
   // of a layer below), each against another free particle (counted twice: Gershgorin).
@@ -469,6 +534,7 @@ class SelfCollisionStage final : public Stage {
  private:
   SelfCollisionSettings settings_;
   SelfCollision engine_;
+  std::vector<std::string> warnings_;  // leak_warnings of the resolved settings
   std::array<int, 8> ids_{-1, -1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
   // This step's contact candidates as conditional links (same law), for implicit schemes: the
@@ -554,6 +620,22 @@ std::unique_ptr<Stage> make_self_collision_stage(const Model& m, const SelfColli
 SelfCollisionView self_collision_view(const Stage& st) {
   const auto* sc = dynamic_cast<const SelfCollisionStage*>(&st);
   return sc ? sc->view() : SelfCollisionView{};
+}
+
+std::uint64_t self_collision_exclusion_bytes(const Model& m,
+                                             std::span<const std::uint32_t> particles,
+                                             int topological_radius) {
+  if (topological_radius == 0 || particles.empty()) return 0;
+  const std::vector<std::uint32_t> set(particles.begin(), particles.end());
+  const std::uint64_t row =
+      collision::TopologicalExclusion::sampled_row_bound(m, set, topological_radius);
+  const std::uint64_t n = set.size(), points = m.points.size();
+  std::uint64_t link_ends = 0;
+  for (const auto& pool : m.links.pools())
+    if (!pool->conditional()) link_ends += 2 * pool->size();
+  return 4 * (row * n + (n + 1)) +       // the rows and their offsets
+         4 * (link_ends + 2 * points) +  // the adjacency (CSR) and the search's marks
+         4 * points + 16 * n;            // the local index, each particle's grid cell
 }
 
 ExclusionRows self_collision_exclusion_rows(const Model& m,
