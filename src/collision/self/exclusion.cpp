@@ -175,8 +175,9 @@ TopologicalExclusion::TopologicalExclusion(const Model& m, const std::vector<std
   // Matrix rows: every neighbour within R, except, for a particle the stencils cover, those of
   // its own grid group (the stencil answers for them; rows stay empty on plain cloth). Without
   // stencils, the rows' room is reserved from the sampled bound: grown by doubling, the array
-  // held up to twice its entries, and three times while it moved (1.28 GB for an estimate of
-  // 285 MB at R = 16 on 256^2).
+  // could hold up to twice its entries, three times while it moved. (The 1.28 GB measured for
+  // an estimate of 285 MB at R = 16 on 256^2 had three causes: rows twice the (2R + 1)^2 the
+  // estimate assumed, two engines alive at once when the stage was reset, and this growth.)
   if (!signature_) neighbours_.reserve(sampled_row_bound(m, set, radius_) * set.size());
   std::vector<std::uint32_t> row;
   for (std::size_t k = 0; k < set.size(); ++k) {
