@@ -11,6 +11,7 @@
 #include <set>
 
 #include "maille/builders.hpp"
+#include "collision/self/self_collision_view.hpp"
 #include "maille/self_collision.hpp"
 
 namespace {
@@ -259,7 +260,7 @@ TEST(SelfCollision, WarnsWhenPointsCanSlipBetweenParticles) {
   FlagParams p;
   p.nx = p.ny = 24;
   p.width = p.height = Real(0.035 * 23);
-  p.fixed = "none";
+  p.fixed = FlagFixed::none;
   build_flag(m, p, "cloth");
   m.prepare();
   auto warnings = [&](Real radius, Primitive primitive) {
@@ -292,7 +293,7 @@ TEST(SelfCollision, ExclusionEstimateCoversTheRows) {
   Model m;
   FlagParams p;
   p.nx = p.ny = 96;
-  p.fixed = "none";
+  p.fixed = FlagFixed::none;
   build_flag(m, p, "cloth");
   m.prepare();
   std::vector<std::uint32_t> particles(m.points.size());
