@@ -119,6 +119,16 @@ TEST(Names, TheDocsListEveryTablesNames) {
   expect_documented<audio::Resampler>("## Sound", "resampler");
   expect_documented<DrivePath::Kind>("### `drive`", "path");
   expect_documented<ObstacleMotion::Kind>("`motion` (inline", "path");
+  // The integrators are a registry: the docs list its names, in its order.
+  {
+    static const auto doc = doc_lines("docs/scene-format.md");
+    std::string listed;
+    for (const auto& e : IntegratorRegistry::builtin().entries())
+      listed += (listed.empty() ? "`" : ", `") + e.name + "`";
+    EXPECT_NE(doc_row(doc, "## `[simulation]`", "integrator").find("| " + listed + " |"),
+              std::string::npos)
+        << listed;
+  }
   // The frame formats are command-line choices: README's synopsis lists them.
   bool listed = false;
   for (const auto& line : doc_lines("README.md"))
