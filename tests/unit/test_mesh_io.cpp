@@ -209,7 +209,7 @@ TEST(mesh_io, MalformedObjIsRefused) {
     const std::string message = error_of([&] { parse_obj(b.text, "m.obj"); });
     EXPECT_NE(message.find(b.phrase), std::string::npos) << message;
   }
-  // A polygon above the limit, and lines counted as tinyobjloader counts them (\r\n, lone \r).
+  // A polygon above the limit, and lines counted as the reader counts them (\r\n, lone \r).
   // (Built by appending: GCC 12's -Wrestrict misfires on "literal" + std::string.)
   std::string big;
   for (int i = 0; i < 300; ++i) {
