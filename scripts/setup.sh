@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   g++ cmake ninja-build pkg-config
-  libeigen3-dev libtomlplusplus-dev libcli11-dev libtinyobjloader-dev
+  libeigen3-dev libtomlplusplus-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libomp-dev
   # Rendering (src/render, apps/viewer, `maille render`): OpenGL 4.5 core through libepoxy, EGL
   # surfaceless on Mesa's software driver for headless frames, GLFW + Dear ImGui for the viewer,

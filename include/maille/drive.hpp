@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "maille/names.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -33,6 +34,17 @@ struct DrivePath {
   Vec3 position(double t) const;
   Vec3 velocity(double t) const;
   Real max_speed() const;  // m/s, over all times
+};
+
+template <>
+struct NameTable<DrivePath::Kind> {
+  static constexpr std::string_view what = "drive path";
+  static constexpr std::array<Name<DrivePath::Kind>, 4> names{{
+      {DrivePath::Kind::sine, "sine", "x0 + A (sin(2 pi f t + phase) - sin phase)"},
+      {DrivePath::Kind::circle, "circle", "a circle of `radius` about `axis`, from x0"},
+      {DrivePath::Kind::keyframes, "keyframes", "piecewise linear through the keys"},
+      {DrivePath::Kind::rotate, "rotate", "about the line through `center` along `axis`"},
+  }};
 };
 
 struct Drive {

@@ -36,7 +36,7 @@ namespace mesh_limits {
 inline constexpr std::size_t max_triangles = 10'000'000;
 // Positions (and OBJ texture coordinates and normals, which are read and dropped).
 inline constexpr std::size_t max_vertices = 3 * max_triangles;
-// Vertices of one OBJ polygon: tinyobjloader's ear clipping is cubic in it.
+// Vertices of one OBJ polygon: the reader's ear clipping is cubic in it.
 inline constexpr std::size_t max_polygon_vertices = 256;
 inline constexpr std::uintmax_t max_file_bytes = std::uintmax_t{1} << 30;  // 1 GiB
 // Coordinates beyond this magnitude are refused: products of differences (areas, volumes) stay
@@ -54,7 +54,7 @@ class MeshError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Reads an OBJ (tinyobjloader; polygons are triangulated, groups merged) or an STL (ASCII or
+// Reads an OBJ (one pass: polygons triangulated, groups merged) or an STL (ASCII or
 // binary, told apart by content, not by extension) file. STL vertices that coincide exactly are
 // welded, so that shared edges are shared indices. Throws MeshError.
 TriMesh read_mesh(const std::string& path);

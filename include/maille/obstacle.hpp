@@ -70,6 +70,17 @@ struct ObstacleMotion {
   bool moves() const { return kind != Kind::none; }
 };
 
+// The paths a scene names (motion = { path = "..." }); `none` is no path.
+template <>
+struct NameTable<ObstacleMotion::Kind> {
+  static constexpr std::string_view what = "motion path";
+  static constexpr std::array<Name<ObstacleMotion::Kind>, 3> names{{
+      {ObstacleMotion::Kind::rotate, "rotate", "about an axis, `frequency` turns per second"},
+      {ObstacleMotion::Kind::translate, "translate", "at a constant velocity"},
+      {ObstacleMotion::Kind::oscillate, "oscillate", "amplitude sin(2 pi f t + phase)"},
+  }};
+};
+
 struct Obstacle {
   std::string name = "obstacle";
   ObstacleMethod method = ObstacleMethod::geometric;

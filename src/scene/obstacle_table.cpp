@@ -24,21 +24,23 @@ Real frequency(SceneTable& t) {
 // motion = { path = "rotate" | "translate" | "oscillate", ... }
 ObstacleMotion motion(SceneTable& t, const Vec3& position) {
   ObstacleMotion mo;
-  const std::string path = t.text("path", "rotate", {"rotate", "translate", "oscillate"});
-  if (path == "rotate") {
-    mo.kind = ObstacleMotion::Kind::rotate;
-    mo.axis = t.vec3("axis", mo.axis);
-    if (norm(mo.axis) == 0) t.fail("axis", "must not be zero");
-    mo.center = t.vec3("center", position);
-    mo.frequency = frequency(t);
-  } else if (path == "translate") {
-    mo.kind = ObstacleMotion::Kind::translate;
-    mo.velocity = t.vec3("velocity", {});
-  } else {
-    mo.kind = ObstacleMotion::Kind::oscillate;
-    mo.amplitude = t.vec3("amplitude", {});
-    mo.frequency = frequency(t);
-    mo.phase = t.real("phase", 0, Bound::any);
+  mo.kind = t.choice("path", ObstacleMotion::Kind::rotate);
+  switch (mo.kind) {
+    case ObstacleMotion::Kind::rotate:
+      mo.axis = t.vec3("axis", mo.axis);
+      if (norm(mo.axis) == 0) t.fail("axis", "must not be zero");
+      mo.center = t.vec3("center", position);
+      mo.frequency = frequency(t);
+      break;
+    case ObstacleMotion::Kind::translate:
+      mo.velocity = t.vec3("velocity", {});
+      break;
+    case ObstacleMotion::Kind::oscillate:
+    case ObstacleMotion::Kind::none:  // not a name: choice() never returns it
+      mo.amplitude = t.vec3("amplitude", {});
+      mo.frequency = frequency(t);
+      mo.phase = t.real("phase", 0, Bound::any);
+      break;
   }
   t.finish();
   return mo;

@@ -183,31 +183,32 @@ class SceneReader {
   DrivePath drive(TomlCursor& t, const Vec3& origin) {
     DrivePath p;
     p.origin = origin;
-    const std::string kind = t.text("path", "sine", {"sine", "circle", "keyframes", "rotate"});
+    p.kind = t.choice("path", p.kind);
     p.phase = t.real("phase", 0, Bound::any);
-    if (kind == "sine") {
-      p.kind = DrivePath::Kind::sine;
-      p.amplitude = t.vec3("amplitude");
-      p.frequency = t.real("frequency", Bound::positive);
-      t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
-    } else if (kind == "circle") {
-      p.kind = DrivePath::Kind::circle;
-      p.radius = t.real("radius", Bound::positive);
-      t.check_range("radius", p.radius, 0, limits::max_coordinate, "m");
-      p.axis = t.vec3("axis", p.axis);
-      if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
-      p.frequency = t.real("frequency", Bound::positive);
-      t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
-    } else if (kind == "rotate") {
-      p.kind = DrivePath::Kind::rotate;
-      p.center = t.vec3("center", p.center);
-      p.axis = t.vec3("axis", p.axis);
-      if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
-      p.frequency = t.real("frequency", Bound::positive);
-      p.length = t.real("length", 0, Bound::non_negative);
-    } else {
-      p.kind = DrivePath::Kind::keyframes;
-      keyframes(t, p);
+    switch (p.kind) {
+      case DrivePath::Kind::sine:
+        p.amplitude = t.vec3("amplitude");
+        p.frequency = t.real("frequency", Bound::positive);
+        t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
+        break;
+      case DrivePath::Kind::circle:
+        p.radius = t.real("radius", Bound::positive);
+        t.check_range("radius", p.radius, 0, limits::max_coordinate, "m");
+        p.axis = t.vec3("axis", p.axis);
+        if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
+        p.frequency = t.real("frequency", Bound::positive);
+        t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
+        break;
+      case DrivePath::Kind::rotate:
+        p.center = t.vec3("center", p.center);
+        p.axis = t.vec3("axis", p.axis);
+        if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
+        p.frequency = t.real("frequency", Bound::positive);
+        p.length = t.real("length", 0, Bound::non_negative);
+        break;
+      case DrivePath::Kind::keyframes:
+        keyframes(t, p);
+        break;
     }
     t.finish();
     return p;

@@ -86,6 +86,8 @@ TEST(EditValidation, TheFacetStagesInsideSweepIsRecordedInTheState) {
   b.restore(s);
   ASSERT_TRUE(a.run_steps(5));
   ASSERT_TRUE(b.run_steps(5));
+  // Still deep inside: no sweep ran (a sweep puts it on the surface, 0.2 m out), in either.
+  EXPECT_LT(norm(a.state().x()[0]), Real(0.1));
   EXPECT_EQ(state_hash(a.state()), state_hash(b.state()));
   // A reset starts a fresh State: the sweep is made again (the particle starts outside here).
   a.reset();

@@ -92,6 +92,13 @@ TEST(Names, EveryTableRoundTripsAndCoversItsEnum) {
   expect_round_trip<audio::Quantity>();
   expect_round_trip<audio::SampleFormat>();
   expect_round_trip<audio::Resampler>();
+  expect_round_trip<DrivePath::Kind>();
+  // Motion paths: every value but `none` (not a name a scene may give).
+  for (const auto& n : NameTable<ObstacleMotion::Kind>::names) {
+    EXPECT_NE(n.value, ObstacleMotion::Kind::none);
+    EXPECT_EQ(parse_name<ObstacleMotion::Kind>(n.name), n.value);
+  }
+  EXPECT_EQ(NameTable<ObstacleMotion::Kind>::names.size(), 3u);
 }
 
 TEST(Names, TheDocsListEveryTablesNames) {
@@ -110,6 +117,18 @@ TEST(Names, TheDocsListEveryTablesNames) {
   expect_documented<audio::Quantity>("## Sound", "quantity");
   expect_documented<audio::SampleFormat>("## Sound", "format");
   expect_documented<audio::Resampler>("## Sound", "resampler");
+  expect_documented<DrivePath::Kind>("### `drive`", "path");
+  expect_documented<ObstacleMotion::Kind>("`motion` (inline", "path");
+  // The integrators are a registry: the docs list its names, in its order.
+  {
+    static const auto doc = doc_lines("docs/scene-format.md");
+    std::string listed;
+    for (const auto& e : IntegratorRegistry::builtin().entries())
+      listed += (listed.empty() ? "`" : ", `") + e.name + "`";
+    EXPECT_NE(doc_row(doc, "## `[simulation]`", "integrator").find("| " + listed + " |"),
+              std::string::npos)
+        << listed;
+  }
   // The frame formats are command-line choices: README's synopsis lists them.
   bool listed = false;
   for (const auto& line : doc_lines("README.md"))

@@ -224,7 +224,7 @@ TEST(mesh_io, MalformedObjIsRefused) {
     const std::string message = error_of([&] { parse_obj(b.text, "m.obj"); });
     EXPECT_NE(message.find(b.phrase), std::string::npos) << message;
   }
-  // A polygon above the limit, and lines counted as tinyobjloader counts them (\r\n, lone \r).
+  // A polygon above the limit, and lines counted as the reader counts them (\r\n, lone \r).
   // (Built by appending: GCC 12's -Wrestrict misfires on "literal" + std::string.)
   std::string big;
   for (int i = 0; i < 300; ++i) {
@@ -296,6 +296,33 @@ TEST(mesh_io, MalformedStlIsRefused) {
       "solid a\r\nFACET NORMAL 0 0 1\r\nOUTER LOOP\r\nVERTEX 0 0 0\r\nVERTEX 1 0 0\r\n"
       "VERTEX 0 1 0\r\nENDLOOP\r\nENDFACET\r\nENDSOLID a\r\nsolid b\nendsolid b\n";
   EXPECT_EQ(parse_stl(two, "s.stl").triangles.size(), 1u);
+}
+
+}  // namespace
+}  // namespace maille
+
+namespace maille {
+namespace {
+
+// One parse (issue 22): the reader triangulates the faces itself. Quads split along the shorter
+// diagonal (as tinyobjloader did), larger polygons by ear clipping, non-convex ones included;
+// a polygon with no ear is refused at its line.
+TEST(mesh_io, ObjFacesAreTriangulatedByTheReader) {
+  const TriMesh kite = parse_obj("v 0 0 0\nv 1 -2 0\nv 1.5 0 0\nv 1 2 0\nf 1 2 3 4\n", "k.obj");
+  ASSERT_EQ(kite.triangles.size(), 2u);
+  EXPECT_EQ(kite.triangles[0], (std::array<std::uint32_t, 3>{0, 1, 2}));  // |v2 - v0| shorter
+  EXPECT_EQ(kite.triangles[1], (std::array<std::uint32_t, 3>{0, 2, 3}));
+  const TriMesh polygons = read_mesh(kData + "polygons.obj");  // a pentagon and an L hexagon
+  EXPECT_EQ(polygons.triangles.size(), 7u);
+  EXPECT_NEAR(double(polygons.area()), 5 + 4, 1e-12);
+  try {
+    parse_obj("v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nv 4 0 0\nf 1 2 3 4 5\n", "flat.obj");
+    FAIL() << "accepted";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("flat.obj:6: a polygon could not be triangulated"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

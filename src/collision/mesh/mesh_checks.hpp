@@ -19,8 +19,8 @@ std::string quote(std::string_view token);
 
 // A decimal number, strictly: [+-] (digits [. [digits]] | . digits) [(e|E) [+-] digits], or
 // nan / inf / infinity in any case (read, so that they are reported as such, not as words).
-// The grammar is the part tinyobjloader's own number parser agrees with, so a file it accepts
-// means the same to both. Hexadecimal and trailing characters are not numbers.
+// (The grammar is the part tinyobjloader's number parser agreed with, when OBJ text also went
+// through it: files keep their meaning.) Hexadecimal and trailing characters are not numbers.
 enum class Number { ok, not_a_number, out_of_range };
 Number parse_number(std::string_view token, double& value);
 

@@ -1,36 +1,29 @@
-// OBJ through tinyobjloader, behind a strict scan of our own.
-//
-// tinyobjloader is lenient by design: "1.5abc" reads as 1.5, "nan" as 0, an unknown statement
-// is skipped, an index past the vertices read so far is kept and later read out of bounds by
-// its triangulation, and atoi() overflows on long indices. So the text is scanned first, line
-// by line exactly as tinyobjloader splits it (\n, \r\n, lone \r), and every statement it would
-// act on is checked:
+// OBJ, parsed once by our own strict scan: every line is read and checked, and the faces are
+// triangulated here. (It used to be scanned here and parsed again by tinyobjloader, whose
+// leniency - "1.5abc" as 1.5, "nan" as 0, unknown statements skipped, out-of-range indices read
+// out of bounds, atoi overflows - is why the scan existed; the scan already read everything.)
 //
 //   v x y z [w | r g b]   numbers (grammar in mesh_checks.hpp), coordinates finite and in range
-//   vt, vn, vp            numbers (read by tinyobjloader, not used)
+//   vt, vn, vp            numbers (checked, not used)
 //   f / l / p             refs v, v/vt, v//vn, v/vt/vn: integers, not 0, inside what is
 //                         defined so far (negative = relative); faces of 3..256 vertices
-//   g o s usemtl mtllib   allowed; anything else is an unknown statement
+//   g o s usemtl mtllib   allowed (materials are not read); anything else is an unknown statement
 //
-// and the sizes are counted against mesh_limits before tinyobjloader allocates anything.
-// Materials are not read: usemtl / mtllib lines (and nameless groups, which only make
-// tinyobjloader warn) are turned into comments in the copy it parses, so that any warning or
-// error it still gives is a real one and refuses the file.
-//
-// tinyobjloader supplies the faces: polygons triangulated (its ear clipping; a polygon it
-// cannot triangulate leaves fewer than n - 2 triangles, which is refused), every group and
-// object merged in file order. The coordinates come from the scan: std::from_chars rounds
-// correctly, where tinyobjloader's digit-by-digit conversion is off by an ulp or two, and
-// to_obj -> parse_obj must give the same doubles back.
-#include <tiny_obj_loader.h>
-
+// Lines end at \n, \r\n or a lone \r. Sizes are counted against mesh_limits before anything is
+// allocated for them. Every group and object is merged in file order. Triangles are kept;
+// quads are split as tinyobjloader split them, along the shorter diagonal ((0, 1, 2), (0, 2, 3)
+// when |v2 - v0| < |v3 - v1|, else (0, 1, 3), (1, 2, 3)), so the meshes of examples/models read
+// to the same triangles as before (checked when the reader changed); larger polygons are cut by
+// ear clipping in the plane of their Newell normal (the same surface as before, not always the
+// same triangles); a polygon with no ear left (self-intersecting, or flat) is refused at its
+// line. Coordinates come from std::from_chars,
+// correctly rounded, so to_obj -> parse_obj gives the same doubles back.
 #include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <istream>
-#include <streambuf>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -43,7 +36,7 @@ namespace {
 using mesh_detail::fail;
 using mesh_detail::quote;
 
-// The fields of one line, split at spaces and tabs as tinyobjloader splits them.
+// The fields of one line, split at spaces and tabs.
 class Fields {
  public:
   explicit Fields(std::string_view line) : line_(line) {}
@@ -63,14 +56,15 @@ struct Scan {
   std::vector<Vec3> positions;
   std::vector<std::size_t> face_lines;           // line of each `f`, in file order
   std::vector<std::size_t> face_first_triangle;  // its first triangle once triangulated
+  std::vector<std::uint32_t> face_start;         // [faces + 1]: face f's corners in `corners`
+  std::vector<std::uint32_t> corners;            // vertex indices (0-based, resolved)
   std::size_t triangles = 0;
-  std::string text;  // the copy tinyobjloader parses (same length and lines)
 };
 
 class Scanner {
  public:
   Scanner(std::string_view text, const std::string& name) : in_(text), name_(name) {
-    scan_.text.assign(text);
+    scan_.face_start.push_back(0);
   }
 
   Scan run() {
@@ -82,15 +76,15 @@ class Scanner {
       const std::string_view line = in_.substr(start, pos - start);
       if (pos < in_.size())
         pos += (in_[pos] == '\r' && pos + 1 < in_.size() && in_[pos + 1] == '\n') ? 2 : 1;
-      statement(line, start);
+      statement(line);
     }
     if (scan_.triangles == 0) fail(name_, 0, "empty mesh (no triangles)");
     return std::move(scan_);
   }
 
  private:
-  void statement(std::string_view line, std::size_t offset) {
-    // tinyobjloader reads a line as a C string: a NUL would end it early, hiding the rest.
+  void statement(std::string_view line) {
+    // A NUL has no place in OBJ text: a binary file read as OBJ.
     if (line.find('\0') != std::string_view::npos)
       fail(name_, line_, "NUL byte in the text (a binary file?)");
     const std::size_t first = line.find_first_not_of(" \t");
@@ -109,13 +103,9 @@ class Scanner {
       refs(fields, 2, "a line");
     } else if (keyword == "p") {
       refs(fields, 1, "a point");
-    } else if (keyword == "g") {
-      if (fields.next().empty()) scan_.text[offset + first] = '#';
-    } else if (keyword == "o") {
+    } else if (keyword == "g" || keyword == "o" || keyword == "usemtl" || keyword == "mtllib") {
     } else if (keyword == "s") {
       smoothing(fields);
-    } else if (keyword == "usemtl" || keyword == "mtllib") {
-      scan_.text[offset + first] = '#';
     } else if (known_) {
       fail(name_, line_, "unknown statement " + quote(keyword));
     } else {  // nothing of a mesh yet: quote none of it (a path may lead to any file)
@@ -186,8 +176,8 @@ class Scanner {
   }
 
   // One index of a reference: [+-]digits, not 0, inside the `defined` items read so far
-  // (negative: counted back from the last one).
-  void index(std::string_view token, std::size_t defined, const char* what) {
+  // (negative: counted back from the last one). Returns it 0-based.
+  std::size_t index(std::string_view token, std::size_t defined, const char* what) {
     std::string_view digits = token;
     const bool negative = !digits.empty() && digits[0] == '-';
     if (!digits.empty() && (digits[0] == '+' || digits[0] == '-')) digits.remove_prefix(1);
@@ -202,10 +192,11 @@ class Scanner {
       fail(name_, line_,
            std::string(what) + " index out of range: " + quote(token) + " (" +
                std::to_string(defined) + (negative ? " defined before it)" : " defined so far)"));
+    return negative ? defined - k : k - 1;
   }
 
-  // v, v/vt, v//vn or v/vt/vn.
-  void ref(std::string_view token) {
+  // v, v/vt, v//vn or v/vt/vn; returns the vertex, 0-based.
+  std::size_t ref(std::string_view token) {
     std::string_view part[3];
     int parts = 0;
     std::size_t start = 0;
@@ -220,19 +211,23 @@ class Scanner {
     const bool ok = !part[0].empty() && (parts < 2 || !part[1].empty() || parts == 3) &&
                     (parts < 3 || !part[2].empty());
     if (!ok) fail(name_, line_, "bad vertex reference " + quote(token));
-    index(part[0], scan_.positions.size(), "vertex");
+    const std::size_t vertex = index(part[0], scan_.positions.size(), "vertex");
     if (parts >= 2 && !part[1].empty()) index(part[1], texcoords_, "texture coordinate");
     if (parts == 3) index(part[2], normals_, "normal");
+    return vertex;
   }
 
+  // The references of a face, line or point; a face's vertices go to `corners` (the caller
+  // keeps them or drops them).
   std::size_t refs(Fields& fields, std::size_t min, const char* what) {
     std::size_t n = 0;
+    corners_.clear();
     for (std::string_view t = fields.next(); !t.empty(); t = fields.next()) {
       if (n == mesh_limits::max_polygon_vertices)
         fail(name_, line_,
              std::string(what) + " of more than " +
                  std::to_string(mesh_limits::max_polygon_vertices) + " vertices (the limit)");
-      ref(t);
+      corners_.push_back(static_cast<std::uint32_t>(ref(t)));
       ++n;
     }
     if (n < min)
@@ -251,9 +246,11 @@ class Scanner {
     scan_.face_lines.push_back(line_);
     scan_.face_first_triangle.push_back(scan_.triangles);
     scan_.triangles += n - 2;
+    scan_.corners.insert(scan_.corners.end(), corners_.begin(), corners_.end());
+    scan_.face_start.push_back(static_cast<std::uint32_t>(scan_.corners.size()));
   }
 
-  // "s off", "s on" or a group number (tinyobjloader reads it with atoi: keep it short).
+  // "s off", "s on" or a group number (short: a reader using atoi would overflow).
   void smoothing(Fields& fields) {
     const std::string_view t = fields.next();
     const bool number = !t.empty() && t.size() <= 9 && std::all_of(t.begin(), t.end(), [](char c) {
@@ -268,21 +265,69 @@ class Scanner {
   Scan scan_;
   std::size_t line_ = 0;
   std::size_t vertex_like_ = 0, texcoords_ = 0, normals_ = 0;
-  bool known_ = false;  // a statement of OBJ was read
+  bool known_ = false;                  // a statement of OBJ was read
+  std::vector<std::uint32_t> corners_;  // the current statement's vertices
 };
 
-// An istream over the scan's copy, without another copy (ObjReader::ParseFromString copies).
-class TextBuffer : public std::streambuf {
- public:
-  explicit TextBuffer(std::string& text) {
-    setg(text.data(), text.data(), text.data() + text.size());
+// A polygon's triangles into `out` (see the file's comment); false when no ear is left.
+bool triangulate(const std::vector<Vec3>& x, std::span<const std::uint32_t> poly,
+                 std::vector<std::array<std::uint32_t, 3>>& out) {
+  const std::size_t n = poly.size();
+  if (n == 3) {
+    out.push_back({poly[0], poly[1], poly[2]});
+    return true;
   }
-};
-
-std::string trimmed(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == '.' || s.back() == ' ')) s.pop_back();
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  return s;
+  if (n == 4) {
+    const Real d02 = norm2(x[poly[2]] - x[poly[0]]), d13 = norm2(x[poly[3]] - x[poly[1]]);
+    if (d02 < d13) {
+      out.push_back({poly[0], poly[1], poly[2]});
+      out.push_back({poly[0], poly[2], poly[3]});
+    } else {
+      out.push_back({poly[0], poly[1], poly[3]});
+      out.push_back({poly[1], poly[2], poly[3]});
+    }
+    return true;
+  }
+  // The polygon in the plane of its Newell normal, counter-clockwise seen from the normal.
+  Vec3 normal{};
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec3& p = x[poly[k]];
+    const Vec3& q = x[poly[(k + 1) % n]];
+    normal += Vec3{(p.y - q.y) * (p.z + q.z), (p.z - q.z) * (p.x + q.x), (p.x - q.x) * (p.y + q.y)};
+  }
+  if (!(norm(normal) > 0)) return false;
+  const Vec3 w = normal / norm(normal);
+  const Vec3 a = std::abs(w.x) > Real(0.9) ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+  const Vec3 u = cross(a, w) / norm(cross(a, w));
+  const Vec3 v = cross(w, u);
+  std::vector<std::array<Real, 2>> p(n);
+  for (std::size_t k = 0; k < n; ++k) p[k] = {dot(x[poly[k]], u), dot(x[poly[k]], v)};
+  auto turn = [&](std::size_t i, std::size_t j, std::size_t k) {  // > 0: counter-clockwise
+    return (p[j][0] - p[i][0]) * (p[k][1] - p[i][1]) - (p[j][1] - p[i][1]) * (p[k][0] - p[i][0]);
+  };
+  std::vector<std::size_t> left(n);
+  for (std::size_t k = 0; k < n; ++k) left[k] = k;
+  while (left.size() > 3) {
+    bool clipped = false;
+    for (std::size_t e = 0; e < left.size() && !clipped; ++e) {
+      const std::size_t i = left[(e + left.size() - 1) % left.size()], j = left[e],
+                        k = left[(e + 1) % left.size()];
+      if (!(turn(i, j, k) > 0)) continue;  // a reflex or flat corner is no ear
+      bool empty = true;
+      for (const std::size_t m : left)
+        if (m != i && m != j && m != k && turn(i, j, m) >= 0 && turn(j, k, m) >= 0 &&
+            turn(k, i, m) >= 0)
+          empty = false;
+      if (!empty) continue;
+      out.push_back({poly[i], poly[j], poly[k]});
+      left.erase(left.begin() + std::ptrdiff_t(e));
+      clipped = true;
+    }
+    if (!clipped) return false;
+  }
+  if (!(turn(left[0], left[1], left[2]) > 0)) return false;
+  out.push_back({poly[left[0]], poly[left[1]], poly[left[2]]});
+  return true;
 }
 
 }  // namespace
@@ -291,51 +336,17 @@ TriMesh parse_obj(std::string_view text, const std::string& name) {
   if (text.empty()) fail(name, 0, "empty file");
   Scan scan = Scanner(text, name).run();
 
-  tinyobj::attrib_t attrib;
-  std::vector<tinyobj::shape_t> shapes;
-  std::vector<tinyobj::material_t> materials;
-  std::string warn, err;
-  {
-    TextBuffer buffer(scan.text);
-    std::istream in(&buffer);
-    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &materials, &warn, &err, &in,
-                                     /*readMatFn=*/nullptr, /*triangulate=*/true,
-                                     /*default_vcols_fallback=*/false);
-    if (!ok || !err.empty()) fail(name, 0, "tinyobjloader: " + trimmed(err));
-    if (!warn.empty()) fail(name, 0, "tinyobjloader: " + trimmed(warn));
-  }
-  scan.text = {};
-  // The scan and tinyobjloader must agree on what the file holds; a difference is a gap in the
-  // scan (the fuzzer's business), refused rather than trusted.
-  if (attrib.vertices.size() != 3 * scan.positions.size())
-    fail(name, 0,
-         "tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) +
-             " vertices where the check counted " + std::to_string(scan.positions.size()));
-
   TriMesh mesh;
   mesh.vertices = std::move(scan.positions);
   mesh.triangles.reserve(scan.triangles);
-  const std::size_t nv = mesh.vertices.size();
-  for (const tinyobj::shape_t& shape : shapes) {
-    const auto& idx = shape.mesh.indices;
-    if (idx.size() % 3 != 0 || idx.size() / 3 > scan.triangles - mesh.triangles.size())
-      fail(name, 0, "tinyobjloader made more triangles than the faces allow");
-    for (std::size_t i = 0; i < idx.size(); i += 3) {
-      std::array<std::uint32_t, 3> t{};
-      for (int k = 0; k < 3; ++k) {
-        const int v = idx[i + k].vertex_index;
-        if (v < 0 || static_cast<std::size_t>(v) >= nv)
-          fail(name, 0, "tinyobjloader made a vertex index out of range: " + std::to_string(v));
-        t[k] = static_cast<std::uint32_t>(v);
-      }
-      mesh.triangles.push_back(t);
-    }
+  for (std::size_t f = 0; f + 1 < scan.face_start.size(); ++f) {
+    const std::span<const std::uint32_t> poly(scan.corners.data() + scan.face_start[f],
+                                              scan.face_start[f + 1] - scan.face_start[f]);
+    if (!triangulate(mesh.vertices, poly, mesh.triangles))
+      fail(name, scan.face_lines[f],
+           "a polygon could not be triangulated (face " + std::to_string(f + 1) + ", " +
+               std::to_string(poly.size()) + " vertices: self-intersecting or flat)");
   }
-  if (mesh.triangles.size() != scan.triangles)
-    fail(name, 0,
-         "a polygon could not be triangulated (" + std::to_string(scan.triangles) +
-             " triangles expected from the faces, tinyobjloader made " +
-             std::to_string(mesh.triangles.size()) + ")");
 
   // Every face gave n - 2 triangles in file order, so a triangle's face is found by its index.
   const std::size_t t = mesh_detail::first_zero_area(mesh);

@@ -23,6 +23,19 @@ std::string direct_map(const Obstacle& o) {
   return out;
 }
 
+// The motion's resolved fields (all of them: a fingerprint must see any change).
+std::string motion_text(const Obstacle& o) {
+  const ObstacleMotion& m = o.motion;
+  if (!m.moves()) return "none";
+  using key_detail::vector_text;
+  std::string out(to_string(m.kind));
+  out.append(" axis ").append(vector_text(m.axis)).append(" center ").append(vector_text(m.center));
+  out.append(" velocity ").append(vector_text(m.velocity));
+  out.append(" amplitude ").append(vector_text(m.amplitude));
+  out.append(" frequency ").append(number(m.frequency)).append(" phase ").append(number(m.phase));
+  return out;
+}
+
 }  // namespace
 
 std::span<const StageKey<Obstacle>> obstacle_keys() {
@@ -45,7 +58,7 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                         "([meshes.md](meshes.md)); errors name the file and line",
                  .default_doc = "none",
                  .range_doc = "an OBJ or STL file"},
-                [](const O& o) { return o.mesh_file; }),
+                [](const O& o) { return o.mesh ? o.mesh_file : std::string("none"); }),
       custom<O>("position", KeyType::vector,
                 {.unit = "m", .doc = "translation t", .default_doc = "`[0, 0, 0]`"},
                 [](const O& o) { return key_detail::vector_text(o.place.translation); }),
@@ -122,7 +135,7 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                   return out.empty() ? std::string("every free point") : out;
                 }),
       custom<O>("motion", KeyType::table,
-                {.doc = "a scripted rigid motion, below", .default_doc = "none"}),
+                {.doc = "a scripted rigid motion, below", .default_doc = "none"}, motion_text),
   };
   return keys;
 }
