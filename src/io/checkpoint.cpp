@@ -179,7 +179,8 @@ std::uint64_t model_fingerprint(const Model& m) {
     h.text(s.name);
     h.text(s.variant);
     h.value(s.fingerprint);
-    for (const auto& [key, value] : s.parameters) {  // every declared key, resolved (stage_keys.hpp)
+    for (const auto& [key, value] :
+         s.parameters) {  // every declared key, resolved (stage_keys.hpp)
       h.text(key);
       h.text(value);
     }

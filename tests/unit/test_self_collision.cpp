@@ -10,8 +10,8 @@
 #include <random>
 #include <set>
 
-#include "maille/builders.hpp"
 #include "collision/self/self_collision_view.hpp"
+#include "maille/builders.hpp"
 #include "maille/self_collision.hpp"
 
 namespace {

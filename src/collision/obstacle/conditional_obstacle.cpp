@@ -35,15 +35,6 @@ namespace {
 // Samples per particle that can act at once, for the stability estimate: on a flat surface
 // sampled at spacing s, a particle within s of it is within s of at most about 4 samples.
 constexpr Real kSamplesAtOnce = 4;
-// Refuse samplings that would not fit in memory (a huge obstacle with a tiny threshold), before
-// sampling: at most kMaxSamples, and kBytesPerSample each within the memory budget (the samples,
-// the merge table's node and bucket, the cells' lists).
-constexpr double kMaxSamples = 20'000'000;
-constexpr double kBytesPerSample = 120;
-// Positions are doubles: a threshold below 2^-50 of the coordinates has no meaning (and the cell
-// index x / threshold would overflow a 64-bit integer).
-constexpr double kFinestRelative = 0x1p-50;
-
 struct CellKey {
   std::int64_t i, j, k;
   bool operator==(const CellKey&) const = default;
@@ -55,54 +46,15 @@ struct CellHash {  // unsigned arithmetic: wraps, never overflows (cells far fro
   }
 };
 
-std::string metres(double m) {
-  char s[32];
-  std::snprintf(s, sizeof s, "%.3g m", m);
-  return s;
-}
-
-// The points the lattice puts on each triangle, summed in double (a count of 10^40 must not wrap
-// around), and refused above the bounds with the threshold that would fit.
-// Returns the largest coordinate of the vertices (m).
-double check_sampling(const std::vector<Vec3>& world, const TriMesh& mesh, Real spacing,
-                      const std::string& name) {
-  double planned = 0, reach = 0;
-  for (const Vec3& x : world)
-    reach = std::max({reach, double(std::abs(x.x)), double(std::abs(x.y)), double(std::abs(x.z))});
-  if (double(spacing) < reach * kFinestRelative)
-    throw std::invalid_argument("obstacle '" + name + "': the threshold " + metres(spacing) +
-                                " is below the precision of positions " + metres(reach) +
-                                " from the origin: raise threshold");
-  for (const auto& t : mesh.triangles) {
-    const Vec3 &a = world[t[0]], &b = world[t[1]], &c = world[t[2]];
-    const double d =
-        std::ceil(double(std::max({norm(b - a), norm(c - b), norm(a - c)})) / double(spacing));
-    planned += (d + 1) * (d + 2) / 2;
-  }
-  const double budget = double(limits::memory_budget_bytes());
-  const double most = std::min(kMaxSamples, budget / kBytesPerSample);
-  if (planned <= most) return reach;
-  // The count goes as 1 / threshold^2.
-  const double fits = double(spacing) * std::sqrt(planned / most) * 1.01;
-  char why[256];
-  std::snprintf(why, sizeof why,
-                "': sampling the surface at the threshold (%s) needs about %.3g points, more "
-                "than %.3g (at most %.3g, and %.0f bytes each within the memory budget of "
-                "%.3g GiB): raise threshold to %s or more",
-                metres(spacing).c_str(), planned, most, kMaxSamples, kBytesPerSample,
-                budget / double(1 << 30), metres(fits).c_str());
-  throw std::invalid_argument("obstacle '" + name + why);
-}
-
 std::vector<Vec3> sample_surface(const TriMesh& mesh, const shapes::Affine& place, Real spacing,
                                  const std::string& name) {
-  if (planned_surface_samples(mesh, place, spacing) > kMaxSurfaceSamples)
-    throw std::invalid_argument("obstacle '" + name + "': sampling the surface at the threshold (" +
-                                std::to_string(spacing) + " m) would need more than " +
-                                std::to_string(kMaxSurfaceSamples) + " points: raise threshold");
+  if (const std::string why = sampling_problem(mesh, place, spacing); !why.empty())
+    throw std::invalid_argument("obstacle '" + name + "': " + why);
   std::vector<Vec3> world(mesh.vertices.size());
   for (std::size_t i = 0; i < world.size(); ++i) world[i] = place.to_world(mesh.vertices[i]);
-  const double reach = check_sampling(world, mesh, spacing, name);
+  double reach = 0;
+  for (const Vec3& x : world)
+    reach = std::max({reach, double(std::abs(x.x)), double(std::abs(x.y)), double(std::abs(x.z))});
   // Merge coincident samples (shared edges and vertices) by a grid far finer than the spacing,
   // never finer than 2^-52 of the coordinates (x / snap stays within a 64-bit integer).
   std::unordered_map<CellKey, std::uint32_t, CellHash> seen;

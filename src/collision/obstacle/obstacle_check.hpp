@@ -2,20 +2,19 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include "maille/mesh.hpp"
 #include "maille/shapes.hpp"
 
 namespace maille {
 
-// The conditional method refuses samplings that would not fit in memory (a huge obstacle with a
-// tiny threshold).
-inline constexpr std::uint64_t kMaxSurfaceSamples = 20'000'000;
-
-// An upper bound on the samples the conditional method lays on `mesh` placed by `place` at
-// `spacing` (each facet's triangular lattice before shared points merge); stops counting once
-// above kMaxSurfaceSamples.
-std::uint64_t planned_surface_samples(const TriMesh& mesh, const shapes::Affine& place,
-                                      Real spacing);
+// Why the conditional method cannot sample `mesh` placed by `place` at `spacing` (empty: it can),
+// decided before sampling: a threshold below the precision of the positions, or more samples
+// (each facet's triangular lattice, counted in double) than kMaxSurfaceSamples or than the memory
+// budget holds at kBytesPerSample each; the message gives the threshold that would fit.
+inline constexpr double kMaxSurfaceSamples = 20'000'000;
+inline constexpr double kBytesPerSample = 120;  // the sample, the merge table's node, the cells
+std::string sampling_problem(const TriMesh& mesh, const shapes::Affine& place, Real spacing);
 
 }  // namespace maille
