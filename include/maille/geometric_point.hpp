@@ -11,15 +11,29 @@
 // is one geometric point and its contacts with every colliding point, with a cull.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "maille/names.hpp"
 #include "maille/shapes.hpp"
 #include "maille/stage.hpp"
 
 namespace maille {
+
+// How a geometric contact pushes (scene key `normal` of [[obstacle]] and [[geometric_contact]]).
+enum class ContactNormal : std::uint8_t { canonical, world };
+template <>
+struct NameTable<ContactNormal> {
+  static constexpr std::string_view what = "contact normal";
+  static constexpr std::array<Name<ContactNormal>, 2> names{{
+      {ContactNormal::canonical, "canonical",
+       "the brief's mapping: k times the world image of the canonical penetration"},
+      {ContactNormal::world, "world", "along the world normal with the world depth"},
+  }};
+};
 
 struct Model;
 

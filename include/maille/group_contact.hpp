@@ -19,14 +19,29 @@
 // scene whose method is "broad_phase" (the default).
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/names.hpp"
 #include "maille/stage.hpp"
 
 namespace maille {
+
+// How [[contact]] finds its pairs (scene key `method`).
+enum class ContactMethod : std::uint8_t { broad_phase, links };
+template <>
+struct NameTable<ContactMethod> {
+  static constexpr std::string_view what = "contact method";
+  static constexpr std::array<Name<ContactMethod>, 2> names{{
+      {ContactMethod::broad_phase, "broad_phase", "pairs found each step by a grid"},
+      {ContactMethod::links, "links",
+       "one conditional link per pair, the CORDIS way, also run by the GPU"},
+  }};
+};
 
 struct GroupContactSpec {
   std::string a, b;      // group names (distinct groups, no shared point)

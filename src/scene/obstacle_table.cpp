@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "maille/geometric_point.hpp"
 #include "maille/limits.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/stage_keys.hpp"
@@ -136,7 +137,7 @@ StageSpec obstacle_table(SceneTable& t, const Model& m) {
   read_placement(t, o);
   // The declared keys (obstacle_keys()): a key the method does not use is refused by name.
   read_keys(t, o, obstacle_keys(), to_string(o.method));
-  o.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
+  o.world_normal = t.choice("normal", ContactNormal::canonical) == ContactNormal::world;
   o.collides_with = t.texts("collides_with", {});
   for (const auto& g : o.collides_with)
     if (!m.group(g)) t.fail("collides_with", "no group named '" + g + "'");

@@ -17,6 +17,7 @@
 #include "builder_tables.hpp"
 #include "listen_table.hpp"
 #include "maille/builders.hpp"
+#include "maille/geometric_point.hpp"
 #include "maille/group_contact.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
@@ -326,7 +327,7 @@ class SceneReader {
     t.check_range("stiffness", c.stiffness, 0, limits::max_stiffness, "N/m");
     c.damping = t.real("damping", 0, Bound::non_negative);
     t.check_range("damping", c.damping, 0, limits::max_stiffness, "N.s/m");
-    c.world_normal = t.text("normal", "canonical", {"canonical", "world"}) == "world";
+    c.world_normal = t.choice("normal", ContactNormal::canonical) == ContactNormal::world;
     const toml::node* b = t.node("b");
     const Group* group = b && b->is_string() ? m.group(*b->value<std::string>()) : nullptr;
     std::vector<std::uint32_t> points;
@@ -407,8 +408,7 @@ class SceneReader {
     t.check_range("threshold", p.threshold, 0, 2 * limits::max_coordinate, "m");
     p.rest_length = t.real("rest_length", p.threshold, Bound::non_negative);
     t.check_range("rest_length", p.rest_length, 0, 2 * limits::max_coordinate, "m");
-    const std::string method = t.text("method", "broad_phase");
-    if (method == "broad_phase") {
+    if (t.choice("method", ContactMethod::broad_phase) == ContactMethod::broad_phase) {
       bool any_free = false;
       for (const Group* gr : g)
         for (std::uint32_t i = gr->first; i < gr->first + gr->count && !any_free; ++i)
@@ -421,10 +421,6 @@ class SceneReader {
       t.finish();
       return;
     }
-    if (method != "links")
-      t.fail("method", "unknown method '" + method +
-                           "' (known: broad_phase: pairs found each step by a grid; links: one "
-                           "conditional link per pair, the CORDIS way, also run by the GPU)");
     const std::uint64_t pairs = std::uint64_t(g[0]->count) * g[1]->count;
     const limits::SizeEstimate total{m.points.size(), m.links.total() + pairs,
                                      m.surface.triangles.size()};

@@ -11,6 +11,8 @@
 #include "maille/audio.hpp"
 #include "maille/backend.hpp"
 #include "maille/builders.hpp"
+#include "maille/geometric_point.hpp"
+#include "maille/group_contact.hpp"
 #include "maille/integrator.hpp"
 #include "maille/io.hpp"
 #include "maille/link_registry.hpp"
@@ -93,6 +95,8 @@ TEST(Names, EveryTableRoundTripsAndCoversItsEnum) {
   expect_round_trip<audio::SampleFormat>();
   expect_round_trip<audio::Resampler>();
   expect_round_trip<DrivePath::Kind>();
+  expect_round_trip<ContactNormal>();
+  expect_round_trip<ContactMethod>();
   // Motion paths: every value but `none` (not a name a scene may give).
   for (const auto& n : NameTable<ObstacleMotion::Kind>::names) {
     EXPECT_NE(n.value, ObstacleMotion::Kind::none);
@@ -107,6 +111,8 @@ TEST(Names, TheDocsListEveryTablesNames) {
   expect_documented<Primitive>("## Self-collision", "primitive");
   expect_documented<ObstacleMethod>("## Obstacles", "method");
   expect_documented<ShapeKind>("## Obstacles", "shape");
+  expect_documented<ContactNormal>("## Obstacles", "normal");
+  expect_documented<ContactMethod>("## Contacts", "method");
   expect_documented<FlagFixed>("### `[[flag]]`", "fixed");
   expect_documented<RopeFixed>("### `[[rope]]`", "fixed");
   expect_documented<NetFixed>("### `[[net]]`", "fixed");

@@ -3,6 +3,7 @@
 // gate), and the others keep their defaults so that the viewer can switch the method live.
 #include <array>
 
+#include "maille/geometric_point.hpp"
 #include "maille/limits.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/stage_keys.hpp"
@@ -107,7 +108,10 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                         "surface normal); `world`: along the world normal with the world depth",
                  .default_doc = "`\"canonical\"`",
                  .range_doc = "`canonical`, `world`"},
-                [](const O& o) { return std::string(o.world_normal ? "world" : "canonical"); }),
+                [](const O& o) {
+                  return std::string(
+                      to_string(o.world_normal ? ContactNormal::world : ContactNormal::canonical));
+                }),
       number<&O::threshold>("threshold", Bound::positive, 0, limits::max_coordinate,
                             {.unit = "m",
                              .methods = "conditional",
