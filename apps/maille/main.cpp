@@ -1,6 +1,6 @@
 // maille: run, check and measure scenes from the command line.
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -54,26 +54,9 @@ const char* const gpu_device_help =
 
 }  // namespace
 
-// OpenMP (libgomp) reads its wait policy when the program loads, before main. Unset, a thread
-// waiting at a barrier spins for a long while, which is right on free cores and ruinous when
-// another program holds one: its partner is descheduled and the spin burns the time it needs
-// (flag_64 on 2 threads beside a busy core: 440 ns per particle-step spinning, 60 passive,
-// 79 on one thread; docs/benchmarks.md). So when cores are shared at start, the program starts
-// again with OMP_WAIT_POLICY=passive (waiting threads sleep). A policy the user set, or a
-// GOMP_SPINCOUNT, is kept.
-namespace {
-void wait_passively_when_cores_are_shared(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
-  if (maille::free_cores_now() >= maille::cores_available()) return;
-  if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
-  execv("/proc/self/exe", argv);  // returns only on failure: then go on as we are
-  unsetenv("OMP_WAIT_POLICY");
-}
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace maille::app;
-  wait_passively_when_cores_are_shared(argv);
+  maille::wait_passively_when_cores_are_shared(argv);  // cores.hpp: why
 #ifdef MAILLE_WITH_RENDER
   maille::gpu::register_backend();
 #endif

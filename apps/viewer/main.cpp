@@ -4,10 +4,13 @@
 #include <string>
 #include <vector>
 
+#include "maille/cores.hpp"
 #include "maille/gpu.hpp"
 #include "viewer.hpp"
 
 int main(int argc, char** argv) {
+  // The viewer's render loop holds a core: its physics threads wait passively (cores.hpp).
+  maille::wait_passively_when_cores_are_shared(argv, true);
   maille::gpu::register_backend();
   maille::viewer::ViewerOptions o;
   CLI::App app{"Maille viewer: run a scene live, drag particles, tune parameters"};

@@ -1,9 +1,11 @@
 #include "free_cores.hpp"
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -62,6 +64,14 @@ int cores_available() {
 
 int free_cores_now() {
   return detail::free_cores(cores_available());
+}
+
+void wait_passively_when_cores_are_shared(char** argv, bool renders_itself) {
+  if (std::getenv("OMP_WAIT_POLICY") || std::getenv("GOMP_SPINCOUNT")) return;
+  if (!renders_itself && free_cores_now() >= cores_available()) return;
+  if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0) return;
+  execv("/proc/self/exe", argv);  // returns only on failure: then go on as we are
+  unsetenv("OMP_WAIT_POLICY");
 }
 
 }  // namespace maille
