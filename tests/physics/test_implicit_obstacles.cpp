@@ -42,6 +42,25 @@ void install(Model& m, const Obstacle& o) {
                       [o](const Model& mm) { return make_obstacle_stage(mm, o); }});
 }
 
+// A free horizontal n x n cloth of side `side` (m) and mass `mass` (kg), its corner at `corner`,
+// every point moving at `velocity`.
+Model flat_cloth(std::uint32_t n, Real side, Real mass, const Vec3& corner, const Vec3& velocity) {
+  Model m;
+  FlagParams p;
+  p.nx = n;
+  p.ny = n;
+  p.width = side;
+  p.height = side;
+  p.mass = mass;
+  p.origin = corner;
+  p.along = {1, 0, 0};
+  p.up = {0, 0, 1};
+  p.fixed = FlagFixed::none;
+  build_flag(m, p, "cloth");
+  for (Vec3& v : m.points.initial_velocity) v = velocity;
+  return m;
+}
+
 SimulationSettings implicit(double h, const char* solver) {
   SimulationSettings s = test::settings(h, "implicit_euler");
   s.implicit.solver = *parse_name<ImplicitSolver>(solver);
@@ -110,19 +129,7 @@ TEST(ImplicitFacets, NothingEndsBelowAPlaneAtAnySpeed) {
 // (through it), with every solver, and the cloth comes to rest on it.
 TEST(ImplicitFacets, ClothThrownAtAThinBoxAtLargeStepsStaysOnIt) {
   for (const char* solver : kSolvers) {
-    Model m;
-    FlagParams p;
-    p.nx = 16;
-    p.ny = 16;
-    p.width = 0.6;
-    p.height = 0.6;
-    p.mass = 0.1;
-    p.origin = {-0.3, 0.3, -0.3};
-    p.along = {1, 0, 0};
-    p.up = {0, 0, 1};
-    p.fixed = FlagFixed::none;
-    build_flag(m, p, "cloth");
-    for (Vec3& v : m.points.initial_velocity) v = {0, -10, 0};
+    Model m = flat_cloth(16, 0.6, 0.1, {-0.3, 0.3, -0.3}, {0, -10, 0});
     // The unit cube [-1, 1]^3 scaled to 2 m x 1 cm x 2 m, its top at y = 0.005.
     const shapes::Affine box = shapes::Affine::from({}, {}, {1, 0.005, 1});
     install(m, facet_obstacle(ShapeKind::cube, box, 0, 0.3, 8));
@@ -214,18 +221,7 @@ TEST(ImplicitConditionalObstacle, SolveTermsAreTheStageForceAndDominateItsDeriva
 // test bounds it well below the 10 cm/s of an unstable contact.
 TEST(ImplicitConditionalObstacle, HoldsAClothAtLargeSteps) {
   for (const char* solver : {"matrix_free", "vbd"}) {
-    Model m;
-    FlagParams p;
-    p.nx = 8;
-    p.ny = 8;
-    p.width = 0.4;
-    p.height = 0.4;
-    p.mass = 0.05;
-    p.origin = {-0.2, 0.015, -0.2};
-    p.along = {1, 0, 0};
-    p.up = {0, 0, 1};
-    p.fixed = FlagFixed::none;
-    build_flag(m, p, "cloth");
+    Model m = flat_cloth(8, 0.4, 0.05, {-0.2, 0.015, -0.2}, {});
     Obstacle o;
     o.name = "ground";
     o.method = ObstacleMethod::conditional;
@@ -260,19 +256,7 @@ TEST(ImplicitObstacles, ClothThrownAtAThinBoxOrAPlaneNeverTunnelsAtLargeSteps) {
        {ObstacleMethod::geometric, ObstacleMethod::conditional, ObstacleMethod::facets})
     for (const ShapeKind shape : {ShapeKind::cube, ShapeKind::plane}) {
       const std::string what = std::string(to_string(method)) + " " + std::string(to_string(shape));
-      Model m;
-      FlagParams p;
-      p.nx = 16;
-      p.ny = 16;
-      p.width = 0.6;
-      p.height = 0.6;
-      p.mass = 0.1;
-      p.origin = {-0.3, 0.3, -0.3};
-      p.along = {1, 0, 0};
-      p.up = {0, 0, 1};
-      p.fixed = FlagFixed::none;
-      build_flag(m, p, "cloth");
-      for (Vec3& v : m.points.initial_velocity) v = {0, -10, 0};
+      Model m = flat_cloth(16, 0.6, 0.1, {-0.3, 0.3, -0.3}, {0, -10, 0});
       Obstacle o;
       o.name = "o";
       o.method = method;
