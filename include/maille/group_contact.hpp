@@ -22,12 +22,14 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "maille/model.hpp"
 #include "maille/names.hpp"
 #include "maille/stage.hpp"
+#include "maille/stage_keys.hpp"
 
 namespace maille {
 
@@ -43,13 +45,19 @@ struct NameTable<ContactMethod> {
   }};
 };
 
+// One [[contact]] table, resolved. Its keys are declared in contact_keys().
 struct GroupContactSpec {
   std::string a, b;      // group names (distinct groups, no shared point)
   Real stiffness = 0;    // k, N/m
   Real damping = 0;      // z, N.s/m
   Real threshold = 0;    // s, m: a pair acts while closer than s
   Real rest_length = 0;  // L0, m
+  ContactMethod method = ContactMethod::broad_phase;  // the stage runs broad_phase specs only
 };
+
+// [[contact]]'s keys (stage_keys.hpp), declared in group_contact_keys.cpp: the scene reader
+// reads them, docs/scene-format.md's table is checked against them, `maille info` shows them.
+std::span<const StageKey<GroupContactSpec>> contact_keys();
 
 // The force stage. Throws std::invalid_argument for an unknown group, groups that share points,
 // or a pair of groups without a free point.

@@ -16,6 +16,7 @@
 #include "maille/names.hpp"
 #include "maille/profile.hpp"
 #include "maille/stage.hpp"
+#include "maille/stage_keys.hpp"
 #include "maille/state.hpp"
 
 namespace maille {
@@ -55,6 +56,10 @@ struct ImplicitSettings {
   int iterations = 10;            // vbd: sweeps over every free point per step, >= 1
   Real acceleration = Real(0.9);  // vbd: Chebyshev factor rho in [0, 1); 0 = off
 };
+
+// [simulation.implicit]'s keys (stage_keys.hpp), declared in implicit_keys.cpp: the scene reader
+// reads them, docs/scene-format.md's table is checked against them.
+std::span<const StageKey<ImplicitSettings>> implicit_keys();
 
 // For the test equation x'' = -w2 x - c x' (one mass on a damped spring), a scheme maps
 // (x_n, v_n) to (x_n+1, v_n+1) = (I + N) (x_n, v_n). Schemes return the increment N rather than

@@ -73,7 +73,13 @@ struct Model {
 // Why `m` is not a model a simulator can run (empty: it is): every link's ends, every face's
 // corners, every drive's point and every group's range inside the points, drives on driven
 // points. The simulator checks models when it is built and after each edit_model.
+// It also runs check_parameters.
 std::string check_model(const Model& m);
+// Why m's values are not ones a scene could give (empty: they are): point masses in
+// [1e-12, 1e12] kg with inv_mass their inverse (0 for fixed and driven points), initial
+// positions and velocities within 1e6, every link parameter finite and within its field's bound
+// and limits::max_parameter. Run by check_model.
+std::string check_parameters(const Model& m);
 
 // The face grids of m's surface (see FaceGrid) whatever the triangles' order; in_grid[f] is 1
 // for the triangles they hold, 0 for the others. Model::prepare keeps them in Surface::grids;

@@ -121,8 +121,10 @@ class Simulator : private ForceEvaluator {
   // edit_model, which re-prepares the pools, resizes the state (new points start at their
   // initial position and velocity), rebuilds the scheme's buffers and the stages and
   // re-estimates stability; the scheme's history in the State is kept. Parameter edits (link
-  // parameters, fields, masses) go through edit_parameters, which is cheap; a structural change
-  // made there is detected and handled as by edit_model.
+  // parameters, fields, masses) go through edit_parameters, which re-prepares nothing; a
+  // structural change made there is detected and handled as by edit_model. Both validate the
+  // edited model (check_model: ends, faces, drives, groups, masses, link parameters) and refuse
+  // with std::invalid_argument, leaving model and state exactly as they were.
   void edit_model(const std::function<void(Model&)>& edit);
   void edit_parameters(const std::function<void(Model&)>& edit);
   // Replaces the whole state (a checkpoint, a copy from another simulator of the same model).
@@ -197,6 +199,7 @@ class Simulator : private ForceEvaluator {
   void check_stage(Stage& stage) const;
   void restimate_stability();
   void model_structure_changed();
+  void apply_or_restore(Model previous);
   StageContext context(const State& s) const;
   void sample_energies();
   bool runaway(double kinetic_plus_elastic);

@@ -39,6 +39,7 @@ struct KeyDoc {
   std::string_view default_doc{};  // when the default is not the member's initial value
   std::string_view range_doc{};    // when the range is not the declared bound and [lo, hi]
   std::string_view type_doc{};     // custom keys: their type as the docs say it
+  bool required = false;           // number keys: no default, the table must give it
 };
 
 template <class S>
@@ -53,6 +54,9 @@ struct StageKey {
   // The value in the settings as text (null: a key whose value is not kept as such).
   std::string (*value)(const S&) = nullptr;
   std::string (*choices)() = nullptr;  // choice keys: "a, b, c"
+  // Number keys whose default is another key's value (read before it), like the link kinds'
+  // `default_from`: [[contact]]'s rest_length defaults to its threshold.
+  Real (*default_from)(const S&) = nullptr;
 };
 
 // The type-erased view of a declaration, as the docs and `maille info --keys` show it.
@@ -113,10 +117,23 @@ constexpr StageKey<key_detail::owner_t<M>> number(std::string_view key, Bound bo
           lo,
           hi,
           [](SceneTable& t, S& s, const StageKey<S>& k) {
-            s.*M = t.real(k.key, s.*M, k.bound);
+            s.*M = k.info.required
+                       ? t.real(k.key, k.bound)
+                       : t.real(k.key, k.default_from ? k.default_from(s) : s.*M, k.bound);
             if (k.hi > k.lo) t.check_range(k.key, s.*M, k.lo, k.hi, k.info.unit);
           },
           [](const S& s) { return key_detail::number_text(double(s.*M)); }};
+}
+
+// A number member whose default is another key's value, `from(s)`, read before it.
+template <auto M>
+constexpr StageKey<key_detail::owner_t<M>> number_from(std::string_view key, Bound bound, Real lo,
+                                                       Real hi, Real (*from)(
+                                                           const key_detail::owner_t<M>&),
+                                                       KeyDoc d) {
+  auto k = number<M>(key, bound, lo, hi, d);
+  k.default_from = from;
+  return k;
 }
 
 // An integer member in [lo, hi].
@@ -273,6 +290,8 @@ std::vector<KeyInfo> describe_keys(std::span<const StageKey<S>> keys, const S& d
     i.unit = unit_for_docs(k.info.unit);
     if (!k.info.default_doc.empty())
       i.default_value = k.info.default_doc;
+    else if (k.info.required)
+      i.default_value = "required";
     else if (k.value)
       i.default_value = std::string(k.type == KeyType::choice ? "`\"" : "`")
                             .append(k.value(defaults))

@@ -1,9 +1,13 @@
 #include "maille/model.hpp"
 
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "maille/limits.hpp"
 
 namespace maille {
 
@@ -32,6 +36,49 @@ std::string check_model(const Model& m) {
       return "group '" + g.name + "' spans points " + std::to_string(g.first) + ".." +
              std::to_string(std::uint64_t(g.first) + g.count - 1) + ", but the model has " +
              std::to_string(n) + " points";
+  return check_parameters(m);
+}
+
+namespace {
+
+std::string number(Real v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", double(v));
+  return buf;
+}
+
+}  // namespace
+
+// The scene reader's bounds (limits.hpp), applied to a model built or edited in code: a value
+// the reader would refuse must not reach the step through an edit either.
+std::string check_parameters(const Model& m) {
+  const PointPool& p = m.points;
+  for (std::uint32_t i = 0; i < p.size(); ++i) {
+    if (!(p.mass[i] >= limits::min_mass && p.mass[i] <= limits::max_mass))
+      return "point " + std::to_string(i) + " has mass " + number(p.mass[i]) +
+             " kg, outside [1e-12, 1e12] kg";
+    const Real inv = p.kind[i] == PointKind::free ? Real(1) / p.mass[i] : Real(0);
+    if (p.inv_mass[i] != inv)  // mass edited without its inverse: the step would use the old one
+      return "point " + std::to_string(i) + " has inv_mass " + number(p.inv_mass[i]) +
+             " for mass " + number(p.mass[i]) + " kg (set both, or use PointPool::set_kind)";
+    for (const Vec3& v : {p.initial_position[i], p.initial_velocity[i]})
+      for (const Real c : {v.x, v.y, v.z})
+        if (!(std::abs(c) <= limits::max_coordinate))
+          return "point " + std::to_string(i) + " has an initial position or velocity component " +
+                 number(c) + ", beyond 1e6";
+  }
+  for (const auto& pool : m.links.pools()) {
+    const std::vector<ParamInfo> fields = pool->fields();
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+      const Real most = limits::max_parameter(fields[f].unit);
+      const Real least = fields[f].bound == Bound::any ? -most : 0;
+      for (std::size_t id = 0; id < pool->size(); ++id)
+        if (const Real v = pool->param(id, f); !(v >= least && v <= most))
+          return "a " + std::string(pool->keyword()) + " link (" + std::to_string(id) + ") has " +
+                 fields[f].name + " = " + number(v) + ", outside [" + number(least) + ", " +
+                 number(most) + "] " + fields[f].unit;
+    }
+  }
   return {};
 }
 

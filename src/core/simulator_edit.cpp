@@ -26,27 +26,38 @@ Structure structure_of(const Model& m) {
 
 }  // namespace
 
+// Both edits are made on the live model with a copy kept: when the result is not a valid model
+// (check_model: structure and parameters) or one the scheme or a stage refuses, the simulator
+// takes the copy back, so model and state are exactly as they were, and throws
+// std::invalid_argument. The copy costs a pass over the model, far less than re-preparing it.
 void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
   sync_host();
   host_ahead_ = true;  // the device copy of the model is reloaded before the next step
   const Structure before = structure_of(model_);
+  Model previous = model_;
   edit(model_);
-  if (structure_of(model_) != before) {
-    model_structure_changed();
-    return;
+  if (structure_of(model_) != before)
+    return apply_or_restore(std::move(previous));
+  if (const std::string why = check_model(model_); !why.empty()) {
+    model_ = std::move(previous);
+    model_structure_changed();  // the pools are the copy's: the schedule points into them anew
+    throw std::invalid_argument("edit refused: " + why);
   }
   restimate_stability();
 }
 
-// The edit is made on a copy: when the result is not a valid model (check_model) or one the
-// scheme or a stage refuses, the simulator keeps the old model and the old state, exactly, and
-// throws std::invalid_argument.
 void Simulator::edit_model(const std::function<void(Model&)>& edit) {
   sync_host();
   host_ahead_ = true;
   Model previous = model_;
-  State previous_state = state_;
   edit(model_);
+  apply_or_restore(std::move(previous));
+}
+
+// After a structural edit of model_ (previous: the model before it): checks, re-prepares and
+// rebuilds, or restores previous and the state and rethrows.
+void Simulator::apply_or_restore(Model previous) {
+  State previous_state = state_;
   try {
     if (const std::string why = check_model(model_); !why.empty())
       throw std::invalid_argument("edit refused: " + why);

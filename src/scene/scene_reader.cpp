@@ -125,18 +125,8 @@ class SceneReader {
         static_cast<int>(t.integer("gpu_device", s.backend_options.device, -1, 64));
     s.runaway_factor =
         t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
-    if (auto i = t.table("implicit")) {
-      s.implicit.solver = i->choice("solver", s.implicit.solver);
-      s.implicit.tolerance = i->real("tolerance", s.implicit.tolerance, Bound::positive);
-      s.implicit.max_iterations =
-          static_cast<int>(i->integer("max_iterations", s.implicit.max_iterations, 1, 1 << 20));
-      s.implicit.newton_iterations =
-          static_cast<int>(i->integer("newton_iterations", s.implicit.newton_iterations, 1, 100));
-      s.implicit.iterations =
-          static_cast<int>(i->integer("iterations", s.implicit.iterations, 1, 100000));
-      s.implicit.acceleration =
-          i->real("acceleration", s.implicit.acceleration, Bound::non_negative);
-      i->check_range("acceleration", s.implicit.acceleration, 0, Real(0.999999), "");
+    if (auto i = t.table("implicit")) {  // declared in implicit_keys.cpp
+      read_keys(*i, s.implicit, implicit_keys());
       i->finish();
     }
     t.finish();
@@ -387,6 +377,8 @@ class SceneReader {
     t.finish();
   }
 
+  // [[contact]]: the keys are declared in contact_keys() (group_contact_keys.cpp); `between`
+  // is read here, since it names groups of the model.
   void contact(TomlCursor& t, Model& m) {
     const toml::node* n = t.node("between");
     const toml::array* a = n ? n->as_array() : nullptr;
@@ -399,16 +391,9 @@ class SceneReader {
       if (!g[i]) t.fail_at((*a)[i].source(), "between", "no group named '" + name + "'");
     }
     if (g[0] == g[1]) t.fail("between", "the two groups must differ (self-collision is a stage)");
-    ContactParams p;
-    p.stiffness = t.real("stiffness", Bound::non_negative);
-    t.check_range("stiffness", p.stiffness, 0, limits::max_stiffness, "N/m");
-    p.damping = t.real("damping", 0, Bound::non_negative);
-    t.check_range("damping", p.damping, 0, limits::max_stiffness, "N.s/m");
-    p.threshold = t.real("threshold", Bound::positive);
-    t.check_range("threshold", p.threshold, 0, 2 * limits::max_coordinate, "m");
-    p.rest_length = t.real("rest_length", p.threshold, Bound::non_negative);
-    t.check_range("rest_length", p.rest_length, 0, 2 * limits::max_coordinate, "m");
-    if (t.choice("method", ContactMethod::broad_phase) == ContactMethod::broad_phase) {
+    GroupContactSpec c{g[0]->name, g[1]->name};
+    read_keys(t, c, contact_keys());
+    if (c.method == ContactMethod::broad_phase) {
       bool any_free = false;
       for (const Group* gr : g)
         for (std::uint32_t i = gr->first; i < gr->first + gr->count && !any_free; ++i)
@@ -416,8 +401,7 @@ class SceneReader {
       if (!any_free) t.fail("between", "the two groups hold no free point: nothing can collide");
       if (g[0]->first < g[1]->first + g[1]->count && g[1]->first < g[0]->first + g[0]->count)
         t.fail("between", "the two groups share points");
-      group_contacts_.push_back(
-          {g[0]->name, g[1]->name, p.stiffness, p.damping, p.threshold, p.rest_length});
+      group_contacts_.push_back(std::move(c));
       t.finish();
       return;
     }
@@ -430,15 +414,23 @@ class SceneReader {
                             std::to_string(g[1]->count) + " = " + std::to_string(pairs) +
                             " conditional links (limit " + std::to_string(kMaxContactLinks) + ")" +
                             (too_big.empty() ? "" : "; " + too_big));
-    build_contacts(m, *g[0], *g[1], p);
+    build_contacts(m, *g[0], *g[1], {c.stiffness, c.damping, c.threshold, c.rest_length});
     t.finish();
   }
 
+  // One stage for every broad-phase [[contact]]; its parameters are each table's declared keys
+  // ("contact[0].stiffness", ...), which `maille info` shows and checkpoints' fingerprints hash.
   void install_group_contacts(Model& m) {
-    m.stages.push_back(
-        {"group_contacts", Phase::forces, [specs = group_contacts_](const Model& model) {
-           return make_group_contact_stage(model, specs);
-         }});
+    StageSpec spec{"group_contacts", Phase::forces, [specs = group_contacts_](const Model& model) {
+                     return make_group_contact_stage(model, specs);
+                   }};
+    for (std::size_t i = 0; i < group_contacts_.size(); ++i)
+      visit_keys(contact_keys(), group_contacts_[i],
+                 [&](const StageKey<GroupContactSpec>& k, std::string v) {
+                   spec.parameters.emplace_back(
+                       "contact[" + std::to_string(i) + "]." + std::string(k.key), std::move(v));
+                 });
+    m.stages.push_back(std::move(spec));
   }
 
   const LinkKindRegistry& kinds_;

@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "maille/fields.hpp"
+#include "maille/group_contact.hpp"
+#include "maille/integrator.hpp"
 #include "maille/limits.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/self_collision.hpp"
@@ -74,13 +76,18 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
 
 std::vector<DeclaredTable> declared_tables(const StageRegistry& stages) {
   std::vector<DeclaredTable> out;
-  for (const auto& e : stages.entries()) {
-    DeclaredTable t{e.array ? "[[" + e.table + "]]" : "[" + e.table + "]", e.description, e.keys};
-    for (const auto& k : e.keys) t.methods = t.methods || k.methods != "all";
-    out.push_back(std::move(t));
-  }
+  for (const auto& e : stages.entries())
+    out.push_back({e.array ? "[[" + e.table + "]]" : "[" + e.table + "]", e.description, e.keys});
   out.push_back({"[fields.wind]", "wind on the surface's faces: mean velocity and gusts",
                  describe_keys(wind_keys(), WindField{})});
+  out.push_back({"[simulation.implicit]",
+                 "implicit Euler's solver and its iterations (methods: the solvers)",
+                 describe_keys(implicit_keys(), ImplicitSettings{})});
+  out.push_back({"[[contact]]",
+                 "conditional spring-dampers between the points of two groups (CORDIS contacts)",
+                 describe_keys(contact_keys(), GroupContactSpec{})});
+  for (DeclaredTable& t : out)
+    for (const auto& k : t.keys) t.methods = t.methods || k.methods != "all";
   return out;
 }
 

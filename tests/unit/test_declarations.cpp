@@ -234,6 +234,49 @@ TEST(StageKeys, RangesAndTheMethodGateComeFromTheDeclarations) {
   }
 }
 
+// [[contact]] and [simulation.implicit] read their keys from their declarations too: required
+// keys, a default taken from another key, ranges, and the resolved values as the stage's
+// parameters (which checkpoints' fingerprints hash).
+TEST(StageKeys, ContactAndImplicitKeysComeFromTheirDeclarations) {
+  const std::string two = R"(
+[[flag]]
+name = "a"
+resolution = [4, 4]
+[[flag]]
+name = "b"
+resolution = [4, 4]
+origin = [0, -1, 0]
+fixed = "none"
+)";
+  auto r = parse(two + "[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 500\nthreshold = 0.05\n");
+  ASSERT_TRUE(r) << r.error().to_string();
+  ASSERT_EQ(r->model.stages.size(), 1u);
+  const std::vector<std::pair<std::string, std::string>> want{
+      {"contact[0].between", "a, b"},          {"contact[0].stiffness", "500"},
+      {"contact[0].damping", "0"},             {"contact[0].threshold", "0.05"},
+      {"contact[0].rest_length", "0.05"},      {"contact[0].method", "broad_phase"}};
+  EXPECT_EQ(r->model.stages[0].parameters, want);
+  auto error = [&](const std::string& table) {
+    const auto e = parse(two + table);
+    return e ? std::string("no error") : e.error().key + " | " + e.error().message;
+  };
+  EXPECT_EQ(error("[[contact]]\nbetween = [\"a\", \"b\"]\nthreshold = 0.05\n"),
+            "contact[0].stiffness | is required but missing");
+  EXPECT_EQ(
+      error("[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 1\nthreshold = 0.05\n"
+            "rest_length = 3e6\n"),
+      "contact[0].rest_length | must be in [0, 2e+06] m (got 3e+06)");
+  EXPECT_EQ(error("[simulation]\nintegrator = \"implicit_euler\"\n[simulation.implicit]\n"
+                  "acceleration = 1\n"),
+            "simulation.implicit.acceleration | must be in [0, 0.999999] (got 1)");
+  auto s = parse(two + "[simulation]\nintegrator = \"implicit_euler\"\n[simulation.implicit]\n"
+                       "solver = \"vbd\"\niterations = 7\nacceleration = 0.5\n");
+  ASSERT_TRUE(s) << s.error().to_string();
+  EXPECT_EQ(s->settings.implicit.solver, ImplicitSolver::vbd);
+  EXPECT_EQ(s->settings.implicit.iterations, 7);
+  EXPECT_EQ(s->settings.implicit.acceleration, Real(0.5));
+}
+
 // Validation runs without the stage: a self-collision table with no free point and an obstacle
 // whose sampling would not fit are refused by the same checks the factories use.
 TEST(StageKeys, ValidationIsTheFactoriesCheck) {
