@@ -33,6 +33,8 @@ class ForceEvaluator {
   // Per-point contacts that stages offer to implicit solvers (stage.hpp), valid after
   // evaluate(): their forces are in s.f() at the evaluated state.
   virtual std::span<PointContacts* const> point_contacts() const { return {}; }
+  // Point-triangle contacts that stages offer to implicit solvers, likewise.
+  virtual std::span<TriangleContacts* const> triangle_contacts() const { return {}; }
 };
 
 // Implicit Euler's linear (or block) solver ([simulation.implicit] solver = "...").

@@ -187,6 +187,9 @@ class Simulator : private ForceEvaluator {
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
   std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
   std::span<PointContacts* const> point_contacts() const override { return point_contacts_; }
+  std::span<TriangleContacts* const> triangle_contacts() const override {
+    return triangle_contacts_;
+  }
   void respond();  // response stages, once per step, before integration
   // Response stages of a scheme that solves (ResponseTiming::after_solve;
   // simulator_response.cpp): the step's start is kept, then the stages answer the solved motion.
@@ -235,6 +238,7 @@ class Simulator : private ForceEvaluator {
   std::vector<Vec3> start_x_, start_v_, solved_x_, solved_v_;
   std::vector<const LinkPoolBase*> transient_;  // stages' implicit links after the last evaluate
   std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
+  std::vector<TriangleContacts*> triangle_contacts_;  // and point-triangle contacts
   double energy_scale_ = 0;
   int threads_ = 1;
   bool overlays_ = false;

@@ -17,6 +17,7 @@
 // (Simulator::add_stage) or by scene tables through StageRegistry (stage_registry.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -103,6 +104,41 @@ class PointContacts {
   virtual Real thickness() const { return std::numeric_limits<Real>::infinity(); }
 };
 
+// Contacts between a point and a triangle of moving points (self-collision with primitive =
+// "triangles"), offered to implicit solvers. A candidate is the particle and the triangle's
+// three corners, found at the step's start within the contact radius plus the step's motion.
+// Its energy is the penalty on the point-triangle distance d, E = k (s - d)^2 / 2 while d < s,
+// the closest point q = sum w_j x_j found again at every evaluation, with the damper along the
+// normal n = (x_p - q) / d: the force on the particle is F = n (k (s - d) - z n.(v_p - v_q)) and
+// corner j takes -w_j F. Roles: 0 the particle (coefficient c = 1), 1 to 3 the corners
+// (c = -w_j). A contact on an edge or a corner shared by several of the particle's candidates
+// counts once (the lowest triangle), as in the explicit force. Friction stays explicit.
+class TriangleContacts {
+ public:
+  virtual ~TriangleContacts() = default;
+  // This step's candidates: {particle, corner, corner, corner}, sorted by particle.
+  virtual std::span<const std::array<std::uint32_t, 4>> candidates() const = 0;
+  // The forces at x, v of every candidate in contact, into f (all four points).
+  virtual void accumulate(const Vec3* x, const Vec3* v, Vec3* f) const = 0;
+  // Candidate e's point-triangle distance at x (unsigned: a point that crossed the face is
+  // pushed on through it, so solvers keep each point's motion within a fraction of its
+  // distances at the step's start; see implicit_vbd.hpp, "conservative bounds").
+  virtual Real distance(std::size_t e, const Vec3* x) const = 0;
+  // For each point i of `points`: the candidates entries[row[i]] .. entries[row[i + 1] - 1],
+  // each `candidate * 4 + role`: the force on i into f[i] and the stiffness block
+  // c^2 (k + z inv_h) n n^T (the energy's Gauss-Newton Hessian, with the damper through
+  // v = (x - x_n) / h) into hessian[i]. Points are independent: threads may run disjoint sets.
+  virtual void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
+                               const std::uint32_t* entries, const Vec3* x, const Vec3* v,
+                               Real inv_h, Vec3* f, Mat3* hessian) const = 0;
+  // Linear solvers: keeps the normals of the contacts active at (x, v) ...
+  virtual void linearise(const Vec3* x, const Vec3* v) = 0;
+  // ... and adds (a k + b z) sum c c^T n n^T u over them into out (one thread) ...
+  virtual void apply(Real a, Real b, const Vec3* u, Vec3* out) const = 0;
+  // ... and their diagonal blocks (a k + b z) c_i^2 n n^T into diagonal.
+  virtual void add_diagonal(Real a, Real b, Mat3* diagonal) const = 0;
+};
+
 class Stage {
  public:
   virtual ~Stage() = default;
@@ -130,6 +166,8 @@ class Stage {
   // them (the stage still adds its force at the step's start; solvers take it back out). Null:
   // the stage's forces stay explicit.
   virtual PointContacts* point_contacts() { return nullptr; }
+  // Point-triangle contacts that implicit solvers take inside the solve, likewise (null: none).
+  virtual TriangleContacts* triangle_contacts() { return nullptr; }
   // Segments to draw over the scene at the state of the last step (contacts, cells...).
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.

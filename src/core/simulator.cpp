@@ -310,6 +310,7 @@ void Simulator::evaluate(State& s) {
   }
   transient_.clear();
   point_contacts_.clear();
+  triangle_contacts_.clear();
   if (force_stages_.empty()) return;
   const StageContext ctx = context(s);
   for (auto& st : force_stages_) {
@@ -319,6 +320,9 @@ void Simulator::evaluate(State& s) {
       if (const LinkPoolBase* links = st.stage->implicit_links()) transient_.push_back(links);
     if (ctx.jacobians)
       if (PointContacts* contacts = st.stage->point_contacts()) point_contacts_.push_back(contacts);
+    if (ctx.jacobians)
+      if (TriangleContacts* contacts = st.stage->triangle_contacts())
+        triangle_contacts_.push_back(contacts);
   }
 }
 

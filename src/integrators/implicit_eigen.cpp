@@ -33,7 +33,8 @@ class EigenSystem final : public ImplicitSystem {
   // Transient links (stages' contacts) change the sparsity pattern every step: this solver
   // leaves them explicit (the matrix-free solver takes them), and point contacts too.
   void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
-                 std::span<const LinkPoolBase* const>, std::span<PointContacts* const>) override {
+                 std::span<const LinkPoolBase* const>, std::span<PointContacts* const>,
+                 std::span<TriangleContacts* const>) override {
     const auto pools = m.links.pools();
     for (std::size_t p = 0; p < pools.size(); ++p)
       pools[p]->implicit_blocks(s.x().data(), s.v().data(), h, blocks_[p].data(), rhs);

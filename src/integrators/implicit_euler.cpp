@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "implicit_system.hpp"
@@ -54,7 +55,7 @@ class ImplicitEuler final : public Integrator {
   // is what made the cloth blow up on a sphere; such stages are refused by name.
   std::string check_stage(Stage& stage) const override {
     if (settings_.solver != ImplicitSolver::eigen) return {};
-    if (!stage.implicit_links() && !stage.point_contacts()) return {};
+    if (!stage.implicit_links() && !stage.point_contacts() && !stage.triangle_contacts()) return {};
     return "implicit solver 'eigen' assembles a matrix of fixed pattern and cannot take the "
            "contacts of stage '" +
            stage.name() + "' into its solve; use solver = \"vbd\" or \"matrix_free\"";
@@ -118,7 +119,7 @@ class ImplicitEuler final : public Integrator {
       }
       build_rhs(m, s, h, k == 0);
       system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.transient_links(),
-                         forces.point_contacts());
+                         forces.point_contacts(), forces.triangle_contacts());
       const auto r = system_->solve(rhs_, dv_, settings_.tolerance, settings_.max_iterations);
       iterations += static_cast<std::uint64_t>(r.iterations);
       residual = r.relative_residual;
@@ -128,6 +129,15 @@ class ImplicitEuler final : public Integrator {
     // Positions from the new velocities; fixed points stay (their velocity is a drive's).
     for (std::size_t i = 0; i < n; ++i)
       x[i] = m.points.inv_mass[i] > 0 ? x0_[i] + v[i] * h : x0_[i];
+    // Point-triangle candidates: no point crosses a face on its way to the solved position
+    // (conservative bounds, implicit_vbd.hpp).
+    if (const auto tri = forces.triangle_contacts(); !tri.empty()) {
+      target_.assign(x.begin(), x.end());
+      std::copy(x0_.begin(), x0_.end(), x.begin());
+      advance_within_bounds(tri, x, target_, m.points.inv_mass, bound_, kBoundStages);
+      for (std::size_t i = 0; i < n; ++i)
+        if (m.points.inv_mass[i] > 0) v[i] = (x[i] - x0_[i]) * (Real(1) / h);
+    }
     profile.set_count(cg_iterations_, iterations);
     profile.set_gauge(cg_residual_, residual);
     profile.set_gauge(newton_residual_, newton_residual_value_);
@@ -176,6 +186,11 @@ class ImplicitEuler final : public Integrator {
 
   ImplicitSettings settings_;
   std::unique_ptr<ImplicitSystem> system_;
+  std::vector<Real> bound_;   // conservative bounds of the CG solvers' step
+  std::vector<Vec3> target_;  // the solved positions, reached in bounded stages
+  // Stages toward the solved positions: each closes at most 0.8 of a gap, so a point within a
+  // contact's reach of its face stops there after a few; eight leave 0.2^8 of a far one's way.
+  static constexpr int kBoundStages = 8;
   VertexBlockDescent vbd_;
   int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1, vbd_resets_ = -1,
       vbd_refreshes_ = -1;

@@ -56,10 +56,12 @@ class MatrixFreeSystem final : public ImplicitSystem {
 
   void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
                  std::span<const LinkPoolBase* const> transient,
-                 std::span<PointContacts* const> contacts) override {
+                 std::span<PointContacts* const> contacts,
+                 std::span<TriangleContacts* const> triangles) override {
     const auto pools = m.links.pools();
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
+    step_ = h;
     // Transient links (stages' contacts of this step): blocks grow with them, never shrink.
     transient_.assign(transient.begin(), transient.end());
     if (transient_blocks_.size() < transient_.size()) transient_blocks_.resize(transient_.size());
@@ -84,6 +86,7 @@ class MatrixFreeSystem final : public ImplicitSystem {
     for (std::size_t p = 0; p < transient_.size(); ++p)
       transient_[p]->add_block_diagonal(transient_blocks_[p].data(), diagonal_.data());
     point_contact_blocks(s, h, rhs, contacts);
+    triangle_contact_blocks(s, h, rhs, triangles);
     for (std::size_t i = 0; i < diagonal_.size(); ++i)
       diagonal_[i] = free_[i] ? inverse_spd(diagonal_[i]) : Mat3::identity();
   }
@@ -109,6 +112,23 @@ class MatrixFreeSystem final : public ImplicitSystem {
       point_blocks_[i] *= h * h;
       diagonal_[i] += point_blocks_[i];
       if (rhs) rhs[i] -= (stiffness_[i] * v[i]) * (h * h);
+    }
+  }
+
+  // Stages' point-triangle contacts: (h^2 k + h z) c c^T n n^T over the candidates in contact,
+  // kept for the products; the right-hand side's h^2 df/dx v = -h^2 K v.
+  void triangle_contact_blocks(const State& s, Real h, Vec3* rhs,
+                               std::span<TriangleContacts* const> triangles) {
+    triangles_.assign(triangles.begin(), triangles.end());
+    const Vec3* x = s.x().data();
+    const Vec3* v = s.v().data();
+    for (TriangleContacts* t : triangles_) {
+      t->linearise(x, v);
+      t->add_diagonal(h * h, h, diagonal_.data());
+      if (!rhs) continue;
+      std::fill(sink_.begin(), sink_.end(), Vec3{});
+      t->apply(h * h, 0, v, sink_.data());
+      for (const std::uint32_t i : free_list_) rhs[i] -= sink_[i];
     }
   }
 
@@ -172,6 +192,11 @@ class MatrixFreeSystem final : public ImplicitSystem {
       pools[p]->apply_blocks(blocks_[p].data(), u.data(), out.data());
     for (std::size_t p = 0; p < transient_.size(); ++p)
       transient_[p]->apply_blocks(transient_blocks_[p].data(), u.data(), out.data());
+    if (!triangles_.empty()) {
+      const Real h = step_;
+#pragma omp single
+      for (const TriangleContacts* t : triangles_) t->apply(h * h, h, u.data(), out.data());
+    }
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) {
       if (has_point_blocks_) out[i] += point_blocks_[i] * u[i];
@@ -206,6 +231,8 @@ class MatrixFreeSystem final : public ImplicitSystem {
   std::vector<Mat3> point_blocks_, stiffness_;
   std::vector<Vec3> sink_;
   bool has_point_blocks_ = false;
+  std::vector<TriangleContacts*> triangles_;  // this step's point-triangle contacts
+  Real step_ = 0;                             // h of the last linearisation
   std::vector<Real> mass_;
   std::vector<Mat3> diagonal_;  // inverse diagonal blocks (preconditioner)
   std::vector<Vec3> r_, z_, p_, q_;

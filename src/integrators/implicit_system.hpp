@@ -24,11 +24,13 @@ class ImplicitSystem {
  public:
   virtual ~ImplicitSystem() = default;
   // Takes the link Jacobians at the state (the model's pools, and `transient` links found by
-  // stages for this step) and the stiffness of stages' point contacts (systems that cannot
-  // take them leave those contacts explicit); adds h^2 df/dx v into rhs when rhs is not null.
+  // stages for this step), the stiffness of stages' point contacts and point-triangle contacts
+  // (systems that cannot take them leave those contacts explicit); adds h^2 df/dx v into rhs
+  // when rhs is not null.
   virtual void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
                          std::span<const LinkPoolBase* const> transient,
-                         std::span<PointContacts* const> contacts) = 0;
+                         std::span<PointContacts* const> contacts,
+                         std::span<TriangleContacts* const> triangles) = 0;
   // Solves A dv = rhs (rhs is filtered in place; dv is overwritten, starting from zero).
   virtual SolveResult solve(std::vector<Vec3>& rhs, std::vector<Vec3>& dv, Real tolerance,
                             int max_iterations) = 0;

@@ -7,7 +7,8 @@
 //   candidates  conditional links closer than threshold + margin at x_n, margin = twice the
 //             guess's largest motion (found again when a point moves more than margin / 2);
 //             contact links that stages found this step
-//   colour    greedy colouring of the free points' graph (links and candidates)
+//   colour    greedy colouring of the free points' graph (links, candidates, and the four
+//             points of each point-triangle candidate that stages found)
 //   sweeps    colour by colour: g_i, H_i, x_i += H_i^-1 g_i; then Chebyshev acceleration
 //             x = w (x - x_prev2) + x_prev2, turned off for the step when a sweep's residual
 //             rises (the fallback)
@@ -15,6 +16,8 @@
 //             contact region away from x_n has its segment from x_n tested at that spacing; it
 //             stops just inside the first contact it meets (continuous detection: a cloth
 //             thrown at a 1 cm box at 1/60 s moves 17 cm a step)
+//   bounds    points of point-triangle candidates move at most 0.4 of their distances at the
+//             step's start (conservative bounds: guess, Newton steps and extrapolation)
 //   end       v = (x - x_n) / h
 //
 // Determinism: a point's g and H sum its links in a fixed order (pool by pool, slot by slot)
@@ -104,6 +107,56 @@ void VertexBlockDescent::build_static_rows(const Model& m) {
   coloured_ = false;
 }
 
+void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3* x,
+                         std::vector<Real>& bound) {
+  std::fill(bound.begin(), bound.end(), std::numeric_limits<Real>::infinity());
+  for (const TriangleContacts* t : contacts) {
+    const auto cand = t->candidates();
+    for (std::size_t e = 0; e < cand.size(); ++e) {
+      const Real b = kBoundFraction * t->distance(e, x);
+      for (const std::uint32_t p : cand[e]) bound[p] = std::min(bound[p], b);
+    }
+  }
+}
+
+void advance_within_bounds(std::span<TriangleContacts* const> contacts, std::span<Vec3> x,
+                           std::span<const Vec3> target, std::span<const Real> inv_mass,
+                           std::vector<Real>& bound, int stages) {
+  bound.resize(x.size());
+  for (int k = 0; k < stages; ++k) {
+    conservative_bounds(contacts, x.data(), bound);
+    bool arrived = true;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (inv_mass[i] == 0) continue;
+      x[i] = within_bound(x[i], target[i], bound[i]);
+      arrived = arrived && x[i] == target[i];
+    }
+    if (arrived) return;
+  }
+}
+
+// Each stage's candidates by point, every role (a corner's row holds the candidates whose
+// triangle it is a corner of).
+void VertexBlockDescent::triangle_rows(std::span<TriangleContacts* const> contacts) {
+  if (triangles_.size() < contacts.size()) triangles_.resize(contacts.size());
+  triangle_stages_ = contacts.size();
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    TriangleRows& t = triangles_[k];
+    t.contacts = contacts[k];
+    const auto cand = t.contacts->candidates();
+    t.row.assign(points_ + 1, 0);
+    for (const auto& c : cand)
+      for (const std::uint32_t p : c) ++t.row[p + 1];
+    for (std::size_t i = 0; i < points_; ++i) t.row[i + 1] += t.row[i];
+    t.entries.resize(t.row[points_]);
+    for (std::size_t e = 0; e < cand.size(); ++e)
+      for (std::uint32_t role = 0; role < 4; ++role)
+        t.entries[t.row[cand[e][role]]++] = std::uint32_t(e * 4 + role);
+    for (std::size_t i = points_; i > 0; --i) t.row[i] = t.row[i - 1];
+    t.row[0] = 0;
+  }
+}
+
 // Conditional links near enough to act this step (model pools); stages' contact links all act.
 void VertexBlockDescent::find_candidates(const Model& m, const Vec3* x, Real margin) {
   const std::size_t model_pools = m.links.pools().size();
@@ -136,6 +189,13 @@ void VertexBlockDescent::colour() {
         if (colour_of_[j] != kUncoloured) stamp_[colour_of_[j]] = i;
       }
     }
+    for (std::size_t t = 0; t < triangle_stages_; ++t) {  // a candidate's four points
+      const TriangleRows& r = triangles_[t];
+      const auto cand = r.contacts->candidates();
+      for (std::uint32_t k = r.row[i]; k < r.row[i + 1]; ++k)
+        for (const std::uint32_t j : cand[r.entries[k] / 4])
+          if (j != i && colour_of_[j] != kUncoloured) stamp_[colour_of_[j]] = i;
+    }
     std::uint32_t c = 0;
     while (c < colours && stamp_[c] == i) ++c;
     if (c == colours) {
@@ -164,6 +224,7 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
          {&xn_, &vn_, &y_, &fext_, &prev1_, &prev2_, &g_, &trial_x_, &trial_v_, &trial_g_})
       a->assign(n, Vec3{});
     hess_.assign(n, Mat3{});
+    bound_.assign(n, std::numeric_limits<Real>::infinity());
     trial_h_.assign(n, Mat3{});
     touching_.assign(n, 0);
     trial_touch_.assign(n, 0);
@@ -177,7 +238,11 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
     rows_[model_pools + p].pool = transient[p];
     rows_[model_pools + p].fixed = false;
   }
-  dynamic_ = model_dynamic_ || !transient.empty();
+  triangle_rows(forces.triangle_contacts());
+  triangle_contacts_.assign(forces.triangle_contacts().begin(), forces.triangle_contacts().end());
+  conservative_bounds(triangle_contacts_, s.x().data(), bound_);
+  bounded_ = triangle_stages_ > 0;
+  dynamic_ = model_dynamic_ || !transient.empty() || triangle_stages_ > 0;
   const auto pc = forces.point_contacts();
   contacts_.assign(pc.begin(), pc.end());
   margin_ = -1;  // no candidates yet this step
@@ -190,6 +255,8 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   std::fill(g_.begin(), g_.end(), Vec3{});
   LinkCounters counters;
   for (const PoolRows& r : rows_) r.pool->accumulate(x, v, g_.data(), counters);
+  for (std::size_t t = 0; t < triangle_stages_; ++t)
+    triangles_[t].contacts->accumulate(x, v, g_.data());
   thinnest_ = std::numeric_limits<Real>::infinity();
   for (PointContacts* c : contacts_) {
     thinnest_ = std::min(thinnest_, c->thickness());
@@ -225,6 +292,11 @@ void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, cons
   for (const PoolRows& r : rows_)
     r.pool->add_point_terms(points, r.row.data(), r.slots.data(), x, v, inv_h, g_.data(),
                             hess_.data());
+  for (std::size_t t = 0; t < triangle_stages_; ++t) {
+    const TriangleRows& r = triangles_[t];
+    r.contacts->add_point_terms(points, r.row.data(), r.entries.data(), x, v, inv_h, g_.data(),
+                                hess_.data());
+  }
   for (const PointContacts* c : contacts_)
     c->add_terms(points, x, v, inv_h, g_.data(), hess_.data(), touching_.data());
 }
@@ -239,6 +311,7 @@ void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, cons
 // stays there; the next Newton step, with the contact's stiffness, goes on from there).
 Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
   const std::size_t colours = colour_row_.size() - 1;
+  if (bounded_) conservative_bounds(triangle_contacts_, x, bound_);
   Real merit = 0;
   const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
 #pragma omp parallel num_threads(threads_) if (parallel) reduction(max : merit)
@@ -263,6 +336,7 @@ Real VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const 
   for (const std::uint32_t i : pts) {
     const Vec3 dx = inverse_spd(hess_[i]) * g_[i];
     trial_x_[i] = is_finite(dx) ? x[i] + dx : x[i];  // non-finite: left to the health check
+    if (bounded_) trial_x_[i] = within_bound(x[i], trial_x_[i], bound_[i]);
     trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
     trial_touch_[i] = 0;
     trial_g_[i] = Vec3{};
@@ -317,6 +391,7 @@ void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
       a = len > 0 ? a_ext * (std::clamp(dot(a_last, a_ext) / len, Real(0), len) / len) : Vec3{};
     }
     x[i] = xn_[i] + vn_[i] * h + a * (h * h);
+    if (bounded_) x[i] = within_bound(xn_[i], x[i], bound_[i]);
     v[i] = (x[i] - xn_[i]) * (Real(1) / h);
   }
   last.resize(3 * points_);
@@ -371,7 +446,8 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
       // extrapolation throws a point deep into (or through) a thin obstacle.
       if (k >= 2)
         for (const std::uint32_t i : free_) {
-          if (touching_[i]) continue;
+          // Nor points near a face (a bound): the extrapolation could carry them across it.
+          if (touching_[i] || bound_[i] < std::numeric_limits<Real>::infinity()) continue;
           x[i] = (x[i] - prev2_[i]) * omega + prev2_[i];
           v[i] = (x[i] - xn_[i]) * (Real(1) / h);
         }

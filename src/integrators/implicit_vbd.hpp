@@ -2,6 +2,7 @@
 // residual that every implicit solver reports (implicit_vbd.cpp).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -12,6 +13,29 @@
 #include "maille/state.hpp"
 
 namespace maille {
+
+// Conservative bounds (the VBD paper's collision handling): a point-triangle distance is
+// unsigned, so a point that one update carried across a face would be pushed on through it.
+// Each point that belongs to a point-triangle candidate moves, in one update, at most
+// kBoundFraction of the smallest distance of its candidates at the update's start: the particle
+// and the triangle then close at most 2 x 0.4 of their gap, and never cross. VBD takes the
+// bounds again before every sweep (each point moves once per sweep), so over a step a point
+// goes as far as its Newton steps take it, approaching a face geometrically until the contact
+// holds it; the CG solvers advance their solved positions in stages the same way
+// (advance_within_bounds). bound[i] = +inf for points of no candidate.
+inline constexpr Real kBoundFraction = Real(0.4);
+void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3* x,
+                         std::vector<Real>& bound);
+// Moves x toward `target` in at most `stages` bounded stages (points of no candidate jump).
+void advance_within_bounds(std::span<TriangleContacts* const> contacts, std::span<Vec3> x,
+                           std::span<const Vec3> target, std::span<const Real> inv_mass,
+                           std::vector<Real>& bound, int stages);
+// `to`, pulled back toward `from` to lie within `bound` of it.
+inline Vec3 within_bound(const Vec3& from, const Vec3& to, Real bound) {
+  const Vec3 d = to - from;
+  const Real len2 = norm2(d);
+  return len2 > bound * bound ? from + d * (bound / std::sqrt(len2)) : to;
+}
 
 struct VbdResult {
   int sweeps = 0;               // sweeps run this step
@@ -62,7 +86,15 @@ class VertexBlockDescent {
     bool fixed = false;                // always-active model pool: rows built once
   };
 
+  // A stage's point-triangle contacts of this step, by point: entries = candidate * 4 + role.
+  struct TriangleRows {
+    TriangleContacts* contacts = nullptr;
+    std::vector<std::uint32_t> row;      // [points + 1]
+    std::vector<std::uint32_t> entries;  // candidates' roles, by point
+  };
+
   void build_static_rows(const Model& m);
+  void triangle_rows(std::span<TriangleContacts* const> contacts);
   void find_candidates(const Model& m, const Vec3* x, Real margin);
   void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
   void colour();
@@ -87,19 +119,24 @@ class VertexBlockDescent {
   std::vector<PoolRows> rows_;  // model pools, then this step's transient pools
   std::vector<std::uint32_t> scratch_;  // candidate slots of one pool
   std::vector<PointContacts*> contacts_;
-  std::vector<std::uint32_t> free_;        // free points, increasing
-  std::vector<std::uint32_t> colour_of_;   // [points]
-  std::vector<std::uint32_t> colour_row_;  // [colours + 1] offsets into by_colour_
-  std::vector<std::uint32_t> by_colour_;   // free points by colour, increasing in each
-  std::vector<std::uint32_t> stamp_;       // [colours] last point that saw the colour
+  std::vector<TriangleRows> triangles_;               // [stages offering point-triangle contacts]
+  std::size_t triangle_stages_ = 0;                   // of triangles_, in use this step
+  std::vector<TriangleContacts*> triangle_contacts_;  // this step's, as the stages gave them
+  std::vector<std::uint32_t> free_;                   // free points, increasing
+  std::vector<std::uint32_t> colour_of_;              // [points]
+  std::vector<std::uint32_t> colour_row_;             // [colours + 1] offsets into by_colour_
+  std::vector<std::uint32_t> by_colour_;              // free points by colour, increasing in each
+  std::vector<std::uint32_t> stamp_;                  // [colours] last point that saw the colour
   std::vector<Vec3> xn_, vn_, y_, fext_, prev1_, prev2_, g_;  // [points]
   std::vector<Mat3> hess_;                                    // [points]
+  std::vector<Real> bound_;  // [points] conservative bounds of this step (+inf: none)
+  bool bounded_ = false;     // some point has a bound
   // A block's Newton steps before they are taken: position, velocity, and the contacts there
   // (trial_g_, trial_h_ only receive the contact terms; touching flags say who is in contact).
   std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]
   std::vector<Mat3> trial_h_;                         // [points]
   std::vector<std::uint8_t> touching_, trial_touch_;  // [points]
-  Real margin_ = 0;  // contact search radius beyond each link's threshold, m
+  Real margin_ = 0;    // contact search radius beyond each link's threshold, m
   Real thinnest_ = 0;  // the point contacts' thinnest region this step (PointContacts::thickness)
   Real gravity_ = 0;
 };

@@ -19,6 +19,7 @@
 #include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
 #include "self_collision_view.hpp"
+#include "triangle_contact_terms.hpp"
 #include "triangle_proximity.hpp"
 
 namespace maille {
@@ -228,6 +229,16 @@ class SelfCollision {
     return out;
   }
 
+  // Point-triangle candidates within `radius` (primitive = "triangles"; none otherwise).
+  void triangle_candidates(const Vec3* x, const Vec3* v, Real h, Real max_margin, int threads,
+                           std::vector<std::array<std::uint32_t, 4>>& out) {
+    out.clear();
+    if (triangles_)
+      triangles_->candidates(x, v, s_.radius, h, max_margin,
+                             s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads,
+                             out);
+  }
+
   // Each particle sums its own contacts in its partners' order: no atomics, and the same sums
   // whatever the broad phase, the cell size or the thread count.
   SelfCollisionStats apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
@@ -420,7 +431,9 @@ namespace {
 class SelfCollisionStage final : public Stage {
  public:
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s)
-      : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {}
+      : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {
+    anchored_ = anchored_triangles(m);
+  }
   std::string name() const override { return std::string(kSelfCollisionStage); }
   Phase phase() const override { return kSelfCollisionPhase; }
   void model_changed(const Model& m) override {
@@ -428,6 +441,7 @@ class SelfCollisionStage final : public Stage {
     wide_.reset();
     engine_ = SelfCollision(m, settings_);
     warnings_ = leak_warnings(m, engine_.settings());
+    anchored_ = anchored_triangles(m);
     last_cell_ = 0;
   }
   std::vector<std::string> warnings() const override { return warnings_; }
@@ -444,7 +458,12 @@ class SelfCollisionStage final : public Stage {
   }
 
   void apply(const Model& m, State& s, const StageContext& ctx) override {
-    if (!enabled_) return;
+    if (!enabled_) {  // nothing for an implicit solve either (not last step's contacts)
+      contacts_.clear();
+      contacts_.prepare(std::uint32_t(s.size()));
+      triangle_terms_.storage().clear();
+      return;
+    }
     const SelfCollisionStats st =
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
@@ -506,6 +525,9 @@ class SelfCollisionStage final : public Stage {
   }
 
   const LinkPoolBase* implicit_links() const override { return &contacts_; }
+  TriangleContacts* triangle_contacts() override {
+    return engine_.settings().primitive == Primitive::triangles ? &triangle_terms_ : nullptr;
+  }
 
   SelfCollisionView view() const { return {&engine_.settings(), enabled_, engine_.set()}; }
 
@@ -541,6 +563,8 @@ class SelfCollisionStage final : public Stage {
   // pairs within s + margin, margin covering the step's motion, so that a solve that moves
   // points by a whole step (vertex block descent) still sees every pair that comes within s.
   LinkPool<ConditionalSpringDamper> contacts_;
+  // primitive = "triangles": this step's point-triangle candidates within s + margin
+  collision::TriangleContactTerms triangle_terms_;
   std::unique_ptr<SelfCollision> wide_;  // the same particles and exclusion, radius s + margin
   Real wide_margin_ = 0;
 
@@ -559,10 +583,25 @@ class SelfCollisionStage final : public Stage {
     wide_ = std::make_unique<SelfCollision>(m, ws);
   }
 
-  static Real motion_margin(const State& s, const std::vector<std::uint32_t>& set, Real h) {
+  // Triangles with a fixed or driven corner do not follow the particles' common motion (a
+  // particle falling onto a pinned cloth): speeds are then taken as they are.
+  bool anchored_ = false;
+  bool anchored_triangles(const Model& m) const {
+    if (engine_.settings().primitive != Primitive::triangles) return false;
+    const std::vector<std::uint8_t> in = group_mask(m, engine_.settings().groups);
+    for (const auto& t : m.surface.triangles)
+      if (in[t[0]] && in[t[1]] && in[t[2]])
+        for (const std::uint32_t c : t)
+          if (m.points.inv_mass[c] == 0) return true;
+    return false;
+  }
+
+  static Real motion_margin(const State& s, const std::vector<std::uint32_t>& set, Real h,
+                            bool absolute) {
     const auto v = s.v();
     Vec3 mean{};
-    for (const std::uint32_t p : set) mean += v[p];
+    if (!absolute)
+      for (const std::uint32_t p : set) mean += v[p];
     mean = mean * (Real(1) / Real(std::max<std::size_t>(set.size(), 1)));
     Real dv2 = 0;
     for (const std::uint32_t p : set) dv2 = std::max(dv2, norm2(v[p] - mean));
@@ -572,7 +611,7 @@ class SelfCollisionStage final : public Stage {
   void contacts_as_links(const Model& m, State& s, const StageContext& ctx) {
     contacts_.clear();
     const auto& st = engine_.settings();
-    const Real needed = motion_margin(s, engine_.set(), Real(ctx.h));
+    const Real needed = motion_margin(s, engine_.set(), Real(ctx.h), anchored_);
     // Grown to twice what is needed when too small, shrunk when four times too large (a cloth
     // come to rest): the wide engine (grid and exclusion) is rebuilt rarely, never per step.
     // The margin in use is part of the state (the candidates, and so the solve's summation
@@ -586,6 +625,9 @@ class SelfCollisionStage final : public Stage {
       contacts_.add({a, b}, {st.stiffness, st.damping, st.radius, st.radius});
     });
     contacts_.prepare(std::uint32_t(s.size()));
+    triangle_terms_.set_law(st.radius, st.stiffness, st.damping);
+    engine_.triangle_candidates(s.x().data(), s.v().data(), Real(ctx.h), wide_margin_, ctx.threads,
+                                triangle_terms_.storage());
   }
   double last_cell_ = 0;
 };

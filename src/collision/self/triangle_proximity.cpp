@@ -8,8 +8,6 @@
 
 namespace maille::collision {
 
-namespace {
-
 // Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
 // Detection, 5.1.5): the Voronoi regions of the corners, the edges, then the face.
 std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -42,7 +40,16 @@ std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b,
   return {1 - v - w, v, w};
 }
 
-}  // namespace
+Feature feature_of(const std::array<std::uint32_t, 3>& tri, std::uint32_t triangle,
+                   const std::array<Real, 3>& w) {
+  std::array<std::uint32_t, 3> used{};
+  std::uint32_t count = 0;
+  for (int e = 0; e < 3; ++e)
+    if (w[std::size_t(e)] != 0) used[count++] = tri[std::size_t(e)];
+  if (count == 3) return {2, triangle, 0};
+  if (count == 2) return {1, std::min(used[0], used[1]), std::max(used[0], used[1])};
+  return {0, used[0], 0};
+}
 
 TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
                                      const std::vector<std::uint8_t>& groups_mask)
@@ -52,15 +59,13 @@ TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint
     if (groups_mask[t[0]] && groups_mask[t[1]] && groups_mask[t[2]]) tris_.push_back(t);
 }
 
-std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
-                                       const TriangleResponse& r,
-                                       const TopologicalExclusion* exclusion, int threads) {
-  if (tris_.empty() || set_.empty()) return 0;
-  // A grid over the particles' box, cells of about the longest triangle box side.
+// A grid over the particles' box, cells of about the longest triangle box side; triangles go
+// into the cells their boxes grown by `grow` overlap (counting sort, two passes).
+void TriangleProximity::bin(const Vec3* x, Real grow_by) {
   xs_.resize(set_.size());
   for (std::size_t k = 0; k < set_.size(); ++k) xs_[k] = x[set_[k]];
   const Box box = bounds(xs_.data(), std::uint32_t(xs_.size()));
-  Real cell = r.radius;
+  Real cell = grow_by;
   for (const auto& t : tris_)
     for (int e = 0; e < 3; ++e)
       cell = std::max(cell, norm(x[t[std::size_t((e + 1) % 3)]] - x[t[std::size_t(e)]]));
@@ -68,8 +73,9 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   while ((ext.x / cell + 1) * (ext.y / cell + 1) * (ext.z / cell + 1) >
          Real(8 * set_.size() + 4096))
     cell *= Real(1.25);
-  const auto nx = std::int64_t(ext.x / cell) + 1, ny = std::int64_t(ext.y / cell) + 1,
-             nz = std::int64_t(ext.z / cell) + 1;
+  grid_ = {box.lo, cell, std::int64_t(ext.x / cell) + 1, std::int64_t(ext.y / cell) + 1,
+           std::int64_t(ext.z / cell) + 1};
+  const std::int64_t nx = grid_.nx, ny = grid_.ny, nz = grid_.nz;
   auto clampi = [](std::int64_t i, std::int64_t n) {
     return std::clamp<std::int64_t>(i, 0, n - 1);
   };
@@ -81,10 +87,9 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
          clampi(std::int64_t(std::floor((lo.z - box.lo.z) / cell)), nz),
          clampi(std::int64_t(std::floor((hi.z - box.lo.z) / cell)), nz)};
   };
-  // Triangles into the cells their grown boxes overlap (counting sort, two passes).
   const auto cells = std::size_t(nx * ny * nz);
   cell_start_.assign(cells + 1, 0);
-  const Vec3 grow{r.radius, r.radius, r.radius};
+  const Vec3 grow{grow_by, grow_by, grow_by};
   auto each_cell = [&](std::size_t t, auto&& fn) {
     const auto& tri = tris_[t];
     Vec3 lo = x[tri[0]], hi = x[tri[0]];
@@ -106,61 +111,106 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t t = 0; t < tris_.size(); ++t)
     each_cell(t, [&](std::size_t c) { cell_tris_[cursor_[c]++] = std::uint32_t(t); });
+}
 
+// Calls fn(t, w, d, d2) for every triangle t of particle k's cell closer than `radius` (d: from
+// the closest point, weights w, to the particle), that is neither the particle's own nor, by
+// `exclusion`, its neighbourhood.
+template <class F>
+void TriangleProximity::near(std::int64_t k, const Vec3* x, Real radius,
+                             const TopologicalExclusion* exclusion, F&& fn) const {
+  auto clampi = [](std::int64_t i, std::int64_t n) {
+    return std::clamp<std::int64_t>(i, 0, n - 1);
+  };
+  const std::uint32_t p = set_[std::size_t(k)];
+  const Vec3 q = (x[p] - grid_.lo) / grid_.cell;
+  const auto c = std::size_t(
+      (clampi(std::int64_t(q.z), grid_.nz) * grid_.ny + clampi(std::int64_t(q.y), grid_.ny)) *
+          grid_.nx +
+      clampi(std::int64_t(q.x), grid_.nx));
+  const Real r2 = radius * radius;
+  for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
+    const std::uint32_t t = cell_tris_[s];
+    const auto& tri = tris_[t];
+    if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
+    const std::array<Real, 3> w = closest_weights(x[p], x[tri[0]], x[tri[1]], x[tri[2]]);
+    const Vec3 closest = x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2];
+    const Vec3 d = x[p] - closest;
+    const Real d2 = dot(d, d);
+    if (d2 >= r2 || d2 == 0) continue;
+    bool own = false;  // the triangle is the particle's own neighbourhood
+    if (exclusion)
+      for (auto corner : tri)
+        own |= local_[corner] >= 0 &&
+               exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner]));
+    if (!own) fn(t, w, d, d2);
+  }
+}
+
+void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h,
+                                   Real max_margin, const TopologicalExclusion* exclusion,
+                                   int threads, std::vector<std::array<std::uint32_t, 4>>& out) {
+  out.clear();
+  if (tris_.empty() || set_.empty()) return;
+  const Real reach = radius + max_margin;
+  bin(x, reach);
+  per_thread_candidates_.resize(std::size_t(std::max(threads, 1)));
+  for (auto& list : per_thread_candidates_) list.clear();
+  const auto n = static_cast<std::int64_t>(set_.size());
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
+  for (std::int64_t k = 0; k < n; ++k) {
+    auto& list = per_thread_candidates_[std::size_t(thread_id())];
+    const std::uint32_t p = set_[std::size_t(k)];
+    near(k, x, reach, exclusion, [&](std::uint32_t t, const auto&, const Vec3&, Real d2) {
+      const auto& tri = tris_[t];
+      Real closing2 = 0;  // the largest speed of the particle relative to a corner, squared
+      for (const std::uint32_t c : tri) closing2 = std::max(closing2, norm2(v[p] - v[c]));
+      const Real margin = std::min(
+          max_margin, std::max(kMinMargin * radius, kMotionFactor * h * std::sqrt(closing2)));
+      if (d2 < (radius + margin) * (radius + margin))
+        list.push_back({p, tri[0], tri[1], tri[2], t});
+    });
+  }
+  // (particle, triangle) order: the same candidates in the same order whatever the threads.
+  all_candidates_.clear();
+  for (const auto& list : per_thread_candidates_)
+    all_candidates_.insert(all_candidates_.end(), list.begin(), list.end());
+  std::sort(all_candidates_.begin(), all_candidates_.end(), [](const auto& a, const auto& b) {
+    return std::tie(a[0], a[4]) < std::tie(b[0], b[4]);
+  });
+  for (const auto& c : all_candidates_) out.push_back({c[0], c[1], c[2], c[3]});
+}
+
+std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
+                                       const TriangleResponse& r,
+                                       const TopologicalExclusion* exclusion, int threads) {
+  if (tris_.empty() || set_.empty()) return 0;
+  bin(x, r.radius);
   // Each particle against the triangles of its cell.
   per_thread_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_) list.clear();
   const auto n = static_cast<std::int64_t>(set_.size());
-  const Real r2 = r.radius * r.radius;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t k = 0; k < n; ++k) {
     auto& out = per_thread_[std::size_t(thread_id())];
     const std::uint32_t p = set_[std::size_t(k)];
-    const Vec3 q = (x[p] - box.lo) / cell;
-    const auto c =
-        std::size_t((clampi(std::int64_t(q.z), nz) * ny + clampi(std::int64_t(q.y), ny)) * nx +
-                    clampi(std::int64_t(q.x), nx));
-    for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
-      const std::uint32_t t = cell_tris_[s];
-      const auto& tri = tris_[t];
-      if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
-      const std::array<Real, 3> w = closest_weights(x[p], x[tri[0]], x[tri[1]], x[tri[2]]);
-      const Vec3 closest = x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2];
-      const Vec3 d = x[p] - closest;
-      const Real d2 = dot(d, d);
-      if (d2 >= r2 || d2 == 0) continue;
-      bool near = false;  // the triangle is the particle's own neighbourhood
-      if (exclusion)
-        for (auto corner : tri)
-          near |= local_[corner] >= 0 &&
-                  exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner]));
-      if (near) continue;
-      const Real dist = std::sqrt(d2);
-      const Vec3 nrm = d / dist;
-      const Vec3 vq = v[tri[0]] * w[0] + v[tri[1]] * w[1] + v[tri[2]] * w[2];
-      const Vec3 dv = v[p] - vq;
-      const Real vn = dot(dv, nrm);
-      Vec3 force = nrm * (r.stiffness * (r.radius - dist) - r.damping * vn);
-      if (r.friction > 0) {
-        const Vec3 vt = dv - nrm * vn;
-        const Real speed = norm(vt);
-        force -= vt * (r.friction * std::abs(dot(force, nrm)) / std::max(speed, Real(1e-3)));
-      }
-      // The feature: corners with a non-zero weight.
-      std::uint32_t kind = 0, fa = 0, fb = 0;
-      std::array<std::uint32_t, 3> used{};
-      std::uint32_t count = 0;
-      for (int e = 0; e < 3; ++e)
-        if (w[std::size_t(e)] != 0) used[count++] = tri[std::size_t(e)];
-      if (count == 3) {
-        kind = 2, fa = t, fb = 0;
-      } else if (count == 2) {
-        kind = 1, fa = std::min(used[0], used[1]), fb = std::max(used[0], used[1]);
-      } else {
-        kind = 0, fa = used[0], fb = 0;
-      }
-      out.push_back({p, t, kind, fa, fb, force, w});
-    }
+    near(k, x, r.radius, exclusion,
+         [&](std::uint32_t t, const std::array<Real, 3>& w, const Vec3& d, Real d2) {
+           const auto& tri = tris_[t];
+           const Real dist = std::sqrt(d2);
+           const Vec3 nrm = d / dist;
+           const Vec3 vq = v[tri[0]] * w[0] + v[tri[1]] * w[1] + v[tri[2]] * w[2];
+           const Vec3 dv = v[p] - vq;
+           const Real vn = dot(dv, nrm);
+           Vec3 force = nrm * (r.stiffness * (r.radius - dist) - r.damping * vn);
+           if (r.friction > 0) {
+             const Vec3 vt = dv - nrm * vn;
+             const Real speed = norm(vt);
+             force -= vt * (r.friction * std::abs(dot(force, nrm)) / std::max(speed, Real(1e-3)));
+           }
+           const Feature fe = feature_of(tri, t, w);
+           out.push_back({p, t, fe.kind, fe.a, fe.b, force, w});
+         });
   }
   // Applied in (particle, feature, triangle) order: the same sums whatever the threads. A
   // particle touching an edge or a corner shared by several triangles is pushed once (else a

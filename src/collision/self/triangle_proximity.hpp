@@ -18,6 +18,20 @@
 
 namespace maille::collision {
 
+// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
+// Detection, 5.1.5): exact zeros outside the touched feature.
+std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// The feature of a triangle that a closest point lies on: a face (kind 2, a = the triangle's
+// index), an edge (kind 1, its two corners a < b) or a corner (kind 0, a). Triangles sharing an
+// edge or a corner give it the same feature.
+struct Feature {
+  std::uint32_t kind = 0, a = 0, b = 0;
+  bool operator==(const Feature&) const = default;
+};
+Feature feature_of(const std::array<std::uint32_t, 3>& tri, std::uint32_t triangle,
+                   const std::array<Real, 3>& w);
+
 struct TriangleResponse {
   Real radius = 0, stiffness = 0, damping = 0, friction = 0;
 };
@@ -32,6 +46,18 @@ class TriangleProximity {
   // null) removes triangles whose free corners are topological neighbours of the particle.
   std::uint64_t apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
                       const TopologicalExclusion* exclusion, int threads);
+  // The particle-triangle pairs that may touch during a step of h (the same tests as apply's,
+  // without forces): closer than the contact radius plus the pair's own margin, kMotionFactor h
+  // times the particle's largest speed relative to the triangle's corners (at least
+  // kMinMargin radius, at most max_margin). A pair moving together (a flat cloth's particle and
+  // its far triangles while it falls) is not a candidate. {particle, corners}, sorted by
+  // particle then triangle. For implicit schemes (TriangleContacts).
+  void candidates(const Vec3* x, const Vec3* v, Real radius, Real h, Real max_margin,
+                  const TopologicalExclusion* exclusion, int threads,
+                  std::vector<std::array<std::uint32_t, 4>>& out);
+  // Of the pair margin: the solve's corrections on top of the step-start speed (as for the
+  // self-collision's wide margin), and the least margin, relative to the radius.
+  static constexpr Real kMotionFactor = Real(2.5), kMinMargin = Real(0.25);
   std::size_t triangles() const { return tris_.size(); }
 
  private:
@@ -43,6 +69,17 @@ class TriangleProximity {
     Vec3 force;                  // on the particle
     std::array<Real, 3> weight;  // barycentric weights of the closest point
   };
+  struct Grid {
+    Vec3 lo{};
+    Real cell = 1;
+    std::int64_t nx = 1, ny = 1, nz = 1;
+  };
+  void bin(const Vec3* x, Real grow);
+  template <class F>
+  void near(std::int64_t k, const Vec3* x, Real radius, const TopologicalExclusion* exclusion,
+            F&& fn) const;
+
+  Grid grid_;
   std::vector<std::array<std::uint32_t, 3>> tris_;  // global corner ids
   std::vector<std::uint32_t> set_;
   std::vector<std::int32_t> local_;  // global id -> index in set_, -1 when not colliding
@@ -50,6 +87,9 @@ class TriangleProximity {
   std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
   std::vector<std::vector<Contact>> per_thread_;
   std::vector<Contact> all_;
+  // {particle, corners, triangle} per thread, then all of them sorted
+  std::vector<std::vector<std::array<std::uint32_t, 5>>> per_thread_candidates_;
+  std::vector<std::array<std::uint32_t, 5>> all_candidates_;
 };
 
 }  // namespace maille::collision

@@ -1,0 +1,106 @@
+#include "triangle_contact_terms.hpp"
+
+#include <cmath>
+
+#include "triangle_proximity.hpp"
+
+namespace maille::collision {
+
+namespace {
+
+// The feature candidate `c`'s triangle touches at weights w (feature_of wants a triangle index:
+// any value serves for edges and corners, which are named by their corners).
+Feature feature(const std::array<std::uint32_t, 4>& c, const std::array<Real, 3>& w,
+                std::uint32_t e) {
+  return feature_of({c[1], c[2], c[3]}, e, w);
+}
+
+bool has_corner(const std::array<std::uint32_t, 4>& c, std::uint32_t p) {
+  return c[1] == p || c[2] == p || c[3] == p;
+}
+
+}  // namespace
+
+bool TriangleContactTerms::evaluate(std::size_t e, const Vec3* x, const Vec3* v, Eval& out) const {
+  const auto& c = candidates_[e];
+  const std::array<Real, 3> w = closest_weights(x[c[0]], x[c[1]], x[c[2]], x[c[3]]);
+  const Vec3 d = x[c[0]] - (x[c[1]] * w[0] + x[c[2]] * w[1] + x[c[3]] * w[2]);
+  const Real d2 = dot(d, d);
+  if (d2 >= radius_ * radius_ || d2 == 0) return false;
+  // An edge or a corner shared with an earlier candidate of the same particle that touches it
+  // too is that candidate's (the explicit force pushes once per feature, lowest triangle).
+  const Feature f = feature(c, w, std::uint32_t(e));
+  if (f.kind < 2)
+    for (std::size_t o = e; o-- > 0 && candidates_[o][0] == c[0];) {
+      const auto& other = candidates_[o];
+      if (!has_corner(other, f.a) || (f.kind == 1 && !has_corner(other, f.b))) continue;
+      const std::array<Real, 3> wo =
+          closest_weights(x[other[0]], x[other[1]], x[other[2]], x[other[3]]);
+      if (feature(other, wo, std::uint32_t(o)) == f) return false;
+    }
+  const Real dist = std::sqrt(d2);
+  out.n = d / dist;
+  out.c = {1, -w[0], -w[1], -w[2]};
+  Vec3 dv{};
+  for (std::size_t j = 0; j < 4; ++j) dv += v[c[j]] * out.c[j];
+  out.force = out.n * (stiffness_ * (radius_ - dist) - damping_ * dot(dv, out.n));
+  return true;
+}
+
+Real TriangleContactTerms::distance(std::size_t e, const Vec3* x) const {
+  const auto& c = candidates_[e];
+  const std::array<Real, 3> w = closest_weights(x[c[0]], x[c[1]], x[c[2]], x[c[3]]);
+  return norm(x[c[0]] - (x[c[1]] * w[0] + x[c[2]] * w[1] + x[c[3]] * w[2]));
+}
+
+void TriangleContactTerms::accumulate(const Vec3* x, const Vec3* v, Vec3* f) const {
+  Eval ev;
+  for (std::size_t e = 0; e < candidates_.size(); ++e)
+    if (evaluate(e, x, v, ev))
+      for (std::size_t j = 0; j < 4; ++j) f[candidates_[e][j]] += ev.force * ev.c[j];
+}
+
+void TriangleContactTerms::add_point_terms(std::span<const std::uint32_t> points,
+                                           const std::uint32_t* row, const std::uint32_t* entries,
+                                           const Vec3* x, const Vec3* v, Real inv_h, Vec3* f,
+                                           Mat3* hessian) const {
+  const Real k = stiffness_ + damping_ * inv_h;
+  Eval ev;
+  for (const std::uint32_t i : points)
+    for (std::uint32_t r = row[i]; r < row[i + 1]; ++r) {
+      const std::uint32_t e = entries[r] / 4, role = entries[r] % 4;
+      if (!evaluate(e, x, v, ev)) continue;
+      const Real c = ev.c[role];
+      f[i] += ev.force * c;
+      hessian[i] += Mat3::outer(ev.n, ev.n) * (k * c * c);
+    }
+}
+
+void TriangleContactTerms::linearise(const Vec3* x, const Vec3* v) {
+  active_.clear();
+  Eval ev;
+  for (std::size_t e = 0; e < candidates_.size(); ++e)
+    if (evaluate(e, x, v, ev)) active_.push_back({std::uint32_t(e), ev.n, ev.c});
+}
+
+void TriangleContactTerms::apply(Real a, Real b, const Vec3* u, Vec3* out) const {
+  const Real s = a * stiffness_ + b * damping_;
+  for (const Active& ac : active_) {
+    const auto& c = candidates_[ac.e];
+    Vec3 sum{};
+    for (std::size_t j = 0; j < 4; ++j) sum += u[c[j]] * ac.c[j];
+    const Vec3 t = ac.n * (s * dot(ac.n, sum));
+    for (std::size_t j = 0; j < 4; ++j) out[c[j]] += t * ac.c[j];
+  }
+}
+
+void TriangleContactTerms::add_diagonal(Real a, Real b, Mat3* diagonal) const {
+  const Real s = a * stiffness_ + b * damping_;
+  for (const Active& ac : active_) {
+    const Mat3 nn = Mat3::outer(ac.n, ac.n);
+    for (std::size_t j = 0; j < 4; ++j)
+      diagonal[candidates_[ac.e][j]] += nn * (s * ac.c[j] * ac.c[j]);
+  }
+}
+
+}  // namespace maille::collision

@@ -1,0 +1,56 @@
+// Self-collision's point-triangle contacts inside implicit solves (TriangleContacts, stage.hpp):
+// the candidates the stage found at the step's start, and the contact's energy terms evaluated
+// at any iterate, with the closest point found again each time.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "maille/mat3.hpp"
+#include "maille/stage.hpp"
+
+namespace maille::collision {
+
+class TriangleContactTerms final : public TriangleContacts {
+ public:
+  // The law: contact radius s, stiffness k, damping z (friction stays explicit).
+  void set_law(Real radius, Real stiffness, Real damping) {
+    radius_ = radius;
+    stiffness_ = stiffness;
+    damping_ = damping;
+  }
+  // Filled by the stage each step ({particle, corners}, sorted by particle).
+  std::vector<std::array<std::uint32_t, 4>>& storage() { return candidates_; }
+
+  std::span<const std::array<std::uint32_t, 4>> candidates() const override { return candidates_; }
+  void accumulate(const Vec3* x, const Vec3* v, Vec3* f) const override;
+  Real distance(std::size_t e, const Vec3* x) const override;
+  void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
+                       const std::uint32_t* entries, const Vec3* x, const Vec3* v, Real inv_h,
+                       Vec3* f, Mat3* hessian) const override;
+  void linearise(const Vec3* x, const Vec3* v) override;
+  void apply(Real a, Real b, const Vec3* u, Vec3* out) const override;
+  void add_diagonal(Real a, Real b, Mat3* diagonal) const override;
+
+ private:
+  // Candidate e at x, v: whether it acts (closer than s, not a shared feature counted by an
+  // earlier candidate of its particle), and then its normal, coefficients and force.
+  struct Eval {
+    Vec3 n{}, force{};  // force on the particle
+    std::array<Real, 4> c{};
+  };
+  bool evaluate(std::size_t e, const Vec3* x, const Vec3* v, Eval& out) const;
+
+  Real radius_ = 0, stiffness_ = 0, damping_ = 0;
+  std::vector<std::array<std::uint32_t, 4>> candidates_;
+  struct Active {
+    std::uint32_t e;
+    Vec3 n;
+    std::array<Real, 4> c;
+  };
+  std::vector<Active> active_;  // linearise's contacts
+};
+
+}  // namespace maille::collision
