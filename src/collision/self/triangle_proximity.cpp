@@ -45,8 +45,9 @@ std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b,
 }  // namespace
 
 TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
-                                     const std::vector<std::uint8_t>& groups_mask)
-    : set_(set), local_(m.points.size(), -1) {
+                                     const std::vector<std::uint8_t>& groups_mask,
+                                     std::size_t max_contacts)
+    : set_(set), local_(m.points.size(), -1), max_contacts_(max_contacts) {
   for (std::size_t k = 0; k < set.size(); ++k) local_[set[k]] = std::int32_t(k);
   for (const auto& t : m.surface.triangles)
     if (groups_mask[t[0]] && groups_mask[t[1]] && groups_mask[t[2]]) tris_.push_back(t);
@@ -55,6 +56,7 @@ TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint
 std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
                                        const TriangleResponse& r,
                                        const TopologicalExclusion* exclusion, int threads) {
+  full_ = false;
   if (tris_.empty() || set_.empty()) return 0;
   // A grid over the particles' box, cells of about the longest triangle box side.
   xs_.resize(set_.size());
@@ -107,14 +109,18 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   for (std::size_t t = 0; t < tris_.size(); ++t)
     each_cell(t, [&](std::size_t c) { cell_tris_[cursor_[c]++] = std::uint32_t(t); });
 
-  // Each particle against the triangles of its cell.
+  // Each particle against the triangles of its cell. Each thread keeps at most its share of
+  // the contacts: beyond it, the pass goes on without collecting and is refused below.
   per_thread_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_) list.clear();
+  thread_full_.assign(per_thread_.size(), 0);
+  const std::size_t cap = max_contacts_ / per_thread_.size();
   const auto n = static_cast<std::int64_t>(set_.size());
   const Real r2 = r.radius * r.radius;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t k = 0; k < n; ++k) {
     auto& out = per_thread_[std::size_t(thread_id())];
+    if (thread_full_[std::size_t(thread_id())]) continue;
     const std::uint32_t p = set_[std::size_t(k)];
     const Vec3 q = (x[p] - box.lo) / cell;
     const auto c =
@@ -159,9 +165,15 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
       } else {
         kind = 0, fa = used[0], fb = 0;
       }
+      if (out.size() >= cap) {
+        thread_full_[std::size_t(thread_id())] = 1;
+        break;
+      }
       out.push_back({p, t, kind, fa, fb, force, w});
     }
   }
+  for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
+  if (full_) return 0;
   // Applied in (particle, feature, triangle) order: the same sums whatever the threads. A
   // particle touching an edge or a corner shared by several triangles is pushed once (else a
   // particle resting on a flat mesh would feel 2 k on an edge and up to 6 k on a corner).

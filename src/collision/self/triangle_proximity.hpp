@@ -7,6 +7,10 @@
 // Triangles are binned into a grid of cells (their boxes grown by s); each particle tests the
 // triangles of its cell. Contacts are collected per thread, sorted by (particle, triangle) and
 // applied in that order: deterministic whatever the thread count.
+//
+// Contacts are bounded like the particle pairs (self_collision.cpp): a pass that would collect
+// more than `max_contacts` is stopped and flagged (full()), and the stage refuses it by name,
+// rather than a radius taking in every triangle ending in std::bad_alloc inside a parallel region.
 #pragma once
 
 #include <array>
@@ -25,14 +29,18 @@ struct TriangleResponse {
 class TriangleProximity {
  public:
   // `set`: the colliding particles (global ids, sorted); triangles: the model's faces whose
-  // corners all belong to `groups_mask` (1 for points of the colliding groups).
+  // corners all belong to `groups_mask` (1 for points of the colliding groups); at most
+  // `max_contacts` contacts in a pass (see kBytesPerContact).
   TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
-                    const std::vector<std::uint8_t>& groups_mask);
+                    const std::vector<std::uint8_t>& groups_mask, std::size_t max_contacts);
   // Adds the forces; returns the number of particle-triangle contacts. `exclusion` (may be
   // null) removes triangles whose free corners are topological neighbours of the particle.
+  // When the pass found more than `max_contacts`, no force is added and full() is true.
   std::uint64_t apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
                       const TopologicalExclusion* exclusion, int threads);
   std::size_t triangles() const { return tris_.size(); }
+  bool full() const { return full_; }
+  std::size_t max_contacts() const { return max_contacts_; }
 
  private:
   struct Contact {
@@ -49,7 +57,15 @@ class TriangleProximity {
   std::vector<Vec3> xs_;             // the particles' positions, gathered each pass
   std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
   std::vector<std::vector<Contact>> per_thread_;
+  std::vector<std::uint8_t> thread_full_;  // [threads] 1: that thread's list reached its cap
   std::vector<Contact> all_;
+  std::size_t max_contacts_;
+  bool full_ = false;
+
+ public:
+  // Memory per contact, for the budget: a thread's list and the merged list, each with the
+  // slack of a growing vector (up to twice its size).
+  static constexpr std::size_t kBytesPerContact = 4 * sizeof(Contact);
 };
 
 }  // namespace maille::collision
