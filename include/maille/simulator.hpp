@@ -41,12 +41,13 @@ namespace maille {
 inline constexpr int kNeverEvery = 1 << 30;
 
 struct SimulationSettings {
-  std::string integrator = "leapfrog";       // a name from IntegratorRegistry
-  double step = 1e-3;                        // h, s, > 0
-  double duration = 5;                       // s, > 0 (used by apps; step() ignores it)
-  int publish_every = 10;                    // steps between snapshots, >= 1
-  int sample_every = 0;                      // steps between energy samples; 0: publish_every
-  int threads = 0;  // 0: the cores free now when the scene is large (>= 4096 points), else 1
+  std::string integrator = "leapfrog";  // a name from IntegratorRegistry
+  double step = 1e-3;                   // h, s, > 0
+  double duration = 5;                  // s, > 0 (used by apps; step() ignores it)
+  int publish_every = 10;               // steps between snapshots, >= 1
+  int sample_every = 0;                 // steps between energy samples; 0: publish_every
+  int threads = 0;  // 0: the cores free, followed during the run, when the scene is large
+                    // (>= 4096 points), else 1 (Simulator::CoreSampling)
   double runaway_factor = 1e3;               // blow-up when energy exceeds this times its scale
   ImplicitSettings implicit;                 // used by implicit_euler only
   std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
@@ -112,6 +113,22 @@ class Simulator : private ForceEvaluator {
   const std::optional<BlowUp>& blow_up() const { return blow_up_; }
   const StabilityEstimate& stability() const { return stability_; }
   int threads() const { return threads_; }
+
+  // The default thread count (settings.threads = 0 on a scene of 4096 points or more, on the
+  // CPU) follows the cores free during the run, not only at the start: between steps, every
+  // `interval` of wall-clock time, `free_cores` is asked and the thread count set to its answer
+  // (within [1, the cores]): fewer threads when another program takes a core, more when it
+  // frees one. Results do not change (every pass sums in an order set by the model, never by
+  // the threads: test physics.FollowCores). By default the answer comes from /proc/stat
+  // (src/core/follow_cores.hpp: a core is taken when another task was runnable in each of the
+  // last 4 samples); tests pass their own to make a core busy or free on cue. Without effect
+  // when follows_cores() is false.
+  struct CoreSampling {
+    std::function<int()> free_cores;  // the cores free now; null: /proc/stat
+    double interval = 0.25;           // s of wall-clock time between two questions; 0: every step
+  };
+  void set_core_sampling(CoreSampling sampling);
+  bool follows_cores() const { return follows_cores_; }
   // The compute backend, or nullptr on the CPU path.
   const Backend* backend() const { return backend_.get(); }
   void wait();  // until every submitted step has run (a device backend runs asynchronously)
@@ -214,6 +231,9 @@ class Simulator : private ForceEvaluator {
   void sync_host() const;  // the device's x, v, f into state_ when the device is ahead
   void check_backend_health();
   double energy_scale() const;
+  // simulator_threads.cpp: the default thread count follows the free cores.
+  void follow_cores();
+  void use_threads(int threads);
 
   Model model_;
   SimulationSettings settings_;
@@ -234,6 +254,10 @@ class Simulator : private ForceEvaluator {
   std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
   double energy_scale_ = 0;
   int threads_ = 1;
+  int cores_ = 1;               // those OpenMP may use (omp_get_num_procs)
+  bool follows_cores_ = false;  // the thread count is the default: it follows the free cores
+  CoreSampling core_sampling_;
+  std::int64_t next_core_check_ns_ = 0;  // steady clock
   bool overlays_ = false;
   bool device_snapshots_ = false;
   struct StageIds;

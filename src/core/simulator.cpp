@@ -42,11 +42,15 @@ Simulator::Simulator(Model model, SimulationSettings settings)
 #else
   const int cores = 1;
 #endif
-  // The default: one thread for small scenes, else the cores free now (free_cores.hpp): a
-  // thread that shares its core with another program makes every barrier wait for it.
+  // The default: one thread for small scenes, else the cores free now (free_cores.hpp), and
+  // followed during the run (simulator_threads.cpp): a thread that shares its core with
+  // another program makes every barrier wait for it.
   threads_ = settings_.threads > 0     ? settings_.threads
              : n >= kParallelThreshold ? detail::free_cores(cores)
                                        : 1;
+  cores_ = cores;
+  follows_cores_ =
+      settings_.threads == 0 && n >= kParallelThreshold && cores > 1 && settings_.backend == "cpu";
   model_.prepare();
   build_integrator(settings_.integrator);
 
@@ -224,6 +228,7 @@ void Simulator::restore(State state, std::uint64_t frames_published) {
 // integration, when forces and (synchronised) velocities belong to the same time t_n.
 bool Simulator::step() {
   if (blow_up_) return false;
+  if (follows_cores_) follow_cores();
   if (backend_) return step_on_backend();
   profile_.begin_step();
   const auto& ids = *ids_;

@@ -53,6 +53,7 @@ class VertexBlockDescent {
   double residual(const Model& m, const State& s, Real h);
   // Drops everything sized for a model.
   void reset();
+  void set_threads(int threads) { threads_ = threads; }
 
  private:
   struct PoolRows {
@@ -99,7 +100,7 @@ class VertexBlockDescent {
   std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]
   std::vector<Mat3> trial_h_;                         // [points]
   std::vector<std::uint8_t> touching_, trial_touch_;  // [points]
-  Real margin_ = 0;  // contact search radius beyond each link's threshold, m
+  Real margin_ = 0;    // contact search radius beyond each link's threshold, m
   Real thinnest_ = 0;  // the point contacts' thinnest region this step (PointContacts::thickness)
   Real gravity_ = 0;
 };

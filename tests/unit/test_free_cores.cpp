@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "core/follow_cores.hpp"
 #include "core/free_cores.hpp"
 
 namespace maille::detail {
@@ -27,6 +28,20 @@ TEST(FreeCores, NeverMoreThanTheCoresNorLessThanOne) {
   const int cores = free_cores(2);
   EXPECT_GE(cores, 1);
   EXPECT_LE(cores, 2);
+}
+
+// /proc/stat read without a stream (the simulator asks during a run): at least this thread.
+TEST(FreeCores, RunnableTasksCountThisThread) {
+  EXPECT_GE(runnable_tasks(), 1);
+}
+
+// During a run: the count at the start until the window is full, then within [1, cores].
+TEST(FreeCores, SamplerStartsFromTheStartCount) {
+  FreeCoreSampler sample(2, 2);
+  for (int k = 1; k < FreeCoreSampler::kWindow; ++k) EXPECT_EQ(sample(), 2);
+  const int free = sample();
+  EXPECT_GE(free, 1);
+  EXPECT_LE(free, 2);
 }
 
 }  // namespace
