@@ -36,6 +36,10 @@
 
 namespace maille {
 
+namespace detail {
+class ThreadChooser;  // src/core/follow_cores.hpp
+}
+
 // A publish_every or sample_every that no run reaches: "never" (runs that publish or sample
 // explicitly, benchmarks). Also the largest cadence a scene may ask for.
 inline constexpr int kNeverEvery = 1 << 30;
@@ -46,10 +50,10 @@ struct SimulationSettings {
   double duration = 5;                  // s, > 0 (used by apps; step() ignores it)
   int publish_every = 10;               // steps between snapshots, >= 1
   int sample_every = 0;                 // steps between energy samples; 0: publish_every
-  int threads = 0;  // 0: the cores free, followed during the run, when the scene is large
-                    // (>= 4096 points), else 1 (Simulator::CoreSampling)
-  double runaway_factor = 1e3;               // blow-up when energy exceeds this times its scale
-  ImplicitSettings implicit;                 // used by implicit_euler only
+  int threads = 0;              // 0: chosen during the run, from the free cores and timed steps
+                                // (Simulator::CoreSampling)
+  double runaway_factor = 1e3;  // blow-up when energy exceeds this times its scale
+  ImplicitSettings implicit;    // used by implicit_euler only
   std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
   std::string backend = "cpu";               // a name from BackendRegistry::global()
   BackendOptions backend_options;            // which device, for backends that have several
@@ -114,18 +118,21 @@ class Simulator : private ForceEvaluator {
   const StabilityEstimate& stability() const { return stability_; }
   int threads() const { return threads_; }
 
-  // The default thread count (settings.threads = 0 on a scene of 4096 points or more, on the
-  // CPU) follows the cores free during the run, not only at the start: between steps, every
-  // `interval` of wall-clock time, `free_cores` is asked and the thread count set to its answer
-  // (within [1, the cores]): fewer threads when another program takes a core, more when it
-  // frees one. Results do not change (every pass sums in an order set by the model, never by
-  // the threads: test physics.FollowCores). By default the answer comes from /proc/stat
-  // (src/core/follow_cores.hpp: a core is taken when another task was runnable in each of the
-  // last 4 samples); tests pass their own to make a core busy or free on cue. Without effect
-  // when follows_cores() is false.
+  // The default thread count (settings.threads = 0, on the CPU, with more than one core)
+  // follows the cores free during the run and the work: between steps, every `interval` of
+  // wall-clock time, `free_cores` is asked; with one core free the run takes one thread, with
+  // more it times a few steps on one thread and on the free cores and keeps the faster (again
+  // when the answer changes and every `retrial`: src/core/follow_cores.hpp, ThreadChooser).
+  // Fewer threads when another program takes a core, more when it frees one and they pay.
+  // Results do not change (every pass sums in an order set by the model, never by the threads:
+  // test physics.FollowCores). By default the answer comes from /proc/stat (FreeCoreSampler: a
+  // core is taken when another task was runnable in each of the last 4 samples); tests pass
+  // their own to make a core busy or free on cue. Without effect when follows_cores() is false.
   struct CoreSampling {
     std::function<int()> free_cores;  // the cores free now; null: /proc/stat
     double interval = 0.25;           // s of wall-clock time between two questions; 0: every step
+    int trial_steps = 6;              // steps timed per thread count; 0: the free cores, as told
+    double retrial = 10;              // s of wall-clock time between trials at one free count
   };
   void set_core_sampling(CoreSampling sampling);
   bool follows_cores() const { return follows_cores_; }
@@ -255,9 +262,10 @@ class Simulator : private ForceEvaluator {
   double energy_scale_ = 0;
   int threads_ = 1;
   int cores_ = 1;               // those OpenMP may use (omp_get_num_procs)
+  int free_at_start_ = 1;       // the cores free when the simulator was built
   bool follows_cores_ = false;  // the thread count is the default: it follows the free cores
   CoreSampling core_sampling_;
-  std::int64_t next_core_check_ns_ = 0;  // steady clock
+  std::unique_ptr<detail::ThreadChooser> chooser_;  // built at the first step
   bool overlays_ = false;
   bool device_snapshots_ = false;
   struct StageIds;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 
@@ -67,6 +68,48 @@ int FreeCoreSampler::operator()() {
   if (samples_ < kWindow) return start_;
   const int fewest = *std::min_element(others_.begin(), others_.end());
   return std::clamp(cores_ - fewest, 1, std::max(cores_, 1));
+}
+
+void ThreadChooser::start_trial(std::int64_t now) {
+  arm_ = 0;
+  threads_ = 1;
+  left_ = s_.trial_steps + 1;
+  best_ = {INT64_MAX, INT64_MAX};
+  last_ = now;
+}
+
+int ThreadChooser::before_step(std::int64_t now) {
+  // The step that just ended belonged to a trial: its time, unless it was its arm's first.
+  if (arm_ >= 0) {
+    if (left_ <= s_.trial_steps)
+      best_[std::size_t(arm_)] = std::min(best_[std::size_t(arm_)], now - last_);
+    last_ = now;
+    if (--left_ == 0) {
+      if (arm_ == 0) {
+        arm_ = 1;
+        threads_ = free_;
+        left_ = s_.trial_steps + 1;
+      } else {
+        threads_ = double(best_[1]) <= kGain * double(best_[0]) ? free_ : 1;
+        arm_ = -1;
+        next_trial_ = now + s_.retrial;
+      }
+    }
+  }
+  if (now < next_question_) return threads_;
+  next_question_ = now + s_.interval;
+  const int free = std::clamp(s_.free_cores(), 1, std::max(s_.cores, 1));
+  const bool changed = free != free_;
+  free_ = free;
+  if (free == 1) {
+    arm_ = -1;
+    threads_ = 1;
+  } else if (s_.trial_steps <= 0) {
+    threads_ = free;
+  } else if (changed || (arm_ < 0 && now >= next_trial_)) {
+    start_trial(now);
+  }
+  return threads_;
 }
 
 }  // namespace maille::detail

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "follow_cores.hpp"
 #include "free_cores.hpp"
 #include "health.hpp"
 #include "simulator_detail.hpp"
@@ -42,15 +43,16 @@ Simulator::Simulator(Model model, SimulationSettings settings)
 #else
   const int cores = 1;
 #endif
-  // The default: one thread for small scenes, else the cores free now (free_cores.hpp), and
-  // followed during the run (simulator_threads.cpp): a thread that shares its core with
-  // another program makes every barrier wait for it.
-  threads_ = settings_.threads > 0     ? settings_.threads
-             : n >= kParallelThreshold ? detail::free_cores(cores)
-                                       : 1;
+  // The default: to start with, one thread for small scenes, else the cores free now
+  // (free_cores.hpp); then the free cores and the faster count among 1 and them, measured
+  // during the run (simulator_threads.cpp): a thread that shares its core with another program
+  // makes every barrier wait for it, and small scenes can be costly.
   cores_ = cores;
-  follows_cores_ =
-      settings_.threads == 0 && n >= kParallelThreshold && cores > 1 && settings_.backend == "cpu";
+  follows_cores_ = settings_.threads == 0 && cores > 1 && settings_.backend == "cpu";
+  free_at_start_ = follows_cores_ ? detail::free_cores(cores) : 1;
+  threads_ = settings_.threads > 0     ? settings_.threads
+             : n >= kParallelThreshold ? free_at_start_
+                                       : 1;
   model_.prepare();
   build_integrator(settings_.integrator);
 

@@ -1,6 +1,7 @@
-// The default thread count follows the free cores during a run (Simulator::CoreSampling,
-// issue 24). Asked between steps at a wall-clock interval, not every step: the default answer
-// reads /proc (tens of microseconds), a step of a large scene takes about a millisecond.
+// The default thread count follows the free cores and the work during a run
+// (Simulator::CoreSampling, issue 24). The cores are asked between steps at a wall-clock
+// interval, not every step: the default answer reads /proc (tens of microseconds), a step can
+// take a few.
 #include <algorithm>
 #include <chrono>
 
@@ -11,18 +12,24 @@ namespace maille {
 
 void Simulator::set_core_sampling(CoreSampling sampling) {
   core_sampling_ = std::move(sampling);
-  next_core_check_ns_ = 0;  // asked before the next step
+  chooser_.reset();  // asked before the next step
 }
 
 void Simulator::follow_cores() {
   const std::int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                std::chrono::steady_clock::now().time_since_epoch())
                                .count();
-  if (now < next_core_check_ns_) return;
-  next_core_check_ns_ = now + std::int64_t(core_sampling_.interval * 1e9);
-  if (!core_sampling_.free_cores)
-    core_sampling_.free_cores = detail::FreeCoreSampler(cores_, threads_);
-  const int threads = std::clamp(core_sampling_.free_cores(), 1, cores_);
+  if (!chooser_) {
+    detail::ThreadChooser::Settings s;
+    s.cores = cores_;
+    s.interval = std::int64_t(core_sampling_.interval * 1e9);
+    s.trial_steps = core_sampling_.trial_steps;
+    s.retrial = std::int64_t(core_sampling_.retrial * 1e9);
+    s.free_cores = core_sampling_.free_cores ? core_sampling_.free_cores
+                                             : detail::FreeCoreSampler(cores_, free_at_start_);
+    chooser_ = std::make_unique<detail::ThreadChooser>(std::move(s), threads_);
+  }
+  const int threads = chooser_->before_step(now);
   if (threads != threads_) use_threads(threads);
 }
 

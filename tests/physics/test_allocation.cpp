@@ -92,7 +92,8 @@ TEST(Allocation, NoneInTheStepAfterTheFirst) {
 
 // The default thread count following the cores (simulator_threads.cpp): the thread count
 // changes between steps (the cores are told busy and free in turn), and nothing allocates once
-// both counts have run; nor does the default question (/proc read before every step).
+// both counts have run; nor does the default question (/proc read before every step, and the
+// timed trials of 1 and 2 threads).
 TEST(Allocation, NoneWhileTheThreadsFollowTheCores) {
   for (const char* scheme : {"leapfrog", "implicit_euler", "proc"}) {
     Model m;
@@ -108,7 +109,7 @@ TEST(Allocation, NoneWhileTheThreadsFollowTheCores) {
     if (proc)
       sim.set_core_sampling({nullptr, 0.0});
     else
-      sim.set_core_sampling({[asked = 0]() mutable { return asked++ % 2 + 1; }, 0.0});
+      sim.set_core_sampling({[asked = 0]() mutable { return asked++ % 2 + 1; }, 0.0, 0});
     sim.run_steps(6);
     g_allocations = 0;
     g_counting = true;

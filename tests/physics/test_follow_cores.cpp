@@ -83,7 +83,7 @@ struct Outcome {
 };
 
 // `threads` 1 or 2: fixed. 0: the default, told that a second core is free for 3 steps, then
-// busy for 3, and so on (asked before every step).
+// busy for 3, and so on (asked before every step, and followed as told: no timed trial).
 Outcome run(const Model& model, const std::string& scheme, ImplicitSolver solver, int threads,
             int steps) {
   SimulationSettings s = test::settings(scheme == "implicit_euler" ? 1e-3 : 1e-4, scheme.c_str());
@@ -93,7 +93,8 @@ Outcome run(const Model& model, const std::string& scheme, ImplicitSolver solver
   Outcome out;
   if (threads == 0) {
     EXPECT_TRUE(sim.follows_cores());
-    sim.set_core_sampling({[asked = 0]() mutable { return (asked++ / 3) % 2 == 0 ? 2 : 1; }, 0.0});
+    sim.set_core_sampling(
+        {[asked = 0]() mutable { return (asked++ / 3) % 2 == 0 ? 2 : 1; }, 0.0, 0});
   } else {
     EXPECT_FALSE(sim.follows_cores());
   }
@@ -159,7 +160,7 @@ TEST(FollowCores, ChosenThreadsStay) {
   SimulationSettings s = test::settings(1e-4);
   s.threads = 2;
   Simulator sim(large_scene(""), s);
-  sim.set_core_sampling({[] { return 1; }, 0.0});
+  sim.set_core_sampling({[] { return 1; }, 0.0, 0});
   ASSERT_TRUE(sim.run_steps(3));
   EXPECT_EQ(sim.threads(), 2);
   EXPECT_FALSE(sim.follows_cores());
