@@ -11,6 +11,12 @@ int free_cores_now();
 // The size of this process's CPU set (sched_getaffinity), at least 1.
 int cores_available();
 
+// Whether a program about to load OpenMP should wait passively: the user set no OMP_WAIT_POLICY
+// nor GOMP_SPINCOUNT, and the cores are shared (another program keeps one busy, or
+// `renders_itself`). The rule of wait_passively_when_cores_are_shared below; the Python package
+// asks it before it loads the engine (python/maille/__init__.py).
+bool passive_wait_advised(bool renders_itself = false);
+
 // OpenMP (libgomp) reads its wait policy when the program loads, before main. Unset, a thread
 // waiting at a barrier spins for a long while, which is right on free cores and ruinous when
 // another thread holds one: its partner is descheduled and the spin burns the time it needs

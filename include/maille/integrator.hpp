@@ -128,7 +128,10 @@ class Integrator {
   virtual std::optional<KickDrift> kick_drift_step(const State&, Real) const {
     return std::nullopt;
   }
-  void set_threads(int threads) { threads_ = threads; }
+  // The threads of the scheme's own passes; between steps only, any number of times (the
+  // default thread count follows the free cores during a run: simulator.hpp). Schemes that hand
+  // it to solvers override it.
+  virtual void set_threads(int threads) { threads_ = threads; }
 
   // Largest h with spectral radius <= 1 on the test equation: 0 when no step is stable
   // (explicit Euler without damping), +inf when every step is (implicit Euler).

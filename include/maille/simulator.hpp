@@ -36,19 +36,24 @@
 
 namespace maille {
 
+namespace detail {
+class ThreadChooser;  // src/core/follow_cores.hpp
+}
+
 // A publish_every or sample_every that no run reaches: "never" (runs that publish or sample
 // explicitly, benchmarks). Also the largest cadence a scene may ask for.
 inline constexpr int kNeverEvery = 1 << 30;
 
 struct SimulationSettings {
-  std::string integrator = "leapfrog";       // a name from IntegratorRegistry
-  double step = 1e-3;                        // h, s, > 0
-  double duration = 5;                       // s, > 0 (used by apps; step() ignores it)
-  int publish_every = 10;                    // steps between snapshots, >= 1
-  int sample_every = 0;                      // steps between energy samples; 0: publish_every
-  int threads = 0;  // 0: the cores free now when the scene is large (>= 4096 points), else 1
-  double runaway_factor = 1e3;               // blow-up when energy exceeds this times its scale
-  ImplicitSettings implicit;                 // used by implicit_euler only
+  std::string integrator = "leapfrog";  // a name from IntegratorRegistry
+  double step = 1e-3;                   // h, s, > 0
+  double duration = 5;                  // s, > 0 (used by apps; step() ignores it)
+  int publish_every = 10;               // steps between snapshots, >= 1
+  int sample_every = 0;                 // steps between energy samples; 0: publish_every
+  int threads = 0;              // 0: chosen during the run, from the free cores and timed steps
+                                // (Simulator::CoreSampling)
+  double runaway_factor = 1e3;  // blow-up when energy exceeds this times its scale
+  ImplicitSettings implicit;    // used by implicit_euler only
   std::vector<std::string> disabled_stages;  // scene stages not to install (by name)
   std::string backend = "cpu";               // a name from BackendRegistry::global()
   BackendOptions backend_options;            // which device, for backends that have several
@@ -112,6 +117,25 @@ class Simulator : private ForceEvaluator {
   const std::optional<BlowUp>& blow_up() const { return blow_up_; }
   const StabilityEstimate& stability() const { return stability_; }
   int threads() const { return threads_; }
+
+  // The default thread count (settings.threads = 0, on the CPU, with more than one core)
+  // follows the cores free during the run and the work: between steps, every `interval` of
+  // wall-clock time, `free_cores` is asked; with one core free the run takes one thread, with
+  // more it times a few steps on one thread and on the free cores and keeps the faster (again
+  // when the answer changes and every `retrial`: src/core/follow_cores.hpp, ThreadChooser).
+  // Fewer threads when another program takes a core, more when it frees one and they pay.
+  // Results do not change (every pass sums in an order set by the model, never by the threads:
+  // test physics.FollowCores). By default the answer comes from /proc/stat (FreeCoreSampler: a
+  // core is taken when another task was runnable in each of the last 4 samples); tests pass
+  // their own to make a core busy or free on cue. Without effect when follows_cores() is false.
+  struct CoreSampling {
+    std::function<int()> free_cores;  // the cores free now; null: /proc/stat
+    double interval = 0.25;           // s of wall-clock time between two questions; 0: every step
+    int trial_steps = 6;              // steps timed per thread count; 0: the free cores, as told
+    double retrial = 10;              // s of wall-clock time between trials at one free count
+  };
+  void set_core_sampling(CoreSampling sampling);
+  bool follows_cores() const { return follows_cores_; }
   // The compute backend, or nullptr on the CPU path.
   const Backend* backend() const { return backend_.get(); }
   void wait();  // until every submitted step has run (a device backend runs asynchronously)
@@ -220,6 +244,9 @@ class Simulator : private ForceEvaluator {
   void sync_host() const;  // the device's x, v, f into state_ when the device is ahead
   void check_backend_health();
   double energy_scale() const;
+  // simulator_threads.cpp: the default thread count follows the free cores.
+  void follow_cores();
+  void use_threads(int threads);
 
   Model model_;
   SimulationSettings settings_;
@@ -241,6 +268,11 @@ class Simulator : private ForceEvaluator {
   std::vector<TriangleContacts*> triangle_contacts_;  // and point-triangle contacts
   double energy_scale_ = 0;
   int threads_ = 1;
+  int cores_ = 1;               // those OpenMP may use (omp_get_num_procs)
+  int free_at_start_ = 1;       // the cores free when the simulator was built
+  bool follows_cores_ = false;  // the thread count is the default: it follows the free cores
+  CoreSampling core_sampling_;
+  std::unique_ptr<detail::ThreadChooser> chooser_;  // built at the first step
   bool overlays_ = false;
   bool device_snapshots_ = false;
   struct StageIds;

@@ -65,7 +65,7 @@ void raise_input(py::handle cls, const InputError& e) {
 
 }  // namespace maille::python
 
-PYBIND11_MODULE(maille, m) {
+PYBIND11_MODULE(_maille, m) {
   namespace py = pybind11;
   using namespace maille::python;
   m.doc() =

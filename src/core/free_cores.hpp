@@ -13,6 +13,10 @@ namespace maille::detail {
 // this thread included), and at least 1.
 int free_cores_from(int cores, std::span<const int> running);
 
+// The tasks runnable now in the whole system, this thread included (/proc/stat's
+// procs_running); -1 when it cannot be read. Allocates nothing.
+int runnable_tasks();
+
 // The same from /proc/stat's procs_running, sampled 5 times 1 ms apart (a task that was
 // runnable in every sample is busy, not passing through); `cores` when it cannot be read.
 int free_cores(int cores);

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "follow_cores.hpp"
 #include "free_cores.hpp"
 #include "health.hpp"
 #include "simulator_detail.hpp"
@@ -42,10 +43,15 @@ Simulator::Simulator(Model model, SimulationSettings settings)
 #else
   const int cores = 1;
 #endif
-  // The default: one thread for small scenes, else the cores free now (free_cores.hpp): a
-  // thread that shares its core with another program makes every barrier wait for it.
+  // The default: to start with, one thread for small scenes, else the cores free now
+  // (free_cores.hpp); then the free cores and the faster count among 1 and them, measured
+  // during the run (simulator_threads.cpp): a thread that shares its core with another program
+  // makes every barrier wait for it, and small scenes can be costly.
+  cores_ = cores;
+  follows_cores_ = settings_.threads == 0 && cores > 1 && settings_.backend == "cpu";
+  free_at_start_ = follows_cores_ ? detail::free_cores(cores) : 1;
   threads_ = settings_.threads > 0     ? settings_.threads
-             : n >= kParallelThreshold ? detail::free_cores(cores)
+             : n >= kParallelThreshold ? free_at_start_
                                        : 1;
   model_.prepare();
   build_integrator(settings_.integrator);
@@ -224,6 +230,7 @@ void Simulator::restore(State state, std::uint64_t frames_published) {
 // integration, when forces and (synchronised) velocities belong to the same time t_n.
 bool Simulator::step() {
   if (blow_up_) return false;
+  if (follows_cores_) follow_cores();
   if (backend_) return step_on_backend();
   profile_.begin_step();
   const auto& ids = *ids_;

@@ -77,6 +77,8 @@ class EigenSystem final : public ImplicitSystem {
     return r;
   }
 
+  void set_threads(int threads) override { Eigen::setNbThreads(threads); }
+
   void multiply(const std::vector<Vec3>& u, std::vector<Vec3>& out) override {
     const Eigen::Map<const Vector> uu(&u.data()->x, Eigen::Index(3 * u.size()));
     Eigen::Map<Vector> o(&out.data()->x, Eigen::Index(3 * out.size()));

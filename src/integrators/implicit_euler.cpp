@@ -152,6 +152,12 @@ class ImplicitEuler final : public Integrator {
   int force_evaluations() const override {
     return settings_.solver == ImplicitSolver::vbd ? 1 : settings_.newton_iterations;
   }
+  void set_threads(int threads) override {
+    threads_ = threads;
+    vbd_.set_threads(threads);
+    if (system_) system_->set_threads(threads);
+  }
+
   void reset() override {
     system_.reset();
     vbd_.reset();

@@ -3,8 +3,6 @@
 // the force pass, so it threads without atomics), plus the diagonal mass term. Block-Jacobi
 // preconditioner (3x3 inverse per point). Every buffer is sized at construction: no
 // allocation in a step.
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -51,7 +49,7 @@ class MatrixFreeSystem final : public ImplicitSystem {
     for (auto* a : {&r_, &z_, &p_, &q_}) a->assign(n, Vec3{});
     mass_.assign(n, 0);
     diagonal_.assign(n, Mat3{});
-    partial_.assign(static_cast<std::size_t>(std::max(threads, 1)) * 8, 0);
+    partial_.assign(std::max<std::size_t>((n + kDotBlock - 1) / kDotBlock, 1), 0);
   }
 
   void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
@@ -176,6 +174,10 @@ class MatrixFreeSystem final : public ImplicitSystem {
     return result;
   }
 
+  void set_threads(int threads) override {
+    threads_ = threads;
+  }
+
   void multiply(const std::vector<Vec3>& u, std::vector<Vec3>& out) override {
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
     apply(u, out);
@@ -204,22 +206,28 @@ class MatrixFreeSystem final : public ImplicitSystem {
     }
   }
 
-  // Dot product inside (or outside) a parallel region: per-thread partial sums added in thread
-  // order, so every thread gets the same value.
+  // Dot product inside (or outside) a parallel region, the same whatever the thread count:
+  // sums over fixed blocks of kDotBlock entries, each by one thread in order, then the blocks
+  // added in order by every thread, so that every thread gets the same value. (Per-thread sums
+  // would change with the split; the default thread count follows the free cores during a run,
+  // simulator.hpp, and must not change the result.)
   double dot(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    const int t = omp_get_thread_num(), threads = omp_get_num_threads();
-    double local = 0;
-    const auto n = static_cast<std::int64_t>(a.size());
-#pragma omp for schedule(static) nowait
-    for (std::int64_t i = 0; i < n; ++i) local += double(maille::dot(a[i], b[i]));
-    partial_[static_cast<std::size_t>(t) * 8] = local;  // one cache line per thread
-#pragma omp barrier
+    const std::size_t n = a.size();
+    const auto blocks = static_cast<std::int64_t>((n + kDotBlock - 1) / kDotBlock);
+#pragma omp for schedule(static)
+    for (std::int64_t k = 0; k < blocks; ++k) {
+      const std::size_t begin = std::size_t(k) * kDotBlock, end = std::min(n, begin + kDotBlock);
+      double local = 0;
+      for (std::size_t i = begin; i < end; ++i) local += double(maille::dot(a[i], b[i]));
+      partial_[std::size_t(k)] = local;
+    }  // the loop's barrier: every block is summed
     double sum = 0;
-    for (int k = 0; k < threads; ++k) sum += partial_[static_cast<std::size_t>(k) * 8];
-#pragma omp barrier
+    for (std::int64_t k = 0; k < blocks; ++k) sum += partial_[std::size_t(k)];
+#pragma omp barrier  // every thread has read the blocks before the next dot writes them
     return sum;
   }
 
+  static constexpr std::size_t kDotBlock = 1024;
   const Model& model_;
   int threads_;
   std::vector<std::vector<Mat3>> blocks_;            // per pool, per link: C = h dv + h^2 dx

@@ -36,6 +36,8 @@ class ImplicitSystem {
                             int max_iterations) = 0;
   // The product A u (filtered), for tests comparing the two solvers.
   virtual void multiply(const std::vector<Vec3>& u, std::vector<Vec3>& out) = 0;
+  // Between solves (Integrator::set_threads).
+  virtual void set_threads(int threads) = 0;
 };
 
 // solver: matrix_free or eigen.

@@ -77,6 +77,7 @@ class VertexBlockDescent {
   double residual(const Model& m, const State& s, Real h);
   // Drops everything sized for a model.
   void reset();
+  void set_threads(int threads) { threads_ = threads; }
 
  private:
   struct PoolRows {

@@ -90,6 +90,35 @@ TEST(Allocation, NoneInTheStepAfterTheFirst) {
           << "implicit_euler (" << solver << ") on " << threads << " threads";
 }
 
+// The default thread count following the cores (simulator_threads.cpp): the thread count
+// changes between steps (the cores are told busy and free in turn), and nothing allocates once
+// both counts have run; nor does the default question (/proc read before every step, and the
+// timed trials of 1 and 2 threads).
+TEST(Allocation, NoneWhileTheThreadsFollowTheCores) {
+  for (const char* scheme : {"leapfrog", "implicit_euler", "proc"}) {
+    Model m;
+    FlagParams p;
+    p.nx = 64;  // 4096 points: the default thread count follows the cores
+    p.ny = 64;
+    build_flag(m, p, "flag");
+    const bool proc = scheme == std::string("proc");
+    SimulationSettings s = test::settings(scheme == std::string("implicit_euler") ? 2e-3 : 1e-4,
+                                          proc ? "leapfrog" : scheme);
+    s.threads = 0;
+    Simulator sim(std::move(m), s);
+    if (proc)
+      sim.set_core_sampling({nullptr, 0.0});
+    else
+      sim.set_core_sampling({[asked = 0]() mutable { return asked++ % 2 + 1; }, 0.0, 0});
+    sim.run_steps(6);
+    g_allocations = 0;
+    g_counting = true;
+    sim.run_steps(10);
+    g_counting = false;
+    EXPECT_EQ(g_allocations.load(), 0) << scheme;
+  }
+}
+
 // Every stage kind at once; `extra` adds tables (the facet obstacle, the triangle primitive).
 std::string every_stage_scene(const std::string& extra) {
   return R"(

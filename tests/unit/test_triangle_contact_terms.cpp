@@ -49,7 +49,8 @@ struct Contacts {
   std::vector<std::uint8_t> mask;
   collision::TriangleProximity prox;
   collision::TriangleContactTerms terms;
-  Contacts() : set(all(s.m)), mask(s.m.points.size(), 1), prox(s.m, set, mask) {
+  Contacts()
+      : set(all(s.m)), mask(s.m.points.size(), 1), prox(s.m, set, mask, std::size_t{1} << 20) {
     terms.set_law(kRadius, kStiffness, kDamping);
     prox.candidates(s.x.data(), s.v.data(), kRadius, Real(0.01), Real(0.05), nullptr, 1,
                     terms.storage());

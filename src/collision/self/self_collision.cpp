@@ -121,7 +121,10 @@ class SelfCollision {
     model_ = &m;
     rebuild_exclusion();
     if (s_.primitive == Primitive::triangles)
-      triangles_ = std::make_unique<collision::TriangleProximity>(m, set_, mask);
+      triangles_ = std::make_unique<collision::TriangleProximity>(
+          m, set_, mask,
+          std::size_t(limits::memory_budget_bytes() /
+                      collision::TriangleProximity::kBytesPerContact));
   }
 
   const SelfCollisionSettings& settings() const { return s_; }
@@ -237,6 +240,7 @@ class SelfCollision {
       triangles_->candidates(x, v, s_.radius, h, max_margin,
                              s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads,
                              out);
+    if (triangles_ && triangles_->full()) refuse_triangle_contacts();
   }
 
   // Each particle sums its own contacts in its partners' order: no atomics, and the same sums
@@ -264,6 +268,7 @@ class SelfCollision {
     out.triangle_contacts =
         triangles_->apply(x, v, f, {r, k, z, mu},
                           s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
+    if (triangles_->full()) refuse_triangle_contacts();
     return out;
   }
 
@@ -341,6 +346,17 @@ class SelfCollision {
         << " bytes each, above the memory budget of "
         << double(limits::memory_budget_bytes()) / double(1 << 30) << " GiB) among " << set_.size()
         << " particles: the radius " << s_.radius
+        << " m takes in most of them; lower [self_collision] radius";
+    throw std::invalid_argument(why.str());
+  }
+  // The same bound for primitive = "triangles" (triangle_proximity.hpp).
+  [[noreturn]] void refuse_triangle_contacts() const {
+    std::ostringstream why;
+    why << "self_collision: more than " << triangles_->max_contacts()
+        << " particle-triangle contact pairs (" << collision::TriangleProximity::kBytesPerContact
+        << " bytes each, above the memory budget of "
+        << double(limits::memory_budget_bytes()) / double(1 << 30) << " GiB) among " << set_.size()
+        << " particles and " << triangles_->triangles() << " triangles: the radius " << s_.radius
         << " m takes in most of them; lower [self_collision] radius";
     throw std::invalid_argument(why.str());
   }

@@ -52,8 +52,9 @@ Feature feature_of(const std::array<std::uint32_t, 3>& tri, std::uint32_t triang
 }
 
 TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
-                                     const std::vector<std::uint8_t>& groups_mask)
-    : set_(set), local_(m.points.size(), -1) {
+                                     const std::vector<std::uint8_t>& groups_mask,
+                                     std::size_t max_contacts)
+    : set_(set), local_(m.points.size(), -1), max_contacts_(max_contacts) {
   for (std::size_t k = 0; k < set.size(); ++k) local_[set[k]] = std::int32_t(k);
   for (const auto& t : m.surface.triangles)
     if (groups_mask[t[0]] && groups_mask[t[1]] && groups_mask[t[2]]) tris_.push_back(t);
@@ -151,11 +152,14 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
                                    Real max_margin, const TopologicalExclusion* exclusion,
                                    int threads, std::vector<std::array<std::uint32_t, 4>>& out) {
   out.clear();
+  full_ = false;
   if (tris_.empty() || set_.empty()) return;
   const Real reach = radius + max_margin;
   bin(x, reach);
   per_thread_candidates_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_candidates_) list.clear();
+  thread_full_.assign(per_thread_candidates_.size(), 0);
+  const std::size_t cap = max_contacts_ / per_thread_candidates_.size();
   const auto n = static_cast<std::int64_t>(set_.size());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t k = 0; k < n; ++k) {
@@ -167,10 +171,16 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
       for (const std::uint32_t c : tri) closing2 = std::max(closing2, norm2(v[p] - v[c]));
       const Real margin = std::min(
           max_margin, std::max(kMinMargin * radius, kMotionFactor * h * std::sqrt(closing2)));
-      if (d2 < (radius + margin) * (radius + margin))
-        list.push_back({p, tri[0], tri[1], tri[2], t});
+      if (d2 >= (radius + margin) * (radius + margin)) return;
+      if (list.size() >= cap) {  // refused below, as apply's contacts are
+        thread_full_[std::size_t(thread_id())] = 1;
+        return;
+      }
+      list.push_back({p, tri[0], tri[1], tri[2], t});
     });
   }
+  for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
+  if (full_) return;
   // (particle, triangle) order: the same candidates in the same order whatever the threads.
   all_candidates_.clear();
   for (const auto& list : per_thread_candidates_)
@@ -184,15 +194,20 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
 std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
                                        const TriangleResponse& r,
                                        const TopologicalExclusion* exclusion, int threads) {
+  full_ = false;
   if (tris_.empty() || set_.empty()) return 0;
   bin(x, r.radius);
-  // Each particle against the triangles of its cell.
+  // Each particle against the triangles of its cell. Each thread keeps at most its share of
+  // the contacts: beyond it, the pass goes on without collecting and is refused below.
   per_thread_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_) list.clear();
+  thread_full_.assign(per_thread_.size(), 0);
+  const std::size_t cap = max_contacts_ / per_thread_.size();
   const auto n = static_cast<std::int64_t>(set_.size());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t k = 0; k < n; ++k) {
     auto& out = per_thread_[std::size_t(thread_id())];
+    if (thread_full_[std::size_t(thread_id())]) continue;
     const std::uint32_t p = set_[std::size_t(k)];
     near(k, x, r.radius, exclusion,
          [&](std::uint32_t t, const std::array<Real, 3>& w, const Vec3& d, Real d2) {
@@ -209,9 +224,15 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
              force -= vt * (r.friction * std::abs(dot(force, nrm)) / std::max(speed, Real(1e-3)));
            }
            const Feature fe = feature_of(tri, t, w);
+           if (out.size() >= cap) {
+             thread_full_[std::size_t(thread_id())] = 1;
+             return;
+           }
            out.push_back({p, t, fe.kind, fe.a, fe.b, force, w});
          });
   }
+  for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
+  if (full_) return 0;
   // Applied in (particle, feature, triangle) order: the same sums whatever the threads. A
   // particle touching an edge or a corner shared by several triangles is pushed once (else a
   // particle resting on a flat mesh would feel 2 k on an edge and up to 6 k on a corner).

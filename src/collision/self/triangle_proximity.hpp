@@ -7,6 +7,10 @@
 // Triangles are binned into a grid of cells (their boxes grown by s); each particle tests the
 // triangles of its cell. Contacts are collected per thread, sorted by (particle, triangle) and
 // applied in that order: deterministic whatever the thread count.
+//
+// Contacts are bounded like the particle pairs (self_collision.cpp): a pass that would collect
+// more than `max_contacts` is stopped and flagged (full()), and the stage refuses it by name,
+// rather than a radius taking in every triangle ending in std::bad_alloc inside a parallel region.
 #pragma once
 
 #include <array>
@@ -39,11 +43,13 @@ struct TriangleResponse {
 class TriangleProximity {
  public:
   // `set`: the colliding particles (global ids, sorted); triangles: the model's faces whose
-  // corners all belong to `groups_mask` (1 for points of the colliding groups).
+  // corners all belong to `groups_mask` (1 for points of the colliding groups); at most
+  // `max_contacts` contacts in a pass (see kBytesPerContact).
   TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
-                    const std::vector<std::uint8_t>& groups_mask);
+                    const std::vector<std::uint8_t>& groups_mask, std::size_t max_contacts);
   // Adds the forces; returns the number of particle-triangle contacts. `exclusion` (may be
   // null) removes triangles whose free corners are topological neighbours of the particle.
+  // When the pass found more than `max_contacts`, no force is added and full() is true.
   std::uint64_t apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
                       const TopologicalExclusion* exclusion, int threads);
   // The particle-triangle pairs that may touch during a step of h (the same tests as apply's,
@@ -51,7 +57,8 @@ class TriangleProximity {
   // times the particle's largest speed relative to the triangle's corners (at least
   // kMinMargin radius, at most max_margin). A pair moving together (a flat cloth's particle and
   // its far triangles while it falls) is not a candidate. {particle, corners}, sorted by
-  // particle then triangle. For implicit schemes (TriangleContacts).
+  // particle then triangle. For implicit schemes (TriangleContacts). More than max_contacts
+  // candidates: none, and full() is true.
   void candidates(const Vec3* x, const Vec3* v, Real radius, Real h, Real max_margin,
                   const TopologicalExclusion* exclusion, int threads,
                   std::vector<std::array<std::uint32_t, 4>>& out);
@@ -59,6 +66,8 @@ class TriangleProximity {
   // self-collision's wide margin), and the least margin, relative to the radius.
   static constexpr Real kMotionFactor = Real(2.5), kMinMargin = Real(0.25);
   std::size_t triangles() const { return tris_.size(); }
+  bool full() const { return full_; }
+  std::size_t max_contacts() const { return max_contacts_; }
 
  private:
   struct Contact {
@@ -86,10 +95,18 @@ class TriangleProximity {
   std::vector<Vec3> xs_;             // the particles' positions, gathered each pass
   std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
   std::vector<std::vector<Contact>> per_thread_;
+  std::vector<std::uint8_t> thread_full_;  // [threads] 1: that thread's list reached its cap
   std::vector<Contact> all_;
   // {particle, corners, triangle} per thread, then all of them sorted
   std::vector<std::vector<std::array<std::uint32_t, 5>>> per_thread_candidates_;
   std::vector<std::array<std::uint32_t, 5>> all_candidates_;
+  std::size_t max_contacts_;
+  bool full_ = false;
+
+ public:
+  // Memory per contact, for the budget: a thread's list and the merged list, each with the
+  // slack of a growing vector (up to twice its size).
+  static constexpr std::size_t kBytesPerContact = 4 * sizeof(Contact);
 };
 
 }  // namespace maille::collision
