@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 
 #include "maille/colouring.hpp"
 #include "maille/detail/cpu_schedule.hpp"
+#include "maille/detail/structured_grid.hpp"
 #include "maille/link_kind.hpp"
 #include "maille/mat3.hpp"
 
@@ -49,6 +51,18 @@ class LinkPoolBase {
   // parallel without atomics, and the sum order per point is fixed (determinism). A pool that
   // gained links since is not prepared(), and accumulate() refuses to run it.
   virtual void prepare(std::uint32_t point_count) = 0;
+  // The same, knowing the model's regular grids (Model::prepare): a kind that opts in
+  // (`grid_stencil`, detail/structured_grid.hpp) runs its links on them in the structured
+  // kernel; every other kind, and every link off the grids, keeps the general schedule.
+  virtual void prepare_on_grids(std::uint32_t point_count, std::span<const PointGrid> grids) {
+    (void)grids;
+    prepare(point_count);
+  }
+  // How many links run in the structured kernel (0 for kinds that do not opt in).
+  virtual std::size_t structured_links() const { return 0; }
+  // Parameters were edited in place (Simulator::edit_parameters calls it): the structured kernel
+  // looks again for rows whose records are all equal.
+  virtual void parameters_changed() {}
   // Adds every link's force into f. Callable inside an OpenMP parallel region (orphaned
   // work-sharing): the threads split each group.
   virtual void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const = 0;
@@ -96,7 +110,10 @@ class LinkPool final : public LinkPoolBase {
   std::size_t size() const override { return ends_.size(); }
   LinkEnds ends(std::size_t id) const override { return ends_[slot_of_id_[id]]; }
   const Params& params(std::size_t id) const { return params_[slot_of_id_[id]]; }
-  Params& params_for_editing(std::size_t id) { return params_[slot_of_id_[id]]; }
+  Params& params_for_editing(std::size_t id) {
+    stencil_.edited(slot_of_id_[id]);  // its row no longer assumed uniform
+    return params_[slot_of_id_[id]];
+  }
   std::span<const LinkEnds> slot_ends() const override { return ends_; }
   std::span<const Params> slot_params() const { return params_; }
   std::uint32_t id_of_slot(std::size_t slot) const override { return id_of_slot_[slot]; }
@@ -116,6 +133,8 @@ class LinkPool final : public LinkPoolBase {
     slot_of_id_.clear();
     id_of_slot_.clear();
     schedule_.clear();
+    stencil_.clear();
+    base_ = 0;
   }
 
   // Adds a link; its id is the number of links added before it. The pool must be prepared
@@ -127,6 +146,8 @@ class LinkPool final : public LinkPoolBase {
     slot_of_id_.push_back(id);
     id_of_slot_.push_back(id);
     schedule_.clear();
+    stencil_.clear();
+    base_ = 0;
     return id;
   }
 
@@ -153,39 +174,71 @@ class LinkPool final : public LinkPoolBase {
     for (auto& p : params_) p.*(K::fields[field].member) *= factor;
   }
 
-  // Stores the links in the CPU schedule's order (detail/cpu_schedule.hpp) and remembers
-  // where each id went.
+  // Stores the grid links first, in the structured kernel's order (detail/structured_grid.hpp),
+  // then the others in the CPU schedule's order (detail/cpu_schedule.hpp), and remembers where
+  // each id went.
   // A pool prepared again and again (a stage's contacts, every step) keeps its working arrays
   // from the third time on and then allocates nothing once they have grown; the others give
   // them back (a cloth's pools would otherwise hold their links twice).
-  void prepare(std::uint32_t point_count) override {
-    const std::span<const std::uint32_t> order = schedule_.order(ends_, kAlwaysActive);
+  void prepare(std::uint32_t point_count) override { prepare_on_grids(point_count, {}); }
+
+  void prepare_on_grids(std::uint32_t point_count, std::span<const PointGrid> grids) override {
+    std::span<const std::uint32_t> grid_links{};
+    if constexpr (kStructured) grid_links = stencil_.select(ends_, grids, spare_others_);
+    const std::size_t structured = grid_links.size();
+    // The other links, in their current order, are what the CPU schedule orders.
+    std::span<const LinkEnds> rest = ends_;
+    if (structured > 0) {
+      spare_rest_.resize(spare_others_.size());
+      for (std::size_t k = 0; k < spare_others_.size(); ++k)
+        spare_rest_[k] = ends_[spare_others_[k]];
+      rest = spare_rest_;
+    }
+    const std::span<const std::uint32_t> order = schedule_.order(rest, kAlwaysActive);
+    auto source = [&](std::size_t s) -> std::uint32_t {
+      if (s < structured) return grid_links[s];
+      return structured > 0 ? spare_others_[order[s - structured]] : order[s];
+    };
     std::vector<LinkEnds>& e = spare_ends_;
     std::vector<Params>& p = spare_params_;
     std::vector<std::uint32_t>& ids = spare_ids_;
     e.resize(ends_.size());
     p.resize(params_.size());
     ids.resize(ends_.size());
-    for (std::size_t s = 0; s < order.size(); ++s) {
-      e[s] = ends_[order[s]];
-      p[s] = params_[order[s]];
-      ids[s] = id_of_slot_[order[s]];
+    for (std::size_t s = 0; s < ends_.size(); ++s) {
+      const std::uint32_t from = source(s);
+      e[s] = ends_[from];
+      p[s] = params_[from];
+      ids[s] = id_of_slot_[from];
       slot_of_id_[ids[s]] = static_cast<std::uint32_t>(s);
     }
     ends_.swap(e);
     params_.swap(p);
     id_of_slot_.swap(ids);
-    schedule_.build(ends_, point_count);
+    base_ = static_cast<std::uint32_t>(structured);
+    schedule_.build(std::span<const LinkEnds>(ends_).subspan(structured), point_count);
+    if constexpr (kStructured) stencil_.build(ends_, same_record());
     if (++prepared_count_ < 3) {
       std::vector<LinkEnds>().swap(spare_ends_);
       std::vector<Params>().swap(spare_params_);
       std::vector<std::uint32_t>().swap(spare_ids_);
+      std::vector<std::uint32_t>().swap(spare_others_);
+      std::vector<LinkEnds>().swap(spare_rest_);
       schedule_.release_scratch();
+      stencil_.release_scratch();
     }
+  }
+
+  std::size_t structured_links() const override { return stencil_.size(); }
+
+  void parameters_changed() override {
+    if constexpr (kStructured) stencil_.find_uniform(same_record());
   }
 
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
     std::uint64_t active = 0;  // this thread's count
+    if constexpr (kStructured)
+      stencil_.for_each_segment([&](std::size_t s) { run_segment(s, x, v, f); });
     schedule_.for_each_chunk([&](std::uint32_t c) { active += run_chunk(c, x, v, f); });
     if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
 #pragma omp atomic
@@ -207,8 +260,8 @@ class LinkPool final : public LinkPoolBase {
   void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
                        Vec3* rhs) const override {
     if constexpr (kHasJacobian) {
-      schedule_.for_each_chunk([&](std::uint32_t c) {
-        for (std::size_t l = schedule_.chunk_begin(c); l < schedule_.chunk_end(c); ++l) {
+      for_each_range([&](std::size_t begin, std::size_t end) {
+        for (std::size_t l = begin; l < end; ++l) {
           const auto [a, b] = ends_[l];
           const LinkJacobian j =
               K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
@@ -224,8 +277,8 @@ class LinkPool final : public LinkPoolBase {
 
   void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const override {
     if constexpr (kHasJacobian) {
-      schedule_.for_each_chunk([&](std::uint32_t c) {
-        for (std::size_t l = schedule_.chunk_begin(c); l < schedule_.chunk_end(c); ++l) {
+      for_each_range([&](std::size_t begin, std::size_t end) {
+        for (std::size_t l = begin; l < end; ++l) {
           const auto [a, b] = ends_[l];
           const Vec3 w = blocks[l] * (u[b] - u[a]);
           out[a] -= w;
@@ -364,6 +417,68 @@ class LinkPool final : public LinkPoolBase {
     K::is_active(q, q, p);
   };
   static constexpr std::size_t kChunk = detail::CpuSchedule::kChunk;
+  // Kinds that opt in run their grid links in the structured kernel.
+  static constexpr bool kStructured = kAlwaysActive && requires {
+    requires K::grid_stencil;
+  };
+
+  // Bit-for-bit equality of two slots' records (a uniform row runs on its first record).
+  auto same_record() const {
+    return [this](std::uint32_t s, std::uint32_t t) {
+      return std::memcmp(&params_[s], &params_[t], sizeof(Params)) == 0;
+    };
+  }
+
+  // Runs f(begin, end) over the storage slots in ranges no two threads share a point in:
+  // the structured kernel's segments, then the schedule's chunks.
+  template <class F>
+  void for_each_range(F&& f) const {
+    if constexpr (kStructured)
+      stencil_.for_each_segment([&](std::size_t s) {
+        const auto& g = stencil_.segment(s);
+        f(std::size_t(g.slot), std::size_t(g.slot) + g.count);
+      });
+    schedule_.for_each_chunk([&](std::uint32_t c) {
+      f(std::size_t(base_) + schedule_.chunk_begin(c), std::size_t(base_) + schedule_.chunk_end(c));
+    });
+  }
+
+  // One segment of the structured kernel: both ends advance by one, so positions and
+  // velocities are contiguous loads and forces contiguous stores, with no index array; a
+  // uniform segment reads its one record once. Forces first into row buffers (a loop the
+  // compiler vectorises), then added to the first ends and taken from the second, as run_chunk.
+  void run_segment(std::size_t s, const Vec3* x, const Vec3* v, Vec3* f) const {
+    const auto& g = stencil_.segment(s);
+    const Params* p = params_.data() + g.slot;
+    const Vec3 *xa = x + g.a, *xb = x + g.b, *va = v + g.a, *vb = v + g.b;
+    Vec3* fa = f + g.a;
+    Vec3* fb = f + g.b;
+    const bool uniform = stencil_.uniform(s);
+    for (std::size_t k0 = 0; k0 < g.count; k0 += kChunk) {
+      const std::size_t n = std::min<std::size_t>(kChunk, g.count - k0);
+      Real fx[kChunk], fy[kChunk], fz[kChunk];  // uninitialised on purpose: fully written
+      if (uniform) {
+        const Params q = p[0];
+#pragma omp simd
+        for (std::size_t k = 0; k < n; ++k) {
+          const Vec3 F = K::force(xa[k0 + k], xb[k0 + k], va[k0 + k], vb[k0 + k], q);
+          fx[k] = F.x;
+          fy[k] = F.y;
+          fz[k] = F.z;
+        }
+      } else {
+#pragma omp simd
+        for (std::size_t k = 0; k < n; ++k) {
+          const Vec3 F = K::force(xa[k0 + k], xb[k0 + k], va[k0 + k], vb[k0 + k], p[k0 + k]);
+          fx[k] = F.x;
+          fy[k] = F.y;
+          fz[k] = F.z;
+        }
+      }
+      for (std::size_t k = 0; k < n; ++k) fa[k0 + k] += Vec3{fx[k], fy[k], fz[k]};
+      for (std::size_t k = 0; k < n; ++k) fb[k0 + k] -= Vec3{fx[k], fy[k], fz[k]};
+    }
+  }
 
   // Forces of one chunk of links. Kinds that are always active compute all forces first in a
   // loop the compiler vectorises (packed sqrt and division; contiguous loads on runs, gathers
@@ -371,7 +486,8 @@ class LinkPool final : public LinkPoolBase {
   // sqrt/div chain and by store-to-load forwarding between links sharing a point. Conditional
   // kinds test cheaply first and compute only the few active links.
   std::uint64_t run_chunk(std::size_t c, const Vec3* x, const Vec3* v, Vec3* f) const {
-    const std::size_t begin = schedule_.chunk_begin(c), end = schedule_.chunk_end(c);
+    const std::size_t begin = base_ + schedule_.chunk_begin(c),
+                      end = base_ + schedule_.chunk_end(c);
     const LinkEnds* e = ends_.data();
     const Params* p = params_.data();
     if constexpr (requires { K::is_active(x[0], x[0], p[0]); }) {
@@ -425,11 +541,15 @@ class LinkPool final : public LinkPoolBase {
   std::vector<Params> params_;             // [links] storage order
   std::vector<std::uint32_t> slot_of_id_;  // [links] id -> storage slot
   std::vector<std::uint32_t> id_of_slot_;  // [links] storage slot -> id
-  detail::CpuSchedule schedule_;
+  detail::CpuSchedule schedule_;           // the links from slot base_ on
+  detail::StructuredGrid stencil_;         // the grid links: slots 0 .. base_ - 1
+  std::uint32_t base_ = 0;
   // prepare()'s working arrays, kept by pools prepared often (see prepare).
   std::vector<LinkEnds> spare_ends_;
   std::vector<Params> spare_params_;
   std::vector<std::uint32_t> spare_ids_;
+  std::vector<std::uint32_t> spare_others_;
+  std::vector<LinkEnds> spare_rest_;
   int prepared_count_ = 0;
 };
 

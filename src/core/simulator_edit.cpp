@@ -35,6 +35,7 @@ void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
     model_structure_changed();
     return;
   }
+  model_.links.parameters_changed();  // rows of equal records, for the structured kernel
   restimate_stability();
 }
 
