@@ -60,6 +60,17 @@ class LinkPoolBase {
   }
   // How many links run in the structured kernel (0 for kinds that do not opt in).
   virtual std::size_t structured_links() const { return 0; }
+  // The grids those links are on, and the structured kernel alone: adds their forces into f,
+  // or, with a hook, writes the grid points' f (not read) and calls the hook on each finished
+  // row (the fused step). Inside a parallel region every thread of the team calls it.
+  virtual std::span<const PointGrid> structured_grids() const { return {}; }
+  virtual void structured_forces(const Vec3* x, const Vec3* v, Vec3* f,
+                                 const detail::StructuredGrid::RowHook* hook) const {
+    (void)x, (void)v, (void)f, (void)hook;
+  }
+  // Sizes the structured kernel's row buffers for `threads` threads, outside parallel regions
+  // (link_forces does it before each pass: nothing is allocated once they have grown).
+  virtual void reserve_threads(int threads) const { (void)threads; }
   // Parameters were edited in place (Simulator::edit_parameters calls it): the structured kernel
   // looks again for rows whose records are all equal.
   virtual void parameters_changed() {}
@@ -230,6 +241,56 @@ class LinkPool final : public LinkPoolBase {
   }
 
   std::size_t structured_links() const override { return stencil_.size(); }
+  std::span<const PointGrid> structured_grids() const override { return stencil_.grids(); }
+  void reserve_threads(int threads) const override {
+    if (stencil_.size() > 0) stencil_.reserve(threads);
+  }
+
+  // The structured kernel's strips (detail/structured_grid.hpp): each thread of the team takes
+  // a strip of rows of each grid, computes the link rows it shares with its neighbours (two
+  // above, its own last two) before a barrier, then its rows in order: link row, sum, hook.
+  void structured_forces(const Vec3* x, const Vec3* v, Vec3* f,
+                         const detail::StructuredGrid::RowHook* hook) const override {
+    if (stencil_.size() == 0) return;
+    using detail::StructuredGrid;
+    if (StructuredGrid::team_size() == 1 && stencil_.reserved_threads() < 1) stencil_.reserve(1);
+    const int team = StructuredGrid::team_size(), t = StructuredGrid::thread_index();
+    Real* mine = stencil_.thread_rows(t);
+    const std::size_t size = stencil_.link_row_size();
+    Real* ring[3] = {mine, mine + size, mine + 2 * size};
+    Real* halo[2] = {mine + 3 * size, mine + 4 * size};
+    Real* tail[2] = {mine + 5 * size, mine + 6 * size};
+    const auto grids = stencil_.grids();
+    for (std::size_t g = 0; g < grids.size(); ++g) {
+      const PointGrid& grid = grids[g];
+      const std::int64_t strips = std::clamp<std::int64_t>(grid.ny / 4, 1, team);
+      const bool works = t < strips;
+      const std::int64_t r0 = std::int64_t(grid.ny) * t / strips;
+      const std::int64_t r1 = std::int64_t(grid.ny) * (t + 1) / strips;
+      if (works) {
+        for (std::int64_t h = 0; h < 2; ++h) {
+          if (r0 - 2 + h >= 0) link_row(g, std::uint32_t(r0 - 2 + h), x, v, halo[h]);
+          if (r1 - 2 + h >= r0) link_row(g, std::uint32_t(r1 - 2 + h), x, v, tail[h]);
+        }
+      }
+#pragma omp barrier
+      if (!works) continue;
+      auto buffer = [&](std::int64_t row) -> const Real* {
+        if (row < 0) return stencil_.zero_row();
+        if (row < r0) return halo[row - (r0 - 2)];
+        if (row >= r1 - 2) return tail[row - (r1 - 2)];
+        return ring[row % 3];
+      };
+      for (std::int64_t row = r0; row < r1; ++row) {
+        if (row < r1 - 2) link_row(g, std::uint32_t(row), x, v, ring[row % 3]);
+        const std::uint32_t first = grid.first + std::uint32_t(row) * grid.nx;
+        gather_row(buffer(row), buffer(row - 1), buffer(row - 2), grid.nx, f + first,
+                   hook != nullptr);
+        if (hook) hook->run(hook->context, first, grid.nx);
+      }
+    }
+#pragma omp barrier
+  }
 
   void parameters_changed() override {
     if constexpr (kStructured) stencil_.find_uniform(same_record());
@@ -237,8 +298,7 @@ class LinkPool final : public LinkPoolBase {
 
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
     std::uint64_t active = 0;  // this thread's count
-    if constexpr (kStructured)
-      stencil_.for_each_segment([&](std::size_t s) { run_segment(s, x, v, f); });
+    structured_forces(x, v, f, nullptr);
     schedule_.for_each_chunk([&](std::uint32_t c) { active += run_chunk(c, x, v, f); });
     if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
 #pragma omp atomic
@@ -443,40 +503,113 @@ class LinkPool final : public LinkPoolBase {
     });
   }
 
-  // One segment of the structured kernel: both ends advance by one, so positions and
-  // velocities are contiguous loads and forces contiguous stores, with no index array; a
-  // uniform segment reads its one record once. Forces first into row buffers (a loop the
-  // compiler vectorises), then added to the first ends and taken from the second, as run_chunk.
-  void run_segment(std::size_t s, const Vec3* x, const Vec3* v, Vec3* f) const {
-    const auto& g = stencil_.segment(s);
-    const Params* p = params_.data() + g.slot;
-    const Vec3 *xa = x + g.a, *xb = x + g.b, *va = v + g.a, *vb = v + g.b;
-    Vec3* fa = f + g.a;
-    Vec3* fb = f + g.b;
-    const bool uniform = stencil_.uniform(s);
-    for (std::size_t k0 = 0; k0 < g.count; k0 += kChunk) {
-      const std::size_t n = std::min<std::size_t>(kChunk, g.count - k0);
-      Real fx[kChunk], fy[kChunk], fz[kChunk];  // uninitialised on purpose: fully written
-      if (uniform) {
-        const Params q = p[0];
+  // Link row j of grid g (detail/structured_grid.hpp): each family's forces along the row,
+  // by the column of the first end, zero where there is no link. A segment's ends both advance
+  // by one, so positions and velocities are contiguous loads and the loop vectorises with no
+  // index array; a uniform segment reads its one record once.
+  void link_row(std::size_t g, std::uint32_t j, const Vec3* x, const Vec3* v, Real* out) const {
+    const PointGrid& grid = stencil_.grids()[g];
+    const std::size_t w = stencil_.width();
+    const std::uint32_t row_first = grid.first + j * grid.nx;
+    for (std::size_t fam = 0; fam < detail::StructuredGrid::kFamilies.size(); ++fam) {
+      Real* bx = out + fam * 3 * w + 2;  // column c at c + 2
+      Real* by = bx + w;
+      Real* bz = by + w;
+      std::int64_t done = -2;  // columns before this one are written
+      auto zero_to = [&](std::int64_t column) {
+        for (std::int64_t c = done; c < column; ++c) bx[c] = by[c] = bz[c] = 0;
+      };
+      const auto [s0, s1] = stencil_.row_segments(g, j, fam);
+      for (std::uint32_t s = s0; s < s1; ++s) {
+        const auto& seg = stencil_.segment(s);
+        const std::int64_t i0 = std::int64_t(seg.a) - row_first;
+        zero_to(i0);
+        const Params* p = params_.data() + seg.slot;
+        const Vec3 *xa = x + seg.a, *xb = x + seg.b, *va = v + seg.a, *vb = v + seg.b;
+        Real *ox = bx + i0, *oy = by + i0, *oz = bz + i0;
+        const std::size_t n = seg.count;
+        if (stencil_.uniform(s)) {
+          const Params q = p[0];
 #pragma omp simd
-        for (std::size_t k = 0; k < n; ++k) {
-          const Vec3 F = K::force(xa[k0 + k], xb[k0 + k], va[k0 + k], vb[k0 + k], q);
-          fx[k] = F.x;
-          fy[k] = F.y;
-          fz[k] = F.z;
-        }
-      } else {
+          for (std::size_t k = 0; k < n; ++k) {
+            const Vec3 fa = K::force(xa[k], xb[k], va[k], vb[k], q);
+            ox[k] = fa.x;
+            oy[k] = fa.y;
+            oz[k] = fa.z;
+          }
+        } else {
 #pragma omp simd
-        for (std::size_t k = 0; k < n; ++k) {
-          const Vec3 F = K::force(xa[k0 + k], xb[k0 + k], va[k0 + k], vb[k0 + k], p[k0 + k]);
-          fx[k] = F.x;
-          fy[k] = F.y;
-          fz[k] = F.z;
+          for (std::size_t k = 0; k < n; ++k) {
+            const Vec3 fa = K::force(xa[k], xb[k], va[k], vb[k], p[k]);
+            ox[k] = fa.x;
+            oy[k] = fa.y;
+            oz[k] = fa.z;
+          }
         }
+        done = i0 + std::int64_t(n);
       }
-      for (std::size_t k = 0; k < n; ++k) fa[k0 + k] += Vec3{fx[k], fy[k], fz[k]};
-      for (std::size_t k = 0; k < n; ++k) fb[k0 + k] -= Vec3{fx[k], fy[k], fz[k]};
+      zero_to(std::int64_t(grid.nx) + 2);
+    }
+  }
+
+  // Row j's points sum their links' forces in one fixed order: as first end (row j's buffers,
+  // families in order), then as second end (the buffers of rows j - dj at column i - di).
+  // `assign`: f = the sum (the fused step, f not cleared), else f += the sum.
+  void gather_row(const Real* r0, const Real* r1, const Real* r2, std::uint32_t nx, Vec3* f,
+                  bool assign) const {
+    constexpr std::size_t families = detail::StructuredGrid::kFamilies.size();
+    static_assert(families == 6);
+    const std::size_t w = stencil_.width();
+    const Real* rows[3] = {r0, r1, r2};
+    const Real* first[3][families];
+    const Real* second[3][families];
+    for (std::size_t fam = 0; fam < families; ++fam) {
+      const auto [di, dj] = detail::StructuredGrid::kFamilies[fam];
+      for (std::size_t c = 0; c < 3; ++c) {
+        first[c][fam] = r0 + (fam * 3 + c) * w + 2;
+        second[c][fam] = rows[dj] + (fam * 3 + c) * w + 2 - di;
+      }
+    }
+    if (assign)
+      gather<true>(first, second, nx, f);
+    else
+      gather<false>(first, second, nx, f);
+  }
+
+  // One coordinate of point i's sum (gather_row), written out so that the loop vectorises.
+  static Real gathered(const Real* const (&p)[6], const Real* const (&q)[6], std::size_t i) {
+    Real s = 0;
+    s += p[0][i];
+    s += p[1][i];
+    s += p[2][i];
+    s += p[3][i];
+    s += p[4][i];
+    s += p[5][i];
+    s -= q[0][i];
+    s -= q[1][i];
+    s -= q[2][i];
+    s -= q[3][i];
+    s -= q[4][i];
+    s -= q[5][i];
+    return s;
+  }
+
+  template <bool kAssign>
+  static void gather(const Real* const (&p)[3][6], const Real* const (&q)[3][6], std::size_t nx,
+                     Vec3* f) {
+#pragma omp simd
+    for (std::size_t i = 0; i < nx; ++i) {
+      const Real sx = gathered(p[0], q[0], i), sy = gathered(p[1], q[1], i),
+                 sz = gathered(p[2], q[2], i);
+      if constexpr (kAssign) {  // by coordinate: a Vec3 copy does not vectorise here
+        f[i].x = sx;
+        f[i].y = sy;
+        f[i].z = sz;
+      } else {
+        f[i].x += sx;
+        f[i].y += sy;
+        f[i].z += sz;
+      }
     }
   }
 

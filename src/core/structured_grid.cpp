@@ -2,6 +2,10 @@
 
 #include <algorithm>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace maille::detail {
 
 namespace {
@@ -27,6 +31,33 @@ void StructuredGrid::clear() {
   uniform_.clear();
   blocks_.clear();
   colour_begin_.clear();
+  grids_.clear();
+  row_base_.clear();
+  row_segment_.clear();
+  width_ = 0;
+}
+
+int StructuredGrid::team_size() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
+int StructuredGrid::thread_index() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+void StructuredGrid::reserve(int threads) const {
+  const auto size = [&](int t) { return link_row_size() * (1 + kRowsPerThread * std::size_t(t)); };
+  if (threads <= reserved_ && scratch_.size() == size(reserved_)) return;
+  reserved_ = std::max(threads, 1);
+  scratch_.assign(size(reserved_), Real(0));
 }
 
 void StructuredGrid::release_scratch() {
@@ -60,6 +91,8 @@ std::span<const std::uint32_t> StructuredGrid::select(std::span<const LinkEnds> 
       continue;
     block_base.push_back(static_cast<std::uint32_t>(block_colour_.size()));
     kept.push_back(g);
+    row_base_.push_back(kept.size() == 1 ? 0 : row_base_.back() + kept[kept.size() - 2].ny);
+    width_ = std::max<std::size_t>(width_, std::size_t(g.nx) + 4);
     const std::uint32_t blocks = (g.ny + rows_per_block(g.ny) - 1) / rows_per_block(g.ny);
     for (std::uint32_t k = 0; k < blocks; ++k) block_colour_.push_back(k % 2);
   }
@@ -110,6 +143,8 @@ std::span<const std::uint32_t> StructuredGrid::select(std::span<const LinkEnds> 
     block_of_.push_back(key.block);
   }
   links_ = order_.size();
+  grids_ = std::move(kept);
+  reserved_ = 0;  // the row width may have changed
   return order_;
 }
 
@@ -131,6 +166,15 @@ void StructuredGrid::cut_segments(std::span<const LinkEnds> ends) {
     }
     by_block[block_of_[s]].end = static_cast<std::uint32_t>(segments_.size());
   }
+  // Segments by grid row and family (they are stored in that order).
+  const std::size_t families = kFamilies.size();
+  const std::size_t rows = grids_.empty() ? 0 : row_base_.back() + grids_.back().ny;
+  row_segment_.assign(rows * families + 1, 0);
+  for (const Segment& segment : segments_) {
+    const Key& key = keys_[segment.slot];  // keys_ are in storage order
+    ++row_segment_[(row_base_[key.grid] + key.row) * families + key.family + 1];
+  }
+  for (std::size_t r = 0; r + 1 < row_segment_.size(); ++r) row_segment_[r + 1] += row_segment_[r];
   colour_begin_.assign(1, 0);
   for (std::uint32_t colour = 0; colour < 2; ++colour) {
     for (std::size_t k = 0; k < by_block.size(); ++k)

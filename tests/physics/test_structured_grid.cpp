@@ -19,6 +19,7 @@
 #include "maille/links/spring_damper.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
+#include "maille/stage.hpp"
 
 namespace maille {
 namespace {
@@ -225,6 +226,80 @@ TEST(StructuredGrid, EditModelPreparesAgain) {
   const auto a = edited_run(true), b = edited_run(false);
   ASSERT_EQ(a.size(), b.size());
   EXPECT_LE(max_difference(a, b), kBound * extent(m));
+}
+
+// The fused grid step (simulator_fused.cpp): a lone flag without wind, leapfrog. Sampling
+// energies every step keeps every step unfused; the two runs are identical bit for bit, with a
+// driven pole and on one and two threads, and stay within the bound of the general path.
+std::vector<Vec3> fused_run(const Model& m, int sample_every, int threads, const char* scheme,
+                            std::uint64_t steps, std::vector<Vec3>* v = nullptr) {
+  SimulationSettings s = quick();
+  s.integrator = scheme;
+  s.sample_every = sample_every;
+  s.threads = threads;
+  Simulator sim(m, s);
+  EXPECT_TRUE(sim.run_steps(steps));
+  if (v) v->assign(sim.state().v().begin(), sim.state().v().end());
+  return {sim.state().x().begin(), sim.state().x().end()};
+}
+
+TEST(StructuredGrid, FusedStepIsBitIdenticalToTheUnfusedStep) {
+  Model m = flag(48, 40);
+  m.fields.wind = {};
+  m.fields.air_drag = Real(0.05);
+  // A shaken pole: its points are driven.
+  for (std::uint32_t j = 0; j < 40; ++j) {
+    const std::uint32_t p = j * 48;
+    m.points.set_kind(p, PointKind::driven);
+    Drive d;
+    d.point = p;
+    d.path.origin = m.points.initial_position[p];
+    d.path.amplitude = {0, 0, Real(0.02)};
+    d.path.frequency = 3;
+    m.drives.push_back(d);
+  }
+  for (const char* scheme : {"leapfrog", "symplectic_euler"}) {
+    std::vector<Vec3> v_fused, v_unfused, v_two;
+    const auto fused = fused_run(m, kNeverEvery, 1, scheme, 300, &v_fused);
+    const auto unfused = fused_run(m, 1, 1, scheme, 300, &v_unfused);
+    const auto two = fused_run(m, 7, 2, scheme, 300, &v_two);
+    for (std::size_t i = 0; i < fused.size(); ++i) {
+      ASSERT_EQ(fused[i], unfused[i]) << scheme << " point " << i;
+      ASSERT_EQ(v_fused[i], v_unfused[i]) << scheme << " point " << i;
+      ASSERT_EQ(fused[i], two[i]) << scheme << " point " << i << " (2 threads)";
+      ASSERT_EQ(v_fused[i], v_two[i]) << scheme << " point " << i << " (2 threads)";
+    }
+    Model general = m;
+    general.structured_grids = false;
+    const auto g = fused_run(general, kNeverEvery, 1, scheme, 300);
+    EXPECT_LE(max_difference(fused, g), kBound * extent(m)) << scheme;
+  }
+}
+
+// A force stage that adds nothing: with it the step is never fused, and nothing else changes.
+class NothingStage final : public Stage {
+ public:
+  std::string name() const override { return "nothing"; }
+  Phase phase() const override { return Phase::forces; }
+  void apply(const Model&, State&, const StageContext&) override {}
+};
+
+// A blow-up inside a fused step is reported as the unfused step reports it: same step, same
+// module; and before it, the same bits.
+TEST(StructuredGrid, FusedStepReportsABlowUpAsTheUnfusedStep) {
+  Model m = flag(20, 16);
+  m.fields.wind = {};
+  auto blow_up = [&](bool fused) {
+    SimulationSettings s = quick(5e-2);  // far beyond the stable step
+    Simulator sim(m, s);
+    if (!fused) sim.add_stage(std::make_unique<NothingStage>());
+    EXPECT_FALSE(sim.run_steps(2000));
+    return std::pair{sim.state().step, sim.blow_up() ? sim.blow_up()->module : std::string()};
+  };
+  const auto fused = blow_up(true), unfused = blow_up(false);
+  EXPECT_EQ(fused.first, unfused.first);
+  EXPECT_EQ(fused.second, unfused.second);
+  EXPECT_FALSE(fused.second.empty());
 }
 
 }  // namespace

@@ -12,15 +12,26 @@
 // with its first record as a constant (one load instead of one per link), which gives the same
 // bits as reading each record.
 //
-// Rows are cut into blocks of at least two rows (a link reaches at most two rows down), about
-// kBlocks per grid whatever the thread count; blocks of even rank run together, then those of
-// odd rank, so no two blocks running at once touch one point and every point sums its forces in
-// the same order for any number of threads.
+// Forces (LinkPool::structured_forces) go row by row: the links whose first end is in row j
+// into a row buffer per family (zero where there is no link), then each point of row j sums, in
+// one fixed order, the forces of its links as first end (row j's buffers) and as second end
+// (the buffers of rows j, j - 1 and j - 2, read at the column offset of each family): a gather,
+// no scatter, so the sum of a point does not depend on how rows are split among threads. Once
+// row j is summed it is complete (no later row's link reaches it), so a caller may finish it at
+// once (RowHook: fields and the kick-drift update, the fused step of simulator_fused.cpp). The
+// threads take strips of rows; a strip computes the two link rows above it (its halo) and its
+// own last two (which read the next strip's first rows) before a barrier, so that no strip reads
+// positions another has already moved.
+//
+// The implicit solvers run the links by segment (for_each_segment): rows are cut into blocks of
+// at least two rows, about kBlocks per grid; blocks of even rank run together, then those of
+// odd rank, so no two blocks running at once touch one point.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "maille/link_kind.hpp"
@@ -44,6 +55,12 @@ class StructuredGrid {
   static constexpr std::array<std::array<int, 2>, 6> kFamilies{
       {{1, 0}, {0, 1}, {1, 1}, {-1, 1}, {2, 0}, {0, 2}}};
   static constexpr std::uint32_t kBlocks = 16;  // per grid, at most
+
+  // Called on each finished row of points (first .. first + count - 1), inside the strips.
+  struct RowHook {
+    void (*run)(void* context, std::uint32_t first, std::uint32_t count) = nullptr;
+    void* context = nullptr;
+  };
 
   struct Segment {
     std::uint32_t a = 0;      // first end of the first link
@@ -78,6 +95,28 @@ class StructuredGrid {
   void release_scratch();
 
   std::size_t size() const { return links_; }  // links stored first
+  std::span<const PointGrid> grids() const { return grids_; }
+  // Segments of grid g's row j, family f: [first, second).
+  std::pair<std::uint32_t, std::uint32_t> row_segments(std::size_t g, std::uint32_t j,
+                                                       std::size_t f) const {
+    const std::size_t r = (std::size_t(row_base_[g]) + j) * kFamilies.size() + f;
+    return {row_segment_[r], row_segment_[r + 1]};
+  }
+  // Row buffers: a link row holds, per family and coordinate, width() values for the columns
+  // -2 .. nx + 1 of the widest grid (column c at c + 2).
+  std::size_t width() const { return width_; }
+  std::size_t link_row_size() const { return kFamilies.size() * 3 * width_; }
+  static constexpr std::size_t kRowsPerThread = 7;  // 3 rolling, 2 halo, 2 tail
+  // Sizes the row buffers for `threads` threads; outside a parallel region only.
+  void reserve(int threads) const;
+  int reserved_threads() const { return reserved_; }
+  Real* thread_rows(int thread) const {
+    return scratch_.data() + link_row_size() * (1 + kRowsPerThread * std::size_t(thread));
+  }
+  const Real* zero_row() const { return scratch_.data(); }
+  // The OpenMP team as seen from here (1 and 0 outside a parallel region).
+  static int team_size();
+  static int thread_index();
   const Segment& segment(std::size_t s) const { return segments_[s]; }
   bool uniform(std::size_t s) const { return uniform_[s] != 0; }
 
@@ -113,6 +152,13 @@ class StructuredGrid {
   std::vector<std::uint8_t> uniform_;        // [segments] 1: every record equals the first
   std::vector<Block> blocks_;                // by colour
   std::vector<std::uint32_t> colour_begin_;  // colour c spans blocks_[begin[c] .. begin[c + 1])
+  std::vector<PointGrid> grids_;             // the grids kept, by first point
+  std::vector<std::uint32_t> row_base_;      // [grids] rows of the grids before
+  std::vector<std::uint32_t> row_segment_;   // [rows x families + 1] segments by row, family
+  std::size_t width_ = 0;
+  // Row buffers: a zero link row, then kRowsPerThread link rows per thread.
+  mutable std::vector<Real> scratch_;
+  mutable int reserved_ = 0;
   // Scratch of select(): the keys and order of the selected links, each one's block id.
   std::vector<Key> keys_;
   std::vector<std::uint32_t> order_;
