@@ -22,7 +22,9 @@ maille::Model flag_model(std::uint32_t n) {
   return m;
 }
 
-void BM_FlagStep(benchmark::State& st) {
+// `structured`: the grid links in the structured kernel (the default), else every link on the
+// general schedule (Model::structured_grids = false), to compare the two paths.
+void flag_step(benchmark::State& st, bool structured) {
   const auto n = static_cast<std::uint32_t>(st.range(0));
   const int threads = st.range(1) == 0 ? omp_get_num_procs() : static_cast<int>(st.range(1));
   maille::SimulationSettings s;
@@ -30,13 +32,22 @@ void BM_FlagStep(benchmark::State& st) {
   s.threads = threads;
   s.publish_every = maille::kNeverEvery;
   s.sample_every = maille::kNeverEvery;
-  maille::Simulator sim(flag_model(n), s);
+  maille::Model m = flag_model(n);
+  m.structured_grids = structured;
+  maille::Simulator sim(std::move(m), s);
   for (auto _ : st) sim.step();
   const double ps = double(st.iterations()) * n * n;
   // An inverted rate is seconds per unit: per 1e-9 particle-steps, ns per particle-step.
   st.counters["ns_pps"] =
       benchmark::Counter(ps * 1e-9, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   st.counters["threads"] = threads;
+}
+
+void BM_FlagStep(benchmark::State& st) {
+  flag_step(st, true);
+}
+void BM_FlagStepGeneral(benchmark::State& st) {
+  flag_step(st, false);
 }
 
 }  // namespace
@@ -55,3 +66,6 @@ BENCHMARK(BM_FlagStep)
     ->Iterations(3)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+// The general path on the same flags (one thread, CPU time), for the table of both paths.
+BENCHMARK(BM_FlagStepGeneral)->ArgsProduct({{64, 128, 512}, {1}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FlagStepGeneral)->Args({2048, 1})->Iterations(3)->Unit(benchmark::kMicrosecond);

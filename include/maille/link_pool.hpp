@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 
 #include "maille/colouring.hpp"
 #include "maille/detail/cpu_schedule.hpp"
+#include "maille/detail/structured_grid.hpp"
 #include "maille/link_kind.hpp"
 #include "maille/mat3.hpp"
 
@@ -49,6 +51,29 @@ class LinkPoolBase {
   // parallel without atomics, and the sum order per point is fixed (determinism). A pool that
   // gained links since is not prepared(), and accumulate() refuses to run it.
   virtual void prepare(std::uint32_t point_count) = 0;
+  // The same, knowing the model's regular grids (Model::prepare): a kind that opts in
+  // (`grid_stencil`, detail/structured_grid.hpp) runs its links on them in the structured
+  // kernel; every other kind, and every link off the grids, keeps the general schedule.
+  virtual void prepare_on_grids(std::uint32_t point_count, std::span<const PointGrid> grids) {
+    (void)grids;
+    prepare(point_count);
+  }
+  // How many links run in the structured kernel (0 for kinds that do not opt in).
+  virtual std::size_t structured_links() const { return 0; }
+  // The grids those links are on, and the structured kernel alone: adds their forces into f,
+  // or, with a hook, writes the grid points' f (not read) and calls the hook on each finished
+  // row (the fused step). Inside a parallel region every thread of the team calls it.
+  virtual std::span<const PointGrid> structured_grids() const { return {}; }
+  virtual void structured_forces(const Vec3* x, const Vec3* v, Vec3* f,
+                                 const detail::StructuredGrid::RowHook* hook) const {
+    (void)x, (void)v, (void)f, (void)hook;
+  }
+  // Sizes the structured kernel's row buffers for `threads` threads, outside parallel regions
+  // (link_forces does it before each pass: nothing is allocated once they have grown).
+  virtual void reserve_threads(int threads) const { (void)threads; }
+  // Parameters were edited in place (Simulator::edit_parameters calls it): the structured kernel
+  // looks again for rows whose records are all equal.
+  virtual void parameters_changed() {}
   // Adds every link's force into f. Callable inside an OpenMP parallel region (orphaned
   // work-sharing): the threads split each group.
   virtual void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const = 0;
@@ -96,7 +121,10 @@ class LinkPool final : public LinkPoolBase {
   std::size_t size() const override { return ends_.size(); }
   LinkEnds ends(std::size_t id) const override { return ends_[slot_of_id_[id]]; }
   const Params& params(std::size_t id) const { return params_[slot_of_id_[id]]; }
-  Params& params_for_editing(std::size_t id) { return params_[slot_of_id_[id]]; }
+  Params& params_for_editing(std::size_t id) {
+    stencil_.edited(slot_of_id_[id]);  // its row no longer assumed uniform
+    return params_[slot_of_id_[id]];
+  }
   std::span<const LinkEnds> slot_ends() const override { return ends_; }
   std::span<const Params> slot_params() const { return params_; }
   std::uint32_t id_of_slot(std::size_t slot) const override { return id_of_slot_[slot]; }
@@ -116,6 +144,8 @@ class LinkPool final : public LinkPoolBase {
     slot_of_id_.clear();
     id_of_slot_.clear();
     schedule_.clear();
+    stencil_.clear();
+    base_ = 0;
   }
 
   // Adds a link; its id is the number of links added before it. The pool must be prepared
@@ -127,6 +157,8 @@ class LinkPool final : public LinkPoolBase {
     slot_of_id_.push_back(id);
     id_of_slot_.push_back(id);
     schedule_.clear();
+    stencil_.clear();
+    base_ = 0;
     return id;
   }
 
@@ -153,39 +185,120 @@ class LinkPool final : public LinkPoolBase {
     for (auto& p : params_) p.*(K::fields[field].member) *= factor;
   }
 
-  // Stores the links in the CPU schedule's order (detail/cpu_schedule.hpp) and remembers
-  // where each id went.
+  // Stores the grid links first, in the structured kernel's order (detail/structured_grid.hpp),
+  // then the others in the CPU schedule's order (detail/cpu_schedule.hpp), and remembers where
+  // each id went.
   // A pool prepared again and again (a stage's contacts, every step) keeps its working arrays
   // from the third time on and then allocates nothing once they have grown; the others give
   // them back (a cloth's pools would otherwise hold their links twice).
-  void prepare(std::uint32_t point_count) override {
-    const std::span<const std::uint32_t> order = schedule_.order(ends_, kAlwaysActive);
+  void prepare(std::uint32_t point_count) override { prepare_on_grids(point_count, {}); }
+
+  void prepare_on_grids(std::uint32_t point_count, std::span<const PointGrid> grids) override {
+    std::span<const std::uint32_t> grid_links{};
+    if constexpr (kStructured) grid_links = stencil_.select(ends_, grids, spare_others_);
+    const std::size_t structured = grid_links.size();
+    // The other links, in their current order, are what the CPU schedule orders.
+    std::span<const LinkEnds> rest = ends_;
+    if (structured > 0) {
+      spare_rest_.resize(spare_others_.size());
+      for (std::size_t k = 0; k < spare_others_.size(); ++k)
+        spare_rest_[k] = ends_[spare_others_[k]];
+      rest = spare_rest_;
+    }
+    const std::span<const std::uint32_t> order = schedule_.order(rest, kAlwaysActive);
+    auto source = [&](std::size_t s) -> std::uint32_t {
+      if (s < structured) return grid_links[s];
+      return structured > 0 ? spare_others_[order[s - structured]] : order[s];
+    };
     std::vector<LinkEnds>& e = spare_ends_;
     std::vector<Params>& p = spare_params_;
     std::vector<std::uint32_t>& ids = spare_ids_;
     e.resize(ends_.size());
     p.resize(params_.size());
     ids.resize(ends_.size());
-    for (std::size_t s = 0; s < order.size(); ++s) {
-      e[s] = ends_[order[s]];
-      p[s] = params_[order[s]];
-      ids[s] = id_of_slot_[order[s]];
+    for (std::size_t s = 0; s < ends_.size(); ++s) {
+      const std::uint32_t from = source(s);
+      e[s] = ends_[from];
+      p[s] = params_[from];
+      ids[s] = id_of_slot_[from];
       slot_of_id_[ids[s]] = static_cast<std::uint32_t>(s);
     }
     ends_.swap(e);
     params_.swap(p);
     id_of_slot_.swap(ids);
-    schedule_.build(ends_, point_count);
+    base_ = static_cast<std::uint32_t>(structured);
+    schedule_.build(std::span<const LinkEnds>(ends_).subspan(structured), point_count);
+    if constexpr (kStructured) stencil_.build(ends_, same_record());
     if (++prepared_count_ < 3) {
       std::vector<LinkEnds>().swap(spare_ends_);
       std::vector<Params>().swap(spare_params_);
       std::vector<std::uint32_t>().swap(spare_ids_);
+      std::vector<std::uint32_t>().swap(spare_others_);
+      std::vector<LinkEnds>().swap(spare_rest_);
       schedule_.release_scratch();
+      stencil_.release_scratch();
     }
+  }
+
+  std::size_t structured_links() const override { return stencil_.size(); }
+  std::span<const PointGrid> structured_grids() const override { return stencil_.grids(); }
+  void reserve_threads(int threads) const override {
+    if (stencil_.size() > 0) stencil_.reserve(threads);
+  }
+
+  // The structured kernel's strips (detail/structured_grid.hpp): each thread of the team takes
+  // a strip of rows of each grid, computes the link rows it shares with its neighbours (two
+  // above, its own last two) before a barrier, then its rows in order: link row, sum, hook.
+  void structured_forces(const Vec3* x, const Vec3* v, Vec3* f,
+                         const detail::StructuredGrid::RowHook* hook) const override {
+    if (stencil_.size() == 0) return;
+    using detail::StructuredGrid;
+    if (StructuredGrid::team_size() == 1 && stencil_.reserved_threads() < 1) stencil_.reserve(1);
+    const int team = StructuredGrid::team_size(), t = StructuredGrid::thread_index();
+    Real* mine = stencil_.thread_rows(t);
+    const std::size_t size = stencil_.link_row_size();
+    Real* ring[3] = {mine, mine + size, mine + 2 * size};
+    Real* halo[2] = {mine + 3 * size, mine + 4 * size};
+    Real* tail[2] = {mine + 5 * size, mine + 6 * size};
+    const auto grids = stencil_.grids();
+    for (std::size_t g = 0; g < grids.size(); ++g) {
+      const PointGrid& grid = grids[g];
+      const std::int64_t strips = std::clamp<std::int64_t>(grid.ny / 4, 1, team);
+      const bool works = t < strips;
+      const std::int64_t r0 = std::int64_t(grid.ny) * t / strips;
+      const std::int64_t r1 = std::int64_t(grid.ny) * (t + 1) / strips;
+      if (works) {
+        for (std::int64_t h = 0; h < 2; ++h) {
+          if (r0 - 2 + h >= 0) link_row(g, std::uint32_t(r0 - 2 + h), x, v, halo[h]);
+          if (r1 - 2 + h >= r0) link_row(g, std::uint32_t(r1 - 2 + h), x, v, tail[h]);
+        }
+      }
+#pragma omp barrier
+      if (!works) continue;
+      auto buffer = [&](std::int64_t row) -> const Real* {
+        if (row < 0) return stencil_.zero_row();
+        if (row < r0) return halo[row - (r0 - 2)];
+        if (row >= r1 - 2) return tail[row - (r1 - 2)];
+        return ring[row % 3];
+      };
+      for (std::int64_t row = r0; row < r1; ++row) {
+        if (row < r1 - 2) link_row(g, std::uint32_t(row), x, v, ring[row % 3]);
+        const std::uint32_t first = grid.first + std::uint32_t(row) * grid.nx;
+        gather_row(buffer(row), buffer(row - 1), buffer(row - 2), grid.nx, f + first,
+                   hook != nullptr);
+        if (hook) hook->run(hook->context, first, grid.nx);
+      }
+    }
+#pragma omp barrier
+  }
+
+  void parameters_changed() override {
+    if constexpr (kStructured) stencil_.find_uniform(same_record());
   }
 
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f, LinkCounters& counters) const override {
     std::uint64_t active = 0;  // this thread's count
+    structured_forces(x, v, f, nullptr);
     schedule_.for_each_chunk([&](std::uint32_t c) { active += run_chunk(c, x, v, f); });
     if constexpr (requires { K::is_active(x[0], x[0], params_[0]); }) {
 #pragma omp atomic
@@ -207,8 +320,8 @@ class LinkPool final : public LinkPoolBase {
   void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
                        Vec3* rhs) const override {
     if constexpr (kHasJacobian) {
-      schedule_.for_each_chunk([&](std::uint32_t c) {
-        for (std::size_t l = schedule_.chunk_begin(c); l < schedule_.chunk_end(c); ++l) {
+      for_each_range([&](std::size_t begin, std::size_t end) {
+        for (std::size_t l = begin; l < end; ++l) {
           const auto [a, b] = ends_[l];
           const LinkJacobian j =
               K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
@@ -224,8 +337,8 @@ class LinkPool final : public LinkPoolBase {
 
   void apply_blocks(const Mat3* blocks, const Vec3* u, Vec3* out) const override {
     if constexpr (kHasJacobian) {
-      schedule_.for_each_chunk([&](std::uint32_t c) {
-        for (std::size_t l = schedule_.chunk_begin(c); l < schedule_.chunk_end(c); ++l) {
+      for_each_range([&](std::size_t begin, std::size_t end) {
+        for (std::size_t l = begin; l < end; ++l) {
           const auto [a, b] = ends_[l];
           const Vec3 w = blocks[l] * (u[b] - u[a]);
           out[a] -= w;
@@ -364,6 +477,141 @@ class LinkPool final : public LinkPoolBase {
     K::is_active(q, q, p);
   };
   static constexpr std::size_t kChunk = detail::CpuSchedule::kChunk;
+  // Kinds that opt in run their grid links in the structured kernel.
+  static constexpr bool kStructured = kAlwaysActive && requires {
+    requires K::grid_stencil;
+  };
+
+  // Bit-for-bit equality of two slots' records (a uniform row runs on its first record).
+  auto same_record() const {
+    return [this](std::uint32_t s, std::uint32_t t) {
+      return std::memcmp(&params_[s], &params_[t], sizeof(Params)) == 0;
+    };
+  }
+
+  // Runs f(begin, end) over the storage slots in ranges no two threads share a point in:
+  // the structured kernel's segments, then the schedule's chunks.
+  template <class F>
+  void for_each_range(F&& f) const {
+    if constexpr (kStructured)
+      stencil_.for_each_segment([&](std::size_t s) {
+        const auto& g = stencil_.segment(s);
+        f(std::size_t(g.slot), std::size_t(g.slot) + g.count);
+      });
+    schedule_.for_each_chunk([&](std::uint32_t c) {
+      f(std::size_t(base_) + schedule_.chunk_begin(c), std::size_t(base_) + schedule_.chunk_end(c));
+    });
+  }
+
+  // Link row j of grid g (detail/structured_grid.hpp): each family's forces along the row,
+  // by the column of the first end, zero where there is no link. A segment's ends both advance
+  // by one, so positions and velocities are contiguous loads and the loop vectorises with no
+  // index array; a uniform segment reads its one record once.
+  void link_row(std::size_t g, std::uint32_t j, const Vec3* x, const Vec3* v, Real* out) const {
+    const PointGrid& grid = stencil_.grids()[g];
+    const std::size_t w = stencil_.width();
+    const std::uint32_t row_first = grid.first + j * grid.nx;
+    for (std::size_t fam = 0; fam < detail::StructuredGrid::kFamilies.size(); ++fam) {
+      Real* bx = out + fam * 3 * w + 2;  // column c at c + 2
+      Real* by = bx + w;
+      Real* bz = by + w;
+      std::int64_t done = -2;  // columns before this one are written
+      auto zero_to = [&](std::int64_t column) {
+        for (std::int64_t c = done; c < column; ++c) bx[c] = by[c] = bz[c] = 0;
+      };
+      const auto [s0, s1] = stencil_.row_segments(g, j, fam);
+      for (std::uint32_t s = s0; s < s1; ++s) {
+        const auto& seg = stencil_.segment(s);
+        const std::int64_t i0 = std::int64_t(seg.a) - row_first;
+        zero_to(i0);
+        const Params* p = params_.data() + seg.slot;
+        const Vec3 *xa = x + seg.a, *xb = x + seg.b, *va = v + seg.a, *vb = v + seg.b;
+        Real *ox = bx + i0, *oy = by + i0, *oz = bz + i0;
+        const std::size_t n = seg.count;
+        if (stencil_.uniform(s)) {
+          const Params q = p[0];
+#pragma omp simd
+          for (std::size_t k = 0; k < n; ++k) {
+            const Vec3 fa = K::force(xa[k], xb[k], va[k], vb[k], q);
+            ox[k] = fa.x;
+            oy[k] = fa.y;
+            oz[k] = fa.z;
+          }
+        } else {
+#pragma omp simd
+          for (std::size_t k = 0; k < n; ++k) {
+            const Vec3 fa = K::force(xa[k], xb[k], va[k], vb[k], p[k]);
+            ox[k] = fa.x;
+            oy[k] = fa.y;
+            oz[k] = fa.z;
+          }
+        }
+        done = i0 + std::int64_t(n);
+      }
+      zero_to(std::int64_t(grid.nx) + 2);
+    }
+  }
+
+  // Row j's points sum their links' forces in one fixed order: as first end (row j's buffers,
+  // families in order), then as second end (the buffers of rows j - dj at column i - di).
+  // `assign`: f = the sum (the fused step, f not cleared), else f += the sum.
+  void gather_row(const Real* r0, const Real* r1, const Real* r2, std::uint32_t nx, Vec3* f,
+                  bool assign) const {
+    constexpr std::size_t families = detail::StructuredGrid::kFamilies.size();
+    static_assert(families == 6);
+    const std::size_t w = stencil_.width();
+    const Real* rows[3] = {r0, r1, r2};
+    const Real* first[3][families];
+    const Real* second[3][families];
+    for (std::size_t fam = 0; fam < families; ++fam) {
+      const auto [di, dj] = detail::StructuredGrid::kFamilies[fam];
+      for (std::size_t c = 0; c < 3; ++c) {
+        first[c][fam] = r0 + (fam * 3 + c) * w + 2;
+        second[c][fam] = rows[dj] + (fam * 3 + c) * w + 2 - di;
+      }
+    }
+    if (assign)
+      gather<true>(first, second, nx, f);
+    else
+      gather<false>(first, second, nx, f);
+  }
+
+  // One coordinate of point i's sum (gather_row), written out so that the loop vectorises.
+  static Real gathered(const Real* const (&p)[6], const Real* const (&q)[6], std::size_t i) {
+    Real s = 0;
+    s += p[0][i];
+    s += p[1][i];
+    s += p[2][i];
+    s += p[3][i];
+    s += p[4][i];
+    s += p[5][i];
+    s -= q[0][i];
+    s -= q[1][i];
+    s -= q[2][i];
+    s -= q[3][i];
+    s -= q[4][i];
+    s -= q[5][i];
+    return s;
+  }
+
+  template <bool kAssign>
+  static void gather(const Real* const (&p)[3][6], const Real* const (&q)[3][6], std::size_t nx,
+                     Vec3* f) {
+#pragma omp simd
+    for (std::size_t i = 0; i < nx; ++i) {
+      const Real sx = gathered(p[0], q[0], i), sy = gathered(p[1], q[1], i),
+                 sz = gathered(p[2], q[2], i);
+      if constexpr (kAssign) {  // by coordinate: a Vec3 copy does not vectorise here
+        f[i].x = sx;
+        f[i].y = sy;
+        f[i].z = sz;
+      } else {
+        f[i].x += sx;
+        f[i].y += sy;
+        f[i].z += sz;
+      }
+    }
+  }
 
   // Forces of one chunk of links. Kinds that are always active compute all forces first in a
   // loop the compiler vectorises (packed sqrt and division; contiguous loads on runs, gathers
@@ -371,7 +619,8 @@ class LinkPool final : public LinkPoolBase {
   // sqrt/div chain and by store-to-load forwarding between links sharing a point. Conditional
   // kinds test cheaply first and compute only the few active links.
   std::uint64_t run_chunk(std::size_t c, const Vec3* x, const Vec3* v, Vec3* f) const {
-    const std::size_t begin = schedule_.chunk_begin(c), end = schedule_.chunk_end(c);
+    const std::size_t begin = base_ + schedule_.chunk_begin(c),
+                      end = base_ + schedule_.chunk_end(c);
     const LinkEnds* e = ends_.data();
     const Params* p = params_.data();
     if constexpr (requires { K::is_active(x[0], x[0], p[0]); }) {
@@ -425,11 +674,15 @@ class LinkPool final : public LinkPoolBase {
   std::vector<Params> params_;             // [links] storage order
   std::vector<std::uint32_t> slot_of_id_;  // [links] id -> storage slot
   std::vector<std::uint32_t> id_of_slot_;  // [links] storage slot -> id
-  detail::CpuSchedule schedule_;
+  detail::CpuSchedule schedule_;           // the links from slot base_ on
+  detail::StructuredGrid stencil_;         // the grid links: slots 0 .. base_ - 1
+  std::uint32_t base_ = 0;
   // prepare()'s working arrays, kept by pools prepared often (see prepare).
   std::vector<LinkEnds> spare_ends_;
   std::vector<Params> spare_params_;
   std::vector<std::uint32_t> spare_ids_;
+  std::vector<std::uint32_t> spare_others_;
+  std::vector<LinkEnds> spare_rest_;
   int prepared_count_ = 0;
 };
 

@@ -33,7 +33,11 @@ class LinkSet {
 
   std::span<const std::unique_ptr<LinkPoolBase>> pools() const { return pools_; }
   std::size_t total() const;
-  void prepare(std::uint32_t point_count);
+  // Prepares every pool (LinkPoolBase::prepare_on_grids): links on the regular grids run in the
+  // structured kernel where their kind opts in.
+  void prepare(std::uint32_t point_count, std::span<const PointGrid> grids = {});
+  // Parameters were edited in place: tells every pool (LinkPoolBase::parameters_changed).
+  void parameters_changed();
 
  private:
   std::vector<std::unique_ptr<LinkPoolBase>> pools_;

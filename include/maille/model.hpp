@@ -63,6 +63,10 @@ struct Model {
   // that only choose outputs (src/scene/scene_digest.cpp); 0 for a model built in code. The
   // checkpoint fingerprint includes it, so no trajectory-changing key can be left out of it.
   std::uint64_t scene_digest = 0;
+  // Links of kinds that opt in (spring-dampers) on the grid groups run in the structured kernel
+  // (detail/structured_grid.hpp); false: every link on the general schedule, to compare the
+  // two paths (tests, benchmarks). The same forces up to the order of each point's sum.
+  bool structured_grids = true;
 
   const Group* group(const std::string& name) const;
   // Groups links and faces for parallel, deterministic force passes. Call once after building
@@ -85,5 +89,10 @@ std::string check_parameters(const Model& m);
 // for the triangles they hold, 0 for the others. Model::prepare keeps them in Surface::grids;
 // the smooth surface (smooth_surface.hpp) asks for them of models not prepared.
 std::vector<FaceGrid> find_face_grids(const Model& m, std::vector<char>& in_grid);
+
+// The point grids of m's grid groups (Group::grid_nx, grid_ny): flags, nets, cloths, with or
+// without faces. Model::prepare runs the links on them in the structured kernel
+// (detail/structured_grid.hpp).
+std::vector<PointGrid> point_grids(const Model& m);
 
 }  // namespace maille

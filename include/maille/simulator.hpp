@@ -231,6 +231,8 @@ class Simulator : private ForceEvaluator {
   void sample_energies();
   bool runaway(double kinetic_plus_elastic);
   void check_forces(State& s);
+  // The structured grid's fused step where it applies (simulator_fused.cpp): false when not.
+  bool fused_grid_step(Real h);
   void check_health();
   std::string blame_forces(State& s);
   void publish();

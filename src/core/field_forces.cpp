@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "gust.hpp"
+#include "point_update.hpp"
 #include "stages.hpp"
 
 // Tells the vectoriser that iterations of the next loop do not overlap in memory (the wind
@@ -31,10 +32,8 @@ void point_fields(const Model& m, State& s) {
   Vec3* f = s.f().data();
   const auto n = static_cast<std::int64_t>(s.size());
 #pragma omp for schedule(static)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const Real w = inv_mass[i] > 0 ? mass[i] : Real(0);
-    f[i] += (g - v[i] * gamma) * w;
-  }
+  for (std::int64_t i = 0; i < n; ++i)
+    f[i] += point_update::field_force(g, gamma, mass[i], inv_mass[i], v[i]);
 }
 
 // Wind pressure on each face (see WindField and gust::face_force), in two parts:

@@ -15,6 +15,7 @@ LinkCounters link_forces(const Model& m, State& s, int threads) {
   const auto pools = m.links.pools();
   // A pool edited since prepare() would silently skip its links: refuse (programmer error),
   // before the parallel region where an exception cannot cross.
+  for (const auto& pool : pools) pool->reserve_threads(threads);  // row buffers, once
   for (const auto& pool : pools)
     if (!pool->prepared())
       throw std::logic_error("link pool '" + std::string(pool->keyword()) +

@@ -35,8 +35,12 @@ std::size_t LinkSet::total() const {
   return n;
 }
 
-void LinkSet::prepare(std::uint32_t point_count) {
-  for (auto& p : pools_) p->prepare(point_count);
+void LinkSet::prepare(std::uint32_t point_count, std::span<const PointGrid> grids) {
+  for (auto& p : pools_) p->prepare_on_grids(point_count, grids);
+}
+
+void LinkSet::parameters_changed() {
+  for (auto& p : pools_) p->parameters_changed();
 }
 
 }  // namespace maille

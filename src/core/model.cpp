@@ -148,6 +148,15 @@ void find_face_grids(Model& m) {
 
 }  // namespace
 
+std::vector<PointGrid> point_grids(const Model& m) {
+  std::vector<PointGrid> out;
+  for (const Group& g : m.groups)
+    if (g.grid_nx >= 2 && g.grid_ny >= 2 && std::uint64_t(g.grid_nx) * g.grid_ny == g.count &&
+        std::uint64_t(g.first) + g.count <= m.points.size())
+      out.push_back({g.first, g.grid_nx, g.grid_ny});
+  return out;
+}
+
 const Group* Model::group(const std::string& name) const {
   for (const auto& g : groups)
     if (g.name == name) return &g;
@@ -155,7 +164,8 @@ const Group* Model::group(const std::string& name) const {
 }
 
 void Model::prepare() {
-  links.prepare(points.size());
+  links.prepare(points.size(),
+                structured_grids ? point_grids(*this) : std::vector<PointGrid>{});
   // Faces are coloured like links so that the wind pass scatters to corners without races.
   std::vector<std::uint32_t> idx;
   idx.reserve(surface.triangles.size() * 3);

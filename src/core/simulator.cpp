@@ -235,21 +235,25 @@ bool Simulator::step() {
   profile_.begin_step();
   const auto& ids = *ids_;
   const Real h = static_cast<Real>(settings_.step);
-  evaluate(state_);
-  check_forces(state_);
-  if (blow_up_) return false;
-  const ResponseTiming responses = integrator_->response_timing();
-  if (responses == ResponseTiming::before_integration) respond();
-  if (blow_up_) return false;
-  if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) sample_energies();
-  if (blow_up_) return false;
-  if (responses == ResponseTiming::after_solve) keep_step_start();
-  {
-    Timed t(profile_, ids.integrate);
-    integrator_->advance(model_, state_, h, *this, profile_);
+  if (fused_grid_step(h)) {  // grid cloth alone: forces and update in one pass
+    if (blow_up_) return false;
+  } else {
+    evaluate(state_);
+    check_forces(state_);
+    if (blow_up_) return false;
+    const ResponseTiming responses = integrator_->response_timing();
+    if (responses == ResponseTiming::before_integration) respond();
+    if (blow_up_) return false;
+    if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) sample_energies();
+    if (blow_up_) return false;
+    if (responses == ResponseTiming::after_solve) keep_step_start();
+    {
+      Timed t(profile_, ids.integrate);
+      integrator_->advance(model_, state_, h, *this, profile_);
+    }
+    if (responses == ResponseTiming::after_solve) respond_to_solved_motion();
+    if (blow_up_) return false;
   }
-  if (responses == ResponseTiming::after_solve) respond_to_solved_motion();
-  if (blow_up_) return false;
   state_.time += settings_.step;
   state_.step += 1;
   {

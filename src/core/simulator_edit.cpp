@@ -43,6 +43,7 @@ void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
     model_structure_changed();  // the pools are the copy's: the schedule points into them anew
     throw std::invalid_argument("edit refused: " + why);
   }
+  model_.links.parameters_changed();  // rows of equal records, for the structured kernel
   restimate_stability();
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "../core/point_update.hpp"
 #include "integrators.hpp"
 
 namespace maille {
@@ -89,12 +90,8 @@ void kick_drift(const Model& m, State& s, Real kick, Real drift, int threads) {
   Vec3* x = s.x().data();
   const auto n = static_cast<std::int64_t>(s.size());
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const Real w = inv_mass[i];
-    const Real moves = w > 0 ? drift : Real(0);
-    v[i] += f[i] * (w * kick);
-    x[i] += v[i] * moves;
-  }
+  for (std::int64_t i = 0; i < n; ++i)
+    point_update::kick_drift(x[i], v[i], f[i], inv_mass[i], kick, drift);
 }
 
 const IntegratorRegistry& IntegratorRegistry::builtin() {

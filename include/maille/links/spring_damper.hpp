@@ -16,6 +16,7 @@ inline Vec3 spring_damper_force(const Separation& s, const Vec3& dv, Real k, Rea
 struct SpringDamper {
   static constexpr std::string_view keyword = "spring_damper";
   static constexpr std::string_view shared_law = "spring_damper_law";  // link_laws.glsl
+  static constexpr bool grid_stencil = true;  // grid links run structured (structured_grid.hpp)
   struct Params {
     Real stiffness = 0;    // k, N/m
     Real rest_length = 0;  // L0, m
