@@ -129,6 +129,9 @@ class ImplicitEuler final : public Integrator {
     // Positions from the new velocities; fixed points stay (their velocity is a drive's).
     for (std::size_t i = 0; i < n; ++i)
       x[i] = m.points.inv_mass[i] > 0 ? x0_[i] + v[i] * h : x0_[i];
+    // Obstacles: a point the linearised step carried into a contact it did not touch at x_n,
+    // or through a thin one, stops where it entered it (continuous detection, as in VBD).
+    vbd_.stop_at_entry(s, h);
     // Point-triangle candidates: no point crosses a face on its way to the solved position
     // (conservative bounds, implicit_vbd.hpp).
     if (const auto tri = forces.triangle_contacts(); !tri.empty()) {

@@ -466,12 +466,12 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
 }
 
 // Fraction of the segment x_n,i -> `to` at which point i first enters a point contact: touches
-// it while moving against its push (a point leaving a contact, or sliding along one, is not
-// stopped), just inside it. 1: it enters nothing on the way, or, with through_only, it touches
-// at `to` (the solve saw that contact). Sampled at half the thinnest contact region (x_n
-// included: a point already touching a thin box and heading through it stays), then bisected
-// between the last sample that does not enter and the first that does. Uses the trial arrays of
-// point i only (threads may run other points).
+// it after a sample outside, or while moving against its push (a point leaving a contact, or
+// sliding along one, is not stopped), just inside it. 1: it enters nothing on the way, or, with
+// through_only, it touches at `to` (the solve saw that contact). Sampled at half the thinnest
+// contact region (x_n included: a point already touching a thin box and heading through it stays),
+// then bisected between the last sample that does not enter and the first that does. Uses the trial
+// arrays of point i only (threads may run other points).
 Real VertexBlockDescent::first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only) {
   const Vec3 from = xn_[i], d = to - from;
   const std::span<const std::uint32_t> one(&i, 1);
@@ -488,16 +488,21 @@ Real VertexBlockDescent::first_touch(std::uint32_t i, const Vec3& to, Real h, bo
   };
   auto enters = [&](Real t) { return touches(t) && dot(trial_g_[i], d) < 0; };
   if (through_only && touches(1)) return 1;
-  if (enters(0)) return 0;
+  bool before = touches(0);
+  if (before && dot(trial_g_[i], d) < 0) return 0;
   const Real length = norm(d);
   const int samples = int(std::min<Real>(kMaxSegmentSamples, std::ceil(2 * length / thinnest_)));
   for (int k = 1; k <= samples; ++k) {
     const Real t = Real(k) / Real(samples);
-    if (!enters(t)) continue;
+    const bool from_outside = !before;
+    before = touches(t);
+    // Entering: touching after a sample outside (whatever the push: inside a thin box mapped
+    // canonically, the push may point to a side face), or pushed against the motion.
+    if (!before || !(from_outside || dot(trial_g_[i], d) < 0)) continue;
     Real lo = Real(k - 1) / Real(samples), hi = t;
     for (int b = 0; b < kBisections; ++b) {
       const Real mid = Real(0.5) * (lo + hi);
-      (enters(mid) ? hi : lo) = mid;
+      ((from_outside ? touches(mid) : enters(mid)) ? hi : lo) = mid;
     }
     return hi;
   }
@@ -514,6 +519,35 @@ void VertexBlockDescent::stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool thro
     if (t >= 1) continue;
     x[i] = xn_[i] + (x[i] - xn_[i]) * t;
     v[i] = (x[i] - xn_[i]) * (Real(1) / h);
+  }
+}
+
+void VertexBlockDescent::stop_at_entry(State& s, Real h) {
+  Vec3* x = s.x().data();
+  Vec3* v = s.v().data();
+  stop_at_first_touch(x, v, h, false);
+  if (contacts_.empty()) return;
+  const Real inv_h = Real(1) / h;
+  for (const std::uint32_t i : free_) {
+    const Vec3 from = xn_[i], d = x[i] - from;
+    const std::span<const std::uint32_t> one(&i, 1);
+    auto touches = [&](Real t) {
+      trial_x_[i] = from + d * t;
+      trial_v_[i] = d * (t * inv_h);
+      trial_touch_[i] = 0;
+      for (const PointContacts* c : contacts_)
+        c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                     trial_touch_.data());
+      return trial_touch_[i] != 0;
+    };
+    if (touches(0) || !touches(1)) continue;
+    Real lo = 0, hi = 1;
+    for (int b = 0; b < kBisections; ++b) {
+      const Real mid = Real(0.5) * (lo + hi);
+      (touches(mid) ? hi : lo) = mid;
+    }
+    x[i] = from + d * hi;
+    v[i] = (x[i] - from) * inv_h;
   }
 }
 

@@ -71,6 +71,12 @@ class VertexBlockDescent {
   // Solves the step by VBD from s (x, v at the step's start): on exit s.x, s.v hold x_n+1,
   // v_n+1 on free points (fixed points untouched). Needs begin() first.
   VbdResult solve(const Model& m, State& s, Real h);
+  // Continuous detection for a step another solver made (the CG solvers, whose one
+  // linearisation at x_n does not see a contact the step enters): s.x, s.v hold the solved
+  // step; a point that went through a thin point contact (a box, a conditional shell) on its
+  // way from x_n is stopped just inside the first one it entered, and so is a point that ends
+  // inside a contact it did not touch at x_n (a half-space entered at speed). Needs begin().
+  void stop_at_entry(State& s, Real h);
   // Largest force imbalance |m (v_n+1 - v_n) / h - f(x_n+1, v_n+1)| over free points, divided by
   // m g of the heaviest free point (g = |gravity|, or 9.81 m/s^2 when gravity is off): the
   // residual of the nonlinear implicit Euler equations at s, after a solve.
