@@ -48,6 +48,9 @@ columns = {
         "link_ns_pps",
     "obstacles/incline.csv": "method,mu,theta_deg,seconds,distance_m,analytic_m,relative_error",
     "obstacles/lean.csv": "scale_x,scale_y,scale_z,mean_lean_deg,max_lean_deg",
+    "large-steps/large_steps.csv":
+        "scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,"
+        "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s",
 }
 bad = []
 tables = {}
@@ -129,6 +132,14 @@ for r in tables.get("obstacles/incline.csv", []):
     limit = 0.1 if r["method"] == "conditional" else 0.01
     check(f"incline {r['method']} mu {r['mu']}: error {r['relative_error']} < {limit}",
           float(r["relative_error"]) < limit)
+for r in tables.get("large-steps/large_steps.csv", []):
+    # Every setting stays finite; leapfrog at its limit keeps the stretch under 10 % and the
+    # penetration under 2 mm (the reference the implicit rows are read against).
+    what = f"large steps {r['scene']} {r['solver']} h {r['step_s']}"
+    check(f"{what}: stable", r["stable"] == "1")
+    if r["solver"] == "leapfrog":
+        check(f"{what}: stretch {r['max_stretch']} < 0.1, penetration {r['max_penetration_m']} "
+              f"< 0.002", float(r["max_stretch"]) < 0.1 and float(r["max_penetration_m"]) < 2e-3)
 if bad:
     print("\n".join(["", "problems:"] + bad))
     sys.exit(1)

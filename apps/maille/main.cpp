@@ -157,7 +157,8 @@ int main(int argc, char** argv) {
       "Comparative studies written as CSV (integrators: stability, accuracy, energy, "
       "cost, and the implicit/explicit crossover)");
   study_cmd->add_option("topic", so.topic, "What to study")
-      ->check(CLI::IsMember({"integrators", "self-collision", "validity", "obstacles", "all"}))
+      ->check(CLI::IsMember(
+          {"integrators", "self-collision", "validity", "obstacles", "large-steps", "all"}))
       ->required();
   study_cmd->add_option("--out", so.out,
                         "Directory for the CSV files (default out/study; `all`: one "

@@ -277,7 +277,8 @@ void crossover(std::ostream& out, bool quick) {
 
 namespace {
 
-const char* const kStudies[] = {"validity", "integrators", "self-collision", "obstacles"};
+const char* const kStudies[] = {"validity", "integrators", "self-collision", "obstacles",
+                                "large-steps"};
 
 // Ctrl-C or SIGTERM: the studies' loops poll nothing, so the process ends at once (exit 130),
 // after removing the temporary of the CSV being written: the files already written stay
@@ -323,9 +324,9 @@ int study(const StudyOptions& o) {
   std::signal(SIGTERM, on_study_signal);
   if (o.topic == "all") return study_all(o);
   if (o.topic != "integrators" && o.topic != "self-collision" && o.topic != "validity" &&
-      o.topic != "obstacles") {
+      o.topic != "obstacles" && o.topic != "large-steps") {
     std::cerr << "unknown study '" << o.topic
-              << "' (known: integrators, self-collision, validity, obstacles, all)\n";
+              << "' (known: integrators, self-collision, validity, obstacles, large-steps, all)\n";
     return 2;
   }
   // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
@@ -346,6 +347,12 @@ int study(const StudyOptions& o) {
     }
     if (o.topic == "obstacles") {
       study_obstacles(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
+        write(name, body);
+      });
+      return 0;
+    }
+    if (o.topic == "large-steps") {
+      study_large_steps(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
         write(name, body);
       });
       return 0;

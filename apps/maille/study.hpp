@@ -1,4 +1,4 @@
-// `maille study integrators | self-collision | validity | obstacles | all`: see study.cpp and
+// `maille study integrators | self-collision | validity | obstacles | large-steps | all`: see study.cpp and
 // study_*.cpp for the files they write (`all`: each study into OUT/<study>/).
 #pragma once
 
@@ -22,5 +22,6 @@ using StudyWriter = std::function<void(const char*, const std::function<void(std
 void study_self_collision(const StudyOptions& o, const StudyWriter& write);
 void study_validity(const StudyOptions& o, const StudyWriter& write);
 void study_obstacles(const StudyOptions& o, const StudyWriter& write);
+void study_large_steps(const StudyOptions& o, const StudyWriter& write);
 
 }  // namespace maille::app

@@ -8,6 +8,7 @@ DIR (the output of `maille study all`, written by scripts/report.sh):
     integrators/{stability,accuracy,energy,cost,crossover}.csv
     self-collision/{scaling,cell_size,tuner,exclusion,memory,flag_wind}.csv
     obstacles/{obstacles,incline,lean}.csv
+    large-steps/large_steps.csv
     durations.csv   wall time of each study (maille study all)
     run.csv         key,value: how and where the data was made (scripts/report.sh)
     peer.csv        optional: bench/peer_bullet's comparison with Bullet's soft bodies
@@ -41,6 +42,7 @@ FIGURES = [
     "self_collision_memory.png",
     "obstacles.png",
     "incline.png",
+    "large_steps.png",
 ]
 OPTIONAL_FIGURES = ["peer.png"]  # drawn when peer.csv exists
 
@@ -652,6 +654,65 @@ def obstacles(d, figures, v):
     v["lean_max"] = g(max(r["max_lean_deg"] for r in rows))
 
 
+SOLVER_COLOURS = {"leapfrog": "tab:blue", "matrix_free": "tab:orange", "vbd": "tab:green",
+                  "bullet": "tab:red"}
+
+
+def large_steps(d, figures, v):
+    """Implicit Euler at animation steps against leapfrog at its limit (and Bullet on the
+    sphere scene when peer.csv exists): the table and wall time against stretch."""
+    rows = d("large-steps", "large_steps.csv")
+    bullet = [r for r in d(None, "peer.csv") if r["engine"] == "bullet"] \
+        if d.has("peer.csv") else []
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
+    for ax, scene in zip(axes, ["sphere", "heap"]):
+        for r in rows:
+            if r["scene"] != scene or not r["stable"]:
+                continue
+            label = r["solver"] + (f" {int(r['iterations'])} sweeps" if r["solver"] == "vbd"
+                                   else "")
+            ax.scatter(r["max_stretch"] * 100, r["wall_s_per_sim_s"],
+                       color=SOLVER_COLOURS[r["solver"]], s=10 + 20 * math.log2(
+                           max(r["particles"], 1024) / 512),
+                       marker="o" if r["solver"] != "vbd" or r["iterations"] <= 10 else "s",
+                       label=label)
+            ax.annotate(f"1/{round(1 / r['step_s'])}" if r["step_s"] > 1e-3 else "",
+                        (r["max_stretch"] * 100, r["wall_s_per_sim_s"]), fontsize=6)
+        if scene == "sphere":
+            for r in bullet:
+                if r["stable"] and r["max_stretch"] is not None:
+                    ax.scatter(r["max_stretch"] * 100, r["wall_s_per_sim_s"],
+                               color=SOLVER_COLOURS["bullet"], marker="^",
+                               label=f"Bullet {r['setting']}")
+        handles, labels = ax.get_legend_handles_labels()
+        seen = dict(zip(labels, handles))
+        ax.legend(seen.values(), seen.keys(), fontsize=7)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("largest structural stretch (%)")
+        ax.set_title({"sphere": "Cloth on a sphere", "heap": "Self-colliding heap"}[scene])
+    axes[0].set_ylabel("wall s per simulated s (one thread)")
+    save(fig, figures, "large_steps.png")
+    v["large_steps_table"] = table(
+        ["scene", "particles", "solver", "step (s)", "sweeps", "wall s / sim s",
+         "largest stretch", "deepest penetration (mm)", "kinetic energy left (J)",
+         "largest residual (m g)", "stable"],
+        [[r["scene"], grouped(r["particles"]), r["solver"], g(r["step_s"]),
+          str(int(r["iterations"])) if r["solver"] == "vbd" else "",
+          g(r["wall_s_per_sim_s"]), pct(r["max_stretch"]),
+          g(r["max_penetration_m"] * 1e3), g(r["final_kinetic_J"]),
+          g(r["max_residual"]) if r["solver"] != "leapfrog" else "",
+          "yes" if r["stable"] else "**no**"] for r in rows])
+    # The issue's quality bar (stretch at most 10 %, penetration at most 2 mm) at 1/60 s.
+    at60 = [r for r in rows if r["solver"] != "leapfrog" and abs(r["step_s"] - 1 / 60) < 1e-6]
+    good = [r for r in at60 if r["stable"] and r["max_stretch"] <= 0.1
+            and r["max_penetration_m"] <= 2e-3]
+    v["large_steps_at_60"] = (
+        f"{len(good)} of {len(at60)} implicit runs at 1/60 s keep the largest stretch within 10 % "
+        f"and the deepest penetration within 2 mm")
+    v["large_steps_duration"] = g(max(r["sim_s"] for r in rows), 2)
+
+
 def peer(d, figures, v):
     v["peer_losses"] = ""
     status = {r["key"]: r["value"] for r in d(None, "run.csv")}.get("peer") \
@@ -824,6 +885,7 @@ def main():
     integrators(d, a.figures, v)
     self_collision(d, a.figures, v)
     obstacles(d, a.figures, v)
+    large_steps(d, a.figures, v)
     has_peer = peer(d, a.figures, v)
     gpu(d, v)
     run_info(d, v)

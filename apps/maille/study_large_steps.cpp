@@ -1,0 +1,182 @@
+// `maille study large-steps`: implicit Euler at animation steps (1/60 to 1/240 s) with every
+// contact in the solve, against leapfrog at its own limit, on two cloths:
+//
+//   sphere  the peer harness's scene (bench/peer: a 1 m, 0.3 kg cloth, structural springs of
+//           2000 N/m and shear of 500, dropped flat from 0.75 m onto a fixed geometric sphere
+//           of radius 0.25 m), so that its rows sit beside Bullet's in the report
+//   heap    a self-colliding cloth (0.8 m, 0.2 kg, 300 N/m) dropped edge-first on a plane with
+//           friction: it folds onto itself (self-collision with primitive = "triangles",
+//           radius = the spacing)
+//
+// Writes large_steps.csv:
+//
+//   scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,max_penetration_m,
+//   final_kinetic_J,max_residual,stable,sim_s
+//
+// solver: leapfrog (at 0.9 of the engine's stability estimate), matrix_free or vbd (sweeps in
+// `iterations`); max_stretch over structural links and samples (every 1/240 s, or every step
+// when longer); max_penetration from the obstacle's depth gauge at the same samples;
+// max_residual the largest solver_residual (force imbalance over m g, implicit solvers).
+// Only the steps are timed, on one thread. --quick: the sphere at 32^2, the heap at 24^2, four
+// settings, 0.5 s simulated. The full study: the sphere at 32^2, 64^2, 128^2 and the heap at
+// 32^2, 64^2 (at 128^2 leapfrog's limit makes it minutes), eight settings, 1 s.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "maille/scene.hpp"
+#include "maille/simulator.hpp"
+#include "study.hpp"
+
+namespace maille::app {
+
+namespace {
+
+struct Setting {
+  std::string solver;  // leapfrog, matrix_free, vbd
+  double step = 0;     // s; 0: leapfrog's own (0.9 of the stability estimate)
+  int iterations = 0;  // vbd sweeps
+};
+
+std::string sphere_text(int n) {
+  std::ostringstream t;
+  t << "[fields]\ngravity = [0.0, -9.81, 0.0]\n"
+    << "[[flag]]\nname = \"cloth\"\norigin = [-0.5, 0.75, -0.5]\nalong = [1.0, 0.0, 0.0]\n"
+    << "up = [0.0, 0.0, 1.0]\nwidth = 1.0\nheight = 1.0\nresolution = [" << n << ", " << n
+    << "]\nmass = 0.3\nstiffness = 2000.0\nshear_stiffness = 500.0\nbending_stiffness = 0.0\n"
+    << "damping = 0.02\nfixed = \"none\"\n"
+    << "[[obstacle]]\nname = \"ball\"\nshape = \"sphere\"\nmethod = \"geometric\"\n"
+    << "scale = [0.25, 0.25, 0.25]\ncollides_with = [\"cloth\"]\n";
+  return t.str();
+}
+
+std::string heap_text(int n) {
+  const double spacing = 0.8 / (n - 1);
+  std::ostringstream t;
+  t << "[fields]\ngravity = [0.0, -9.81, 0.0]\nair_drag = 0.1\n"
+    << "[[flag]]\nname = \"cloth\"\norigin = [-0.4, 0.08, 0.0]\nalong = [1.0, 0.0, 0.0]\n"
+    << "up = [0.0, 1.0, 0.06]\nwidth = 0.8\nheight = 0.8\nresolution = [" << n << ", " << n
+    << "]\nmass = 0.2\nstiffness = 300.0\nshear_stiffness = 100.0\nbending_stiffness = 6.0\n"
+    << "damping = 0.02\nfixed = \"none\"\n"
+    << "[[obstacle]]\nname = \"floor\"\nshape = \"plane\"\nmethod = \"geometric\"\n"
+    << "position = [0.0, 0.06, 0.0]\nstiffness = 400.0\ndamping = 0.2\nfriction = 0.3\n"
+    << "collides_with = [\"cloth\"]\n"
+    << "[self_collision]\ngroups = [\"cloth\"]\nradius = " << spacing
+    << "\nstiffness = 300.0\ndamping = 0.05\nprimitive = \"triangles\"\n";
+  return t.str();
+}
+
+struct Outcome {
+  bool stable = true;
+  double wall_per_sim = 0, max_stretch = 0, max_penetration = 0, final_kinetic = 0,
+         max_residual = 0, step = 0, sim_s = 0;
+};
+
+double structural_stretch(const Simulator& sim, double spacing) {
+  const auto* pool = sim.model().links.find("spring_damper");
+  double worst = 0;
+  for (std::size_t l = 0; l < pool->size(); ++l) {
+    const double rest = pool->param(l, 1);
+    if (rest > spacing * 1.001) continue;  // structural links only
+    const auto [a, b] = pool->ends(l);
+    worst = std::max(worst, norm(sim.state().x()[b] - sim.state().x()[a]) / rest - 1);
+  }
+  return worst;
+}
+
+Outcome run(const std::string& text, double spacing, const Setting& set, double duration) {
+  auto scene = parse_scene(text, "large_steps.toml", LinkKindRegistry::with_builtins(),
+                           StageRegistry::with_builtins());
+  if (!scene) throw std::runtime_error("study scene: " + scene.error().to_string());
+  SimulationSettings s = scene->settings;
+  s.threads = 1;
+  s.publish_every = kNeverEvery;
+  s.sample_every = kNeverEvery;
+  s.integrator = set.solver == "leapfrog" ? "leapfrog" : "implicit_euler";
+  if (set.solver != "leapfrog") {
+    s.implicit.solver = *parse_name<ImplicitSolver>(set.solver);
+    if (set.iterations > 0) s.implicit.iterations = set.iterations;
+  }
+  s.step = set.step > 0 ? set.step : 1e-4;
+  Outcome o;
+  {
+    Simulator probe(scene->model, s);
+    if (set.step <= 0) s.step = 0.9 * double(probe.stability().max_step);
+  }
+  o.step = s.step;
+  Simulator sim(std::move(scene->model), s);
+  const auto per_sample = std::max<std::uint64_t>(1, std::uint64_t(1.0 / 240 / s.step));
+  const auto steps = std::uint64_t(duration / s.step + 0.5);
+  double wall = 0;
+  for (std::uint64_t done = 0; o.stable && done < steps; done += per_sample) {
+    const auto t0 = std::chrono::steady_clock::now();
+    o.stable = sim.run_steps(std::min(per_sample, steps - done));
+    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!o.stable) break;
+    o.max_stretch = std::max(o.max_stretch, structural_stretch(sim, spacing));
+    for (const auto& g : sim.profile().gauges()) {
+      if (g.name.rfind("obstacle_", 0) == 0 && g.name.size() > 6 &&
+          g.name.compare(g.name.size() - 6, 6, "_depth") == 0)
+        o.max_penetration = std::max(o.max_penetration, g.last);
+      if (g.name == "solver_residual") o.max_residual = std::max(o.max_residual, g.last);
+    }
+  }
+  o.sim_s = sim.state().time;
+  o.wall_per_sim = o.sim_s > 0 ? wall / o.sim_s : 0;
+  if (o.stable) o.final_kinetic = sim.energies().kinetic;
+  return o;
+}
+
+}  // namespace
+
+void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
+  const double duration = o.quick ? 0.5 : 1.0;
+  std::vector<Setting> settings;
+  if (o.quick) {
+    settings = {{"leapfrog", 0, 0},
+                {"matrix_free", 1.0 / 60, 0},
+                {"vbd", 1.0 / 60, 10},
+                {"vbd", 1.0 / 240, 10}};
+  } else {
+    settings.push_back({"leapfrog", 0, 0});
+    for (const double h : {1.0 / 60, 1.0 / 120, 1.0 / 240})
+      settings.push_back({"matrix_free", h, 0});
+    for (const double h : {1.0 / 60, 1.0 / 120, 1.0 / 240}) settings.push_back({"vbd", h, 10});
+    settings.push_back({"vbd", 1.0 / 60, 30});
+  }
+  struct Case {
+    const char* scene;
+    int n;
+  };
+  std::vector<Case> cases = {{"sphere", 32}, {"heap", 24}};
+  if (!o.quick)
+    cases = {{"sphere", 32}, {"sphere", 64}, {"sphere", 128}, {"heap", 32}, {"heap", 64}};
+  std::printf("maille study large-steps -> %s (%.1f s simulated, one thread)\n",
+              o.out.string().c_str(), duration);
+  write("large_steps.csv", [&](std::ostream& out) {
+    out << "scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,"
+           "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s\n";
+    for (const Case& c : cases) {
+      const bool sphere = std::string(c.scene) == "sphere";
+      const std::string text = sphere ? sphere_text(c.n) : heap_text(c.n);
+      const double spacing = (sphere ? 1.0 : 0.8) / (c.n - 1);
+      for (const Setting& set : settings) {
+        const Outcome r = run(text, spacing, set, duration);
+        out << c.scene << ',' << c.n * c.n << ',' << set.solver << ',' << r.step << ','
+            << set.iterations << ',' << r.wall_per_sim << ',' << r.max_stretch << ','
+            << r.max_penetration << ',' << r.final_kinetic << ',' << r.max_residual << ','
+            << r.stable << ',' << r.sim_s << '\n';
+        std::printf("  %-6s %6d %-11s h %-9.3g it %-3d %8.3f s/s stretch %6.3f pen %8.2e m%s\n",
+                    c.scene, c.n * c.n, set.solver.c_str(), r.step, set.iterations, r.wall_per_sim,
+                    r.max_stretch, r.max_penetration, r.stable ? "" : "  UNSTABLE");
+      }
+    }
+  });
+}
+
+}  // namespace maille::app
