@@ -12,7 +12,9 @@
 # committed). Each crash becomes a file in tests/data/bad/ (scenes) or tests/data/meshes/bad/.
 # Inputs that only run slowly or use much memory (huge sizes, tiny steps) stop at
 # -timeout=10 / -rss_limit_mb=2048 and are reported, not fixed here (scene size limits). Valid
-# models above 20k points + links are read and built but not simulated (fuzz_scene.cpp).
+# models above 20k points + links are read and built but not simulated, and fuzz_scene runs
+# under a 32 MiB memory budget (MAILLE_MEMORY_BUDGET, unless set), which bounds the work stages
+# do when built (a conditional obstacle's sampling): fuzz_scene.cpp.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
