@@ -1,11 +1,15 @@
-// `maille study integrators | self-collision | validity | obstacles | large-steps | all`: see study.cpp and
-// study_*.cpp for the files they write (`all`: each study into OUT/<study>/).
+// `maille study integrators | self-collision | validity | obstacles | large-steps | all`: see
+// study.cpp and study_*.cpp for the files they write (`all`: each study into OUT/<study>/).
 #pragma once
 
 #include <filesystem>
 #include <functional>
 #include <ostream>
 #include <string>
+
+namespace maille {
+class Simulator;
+}
 
 namespace maille::app {
 
@@ -23,5 +27,8 @@ void study_self_collision(const StudyOptions& o, const StudyWriter& write);
 void study_validity(const StudyOptions& o, const StudyWriter& write);
 void study_obstacles(const StudyOptions& o, const StudyWriter& write);
 void study_large_steps(const StudyOptions& o, const StudyWriter& write);
+
+// The largest stretch of the structural links of a cloth of grid spacing `spacing` (study.cpp).
+double structural_stretch(const Simulator& sim, double spacing);
 
 }  // namespace maille::app

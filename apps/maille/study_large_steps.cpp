@@ -77,18 +77,6 @@ struct Outcome {
          max_residual = 0, step = 0, sim_s = 0;
 };
 
-double structural_stretch(const Simulator& sim, double spacing) {
-  const auto* pool = sim.model().links.find("spring_damper");
-  double worst = 0;
-  for (std::size_t l = 0; l < pool->size(); ++l) {
-    const double rest = pool->param(l, 1);
-    if (rest > spacing * 1.001) continue;  // structural links only
-    const auto [a, b] = pool->ends(l);
-    worst = std::max(worst, norm(sim.state().x()[b] - sim.state().x()[a]) / rest - 1);
-  }
-  return worst;
-}
-
 Outcome run(const std::string& text, double spacing, const Setting& set, double duration) {
   auto scene = parse_scene(text, "large_steps.toml", LinkKindRegistry::with_builtins(),
                            StageRegistry::with_builtins());

@@ -262,7 +262,8 @@ class GroupContactStage final : public Stage {
       Real dv2 = 0;
       for (const std::uint32_t p : c.set()) dv2 = std::max(dv2, norm2(v[p] - mean));
       const GroupContactSpec& sp = c.spec();
-      const Real margin = std::max(Real(2.5) * std::sqrt(dv2) * h, Real(0.25) * sp.threshold);
+      const Real margin = std::max(collision::kMotionFactor * std::sqrt(dv2) * h,
+                                   collision::kMinMarginFraction * sp.threshold);
       c.find(s.x().data(), sp.threshold + margin, threads);
       c.for_each_pair([&](std::uint32_t a, std::uint32_t b) {
         links_.add({a, b}, {sp.stiffness, sp.damping, sp.threshold, sp.rest_length});

@@ -205,29 +205,35 @@ namespace {
 // contacts alone (radius 0.2 of the spacing) it falls through between the particles; with
 // primitive = triangles it rests on the face at the height where the contact spring carries its
 // weight, s - m g / k (damping settles it; leapfrog's static equilibrium is exact).
+// A fixed horizontal 5 x 5 cloth of 0.4 m in the plane y = 0 and a 10 g bead 0.2 m above
+// (bx, bz), the last point, colliding by self-collision (radius 2 cm, 500 N/m, 0.5 N.s/m).
+Model bead_over_fixed_cloth(Primitive primitive, Real bx, Real bz) {
+  Model m;
+  FlagParams p;
+  p.nx = p.ny = 5;
+  p.width = p.height = 0.4;
+  p.up = {0, 0, 1};  // horizontal, in the plane y = 0
+  p.fixed = FlagFixed::none;
+  build_flag(m, p, "cloth");
+  for (std::uint32_t i = 0; i < m.points.size(); ++i) m.points.set_kind(i, PointKind::fixed);
+  const auto bead = m.points.add(PointKind::free, 0.01, {bx, 0.2, bz});
+  m.groups.push_back({"bead", "points", bead, 1});
+  SelfCollisionSettings s;
+  s.groups = {"cloth", "bead"};
+  s.radius = 0.02;
+  s.stiffness = 500;
+  s.damping = 0.5;
+  s.primitive = primitive;
+  m.stages.push_back({"self_collision", Phase::forces,
+                      [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
+  return m;
+}
+
 TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
   auto run = [](Primitive primitive, Real bx, Real bz) {
-    Model m;
-    FlagParams p;
-    p.nx = p.ny = 5;
-    p.width = p.height = 0.4;
-    p.up = {0, 0, 1};  // horizontal, in the plane y = 0
-    p.fixed = FlagFixed::none;
-    build_flag(m, p, "cloth");
-    for (std::uint32_t i = 0; i < m.points.size(); ++i) m.points.set_kind(i, PointKind::fixed);
-    const auto bead = m.points.add(PointKind::free, 0.01, {bx, 0.2, bz});
-    m.groups.push_back({"bead", "points", bead, 1});
-    SelfCollisionSettings s;
-    s.groups = {"cloth", "bead"};
-    s.radius = 0.02;
-    s.stiffness = 500;
-    s.damping = 0.5;
-    s.primitive = primitive;
-    m.stages.push_back({"self_collision", Phase::forces,
-                        [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
-    Simulator sim(std::move(m), test::settings(1e-4));
+    Simulator sim(bead_over_fixed_cloth(primitive, bx, bz), test::settings(1e-4));
     EXPECT_TRUE(sim.run_steps(30000));
-    return sim.state().x()[bead].y;
+    return sim.state().x().back().y;
   };
   EXPECT_LT(run(Primitive::points, 0.15, 0.15), -1.0);  // fell through
   // On a shared diagonal, inside a face, on a corner shared by six faces: the same height (a
@@ -289,32 +295,14 @@ namespace {
 // bounds what the solver's tolerance leaves after 4 s).
 TEST(SelfCollisionPhysics, ImplicitSolversHoldABeadOnTrianglesAtLargeSteps) {
   auto run = [](const char* solver, double h, Real bx, Real bz, double& lowest) {
-    Model m;
-    FlagParams p;
-    p.nx = p.ny = 5;
-    p.width = p.height = 0.4;
-    p.up = {0, 0, 1};
-    p.fixed = FlagFixed::none;
-    build_flag(m, p, "cloth");
-    for (std::uint32_t i = 0; i < m.points.size(); ++i) m.points.set_kind(i, PointKind::fixed);
-    const auto bead = m.points.add(PointKind::free, 0.01, {bx, 0.2, bz});
-    m.groups.push_back({"bead", "points", bead, 1});
-    SelfCollisionSettings s;
-    s.groups = {"cloth", "bead"};
-    s.radius = 0.02;
-    s.stiffness = 500;
-    s.damping = 0.5;
-    s.primitive = Primitive::triangles;
-    m.stages.push_back({"self_collision", Phase::forces,
-                        [s](const Model& mm) { return make_self_collision_stage(mm, s); }});
     SimulationSettings settings = test::settings(h, "implicit_euler");
     settings.implicit.solver = *parse_name<ImplicitSolver>(solver);
-    Simulator sim(std::move(m), settings);
+    Simulator sim(bead_over_fixed_cloth(Primitive::triangles, bx, bz), settings);
     lowest = 1;
     for (int i = 0; i < int(4 / h) && sim.step(); ++i)
-      lowest = std::min<double>(lowest, sim.state().x()[bead].y);
+      lowest = std::min<double>(lowest, sim.state().x().back().y);
     EXPECT_FALSE(sim.blow_up()) << solver;
-    return double(sim.state().x()[bead].y);
+    return double(sim.state().x().back().y);
   };
   const double rest = 0.02 - 0.01 * 9.81 / 500;
   for (const char* solver : {"vbd", "matrix_free"})

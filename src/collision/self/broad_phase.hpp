@@ -26,6 +26,14 @@
 
 namespace maille::collision {
 
+// The margin that implicit schemes' contact candidates add to a contact distance s (the
+// self-collision pairs, [[contact]] pairs, point-triangle pairs): kMotionFactor h times the
+// largest relevant speed (the step's start speed, with a quarter more room for the solve's
+// corrections, and twice for two points closing in), at least kMinMarginFraction s (a resting
+// model would otherwise find its candidates again at every sub-millimetre move).
+inline constexpr Real kMotionFactor = Real(2.5);
+inline constexpr Real kMinMarginFraction = Real(0.25);
+
 // The calling thread's index in its OpenMP team (0 outside a parallel region): its sink.
 inline int thread_id() {
 #ifdef _OPENMP

@@ -621,7 +621,7 @@ class SelfCollisionStage final : public Stage {
     mean = mean * (Real(1) / Real(std::max<std::size_t>(set.size(), 1)));
     Real dv2 = 0;
     for (const std::uint32_t p : set) dv2 = std::max(dv2, norm2(v[p] - mean));
-    return Real(2.5) * std::sqrt(dv2) * h;
+    return collision::kMotionFactor * std::sqrt(dv2) * h;
   }
 
   void contacts_as_links(const Model& m, State& s, const StageContext& ctx) {
@@ -634,7 +634,7 @@ class SelfCollisionStage final : public Stage {
     // order, depend on it): a resumed run rebuilds the engine with the margin it had.
     std::vector<double>& kept = s.memory(kWideMargin);
     if (!wide_ && kept.size() == 1) build_wide(m, Real(kept[0]));
-    const Real target = std::max(needed, Real(0.25) * st.radius);
+    const Real target = std::max(needed, collision::kMinMarginFraction * st.radius);
     if (!wide_ || needed > wide_margin_ || wide_margin_ > 4 * target) build_wide(m, 2 * target);
     kept.assign(1, double(wide_margin_));
     wide_->for_each_close_pair(s.x().data(), ctx.threads, [&](std::uint32_t a, std::uint32_t b) {

@@ -55,16 +55,13 @@ class TriangleProximity {
   // The particle-triangle pairs that may touch during a step of h (the same tests as apply's,
   // without forces): closer than the contact radius plus the pair's own margin, kMotionFactor h
   // times the particle's largest speed relative to the triangle's corners (at least
-  // kMinMargin radius, at most max_margin). A pair moving together (a flat cloth's particle and
-  // its far triangles while it falls) is not a candidate. {particle, corners}, sorted by
-  // particle then triangle. For implicit schemes (TriangleContacts). More than max_contacts
-  // candidates: none, and full() is true.
+  // kMinMarginFraction radius, at most max_margin; broad_phase.hpp). A pair moving together (a flat
+  // cloth's particle and its far triangles while it falls) is not a candidate. {particle, corners},
+  // sorted by particle then triangle. For implicit schemes (TriangleContacts). More than
+  // max_contacts candidates: none, and full() is true.
   void candidates(const Vec3* x, const Vec3* v, Real radius, Real h, Real max_margin,
                   const TopologicalExclusion* exclusion, int threads,
                   std::vector<std::array<std::uint32_t, 4>>& out);
-  // Of the pair margin: the solve's corrections on top of the step-start speed (as for the
-  // self-collision's wide margin), and the least margin, relative to the radius.
-  static constexpr Real kMotionFactor = Real(2.5), kMinMargin = Real(0.25);
   std::size_t triangles() const { return tris_.size(); }
   bool full() const { return full_; }
   std::size_t max_contacts() const { return max_contacts_; }
