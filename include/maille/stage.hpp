@@ -98,6 +98,11 @@ class PointContacts {
   // independent: threads may run disjoint point sets at once.
   virtual void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v,
                          Real inv_h, Vec3* f, Mat3* hessian, std::uint8_t* touching) const = 0;
+  // The contact's elastic push on point p at x, at rest relative to the obstacle (no damper, no
+  // friction): zero where p touches nothing. Solvers let a Newton step leave a contact whole
+  // only when it does not move against this push (a point sliding off a sphere leaves it; one
+  // pressed through a thin box or between a conditional obstacle's samples does not).
+  virtual Vec3 push(std::uint32_t /*p*/, const Vec3& /*x*/) const { return {}; }
   // The thinnest contact region the stage has, m (a box's smallest side, a conditional
   // obstacle's threshold; +inf for a half-space): a point moving further than half of it in a
   // step could cross it unseen, so solvers test such a point's segment at that spacing.

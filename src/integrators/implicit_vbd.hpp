@@ -108,10 +108,11 @@ class VertexBlockDescent {
   void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
                    const Vec3* v, Real h);
   Real sweep(const Model& m, Vec3* x, Vec3* v, Real h);
-  Real update_block(std::span<const std::uint32_t> points, const Model& m, Vec3* x, Vec3* v,
+  void update_block(std::span<const std::uint32_t> points, const Model& m, Vec3* x, Vec3* v,
                     Real h);
   void initial_guess(const Model& m, State& s, Real h);
   Real largest_motion(const Vec3* x) const;
+  bool leaves_cleanly(std::uint32_t i, const Vec3& from, Real half_thinnest);
   Real first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only);
   void stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only);
   Real margin_for(const Vec3* x) const;
@@ -136,8 +137,9 @@ class VertexBlockDescent {
   std::vector<std::uint32_t> stamp_;                  // [colours] last point that saw the colour
   std::vector<Vec3> xn_, vn_, y_, fext_, prev1_, prev2_, g_;  // [points]
   std::vector<Mat3> hess_;                                    // [points]
-  std::vector<Real> bound_;  // [points] conservative bounds of this step (+inf: none)
-  bool bounded_ = false;     // some point has a bound
+  std::vector<Real> decrement_;  // [points] g . H^-1 g of the point's last Newton step
+  std::vector<Real> bound_;      // [points] conservative bounds of this step (+inf: none)
+  bool bounded_ = false;         // some point has a bound
   // A block's Newton steps before they are taken: position, velocity, and the contacts there
   // (trial_g_, trial_h_ only receive the contact terms; touching flags say who is in contact).
   std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]

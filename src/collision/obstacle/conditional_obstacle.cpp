@@ -161,6 +161,13 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
     }
   }
 
+  Vec3 push(std::uint32_t p, const Vec3& x) const override {
+    if (!member_[p]) return {};
+    const Vec3 at_rest = o_.motion.moves() ? o_.motion.velocity_at(x, time_) : Vec3{};
+    const Near near = near_samples(x, at_rest, now_, time_, nullptr);
+    return near.nearest2 < o_.threshold * o_.threshold ? near.force : Vec3{};
+  }
+
  private:
   struct Near {
     Vec3 force;     // world force of every sample within the threshold, N

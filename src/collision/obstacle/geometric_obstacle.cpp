@@ -149,6 +149,13 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
     }
   }
 
+  Vec3 push(std::uint32_t p, const Vec3& x) const override {
+    if (!member_[p]) return {};
+    const Vec3 at_rest = o_.motion.moves() ? o_.motion.velocity_at(x, time_) : Vec3{};
+    const Contact c = contact(p, place_now_, time_, x, at_rest, 0, false);
+    return c.depth > 0 ? c.force : Vec3{};
+  }
+
   void surfaces(double t, std::vector<SurfaceInstance>& out) const override {
     surface_.add(o_, t, out);
   }
