@@ -22,7 +22,9 @@ namespace maille {
 // bounds again before every sweep (each point moves once per sweep), so over a step a point
 // goes as far as its Newton steps take it, approaching a face geometrically until the contact
 // holds it; the CG solvers advance their solved positions in stages the same way
-// (advance_within_bounds). bound[i] = +inf for points of no candidate.
+// (advance_within_bounds). bound[i] = +inf for points of no candidate. VBD bounds the points of
+// the stages' point-point contact pairs (self-collision with primitive = "points") the same
+// way, by their pair distances (VertexBlockDescent::take_bounds).
 inline constexpr Real kBoundFraction = Real(0.4);
 void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3* x,
                          std::vector<Real>& bound);
@@ -102,6 +104,7 @@ class VertexBlockDescent {
 
   void build_static_rows(const Model& m);
   void triangle_rows(std::span<TriangleContacts* const> contacts);
+  void take_bounds(const Model& m, const Vec3* x);
   void find_candidates(const Model& m, const Vec3* x, Real margin);
   void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
   void colour();
@@ -137,9 +140,10 @@ class VertexBlockDescent {
   std::vector<std::uint32_t> stamp_;                  // [colours] last point that saw the colour
   std::vector<Vec3> xn_, vn_, y_, fext_, prev1_, prev2_, g_;  // [points]
   std::vector<Mat3> hess_;                                    // [points]
-  std::vector<Real> decrement_;  // [points] g . H^-1 g of the point's last Newton step
-  std::vector<Real> bound_;      // [points] conservative bounds of this step (+inf: none)
-  bool bounded_ = false;         // some point has a bound
+  std::vector<Real> decrement_;      // [points] g . H^-1 g of the point's last Newton step
+  std::vector<Real> bound_;          // [points] conservative bounds of this step (+inf: none)
+  bool bounded_ = false;             // some point has a bound
+  std::size_t transient_pools_ = 0;  // rows_ after the model pools: this step's stage pools
   // A block's Newton steps before they are taken: position, velocity, and the contacts there
   // (trial_g_, trial_h_ only receive the contact terms; touching flags say who is in contact).
   std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]
