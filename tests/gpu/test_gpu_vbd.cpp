@@ -100,9 +100,9 @@ TEST_F(GpuVbd, MatchesTheCpuWithoutAcceleration) {
 }
 
 // The flag in gusty wind: wind faces taken at the step's start on both (f_ext). Six steps of
-// 1/120 s: from the seventh the top edge, compressed by the wind, buckles, and there the two
-// runs part by millimetres (docs/rendering.md, "Implicit Euler by vertex block descent on the
-// GPU", has the measurement).
+// 1/120 s: from the seventh the top edge, compressed by the wind, buckles, and there the runs
+// part by more than the bound for a few steps (docs/rendering.md, "Implicit Euler by vertex
+// block descent on the GPU", has the measurements).
 TEST_F(GpuVbd, MatchesTheCpuOnAFlagInWind) {
   const Scene s = test::example_scene("flag_in_wind");
   expect_parity(s.model, vbd(1.0 / 120, 10, 0.9, "cpu"), 6, "flag in wind");
