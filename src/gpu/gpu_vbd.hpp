@@ -8,12 +8,13 @@
 //   sweep       per colour, one dispatch over its points: g_i = m/h^2 (y - x) - gamma m v + the
 //               links' forces, H_i = m (1/h^2 + gamma/h) I + the links' blocks (the shared laws'
 //               <law>_block: J_x + J_v / h, definite mode), gathered over the point's adjacency;
-//               x += H^-1 g, v = (x - x_n) / h; the sweep's largest |g| (work-group reduction,
+//               x += H^-1 g, v += H^-1 g / h (v = (x - x_n) / h without the float
+//               cancellation of the difference); the sweep's largest |g| (work-group reduction,
 //               then atomicMax on its bits)
 //   decide      one invocation: the CPU's fallback, on the device (no read-back per sweep): a
 //               sweep from the third on whose largest |g| rose turns the acceleration off
 //   accelerate  per point, while on: x = w (x - prev2) + prev2 (Chebyshev, w from the host's
-//               recurrence), v likewise; the previous iterates rotate
+//               recurrence), v by the same increment over h; the previous iterates rotate
 //   health      per point: the non-finite flag (the backend's health buffer)
 //   residual    per point, when the step measures: the largest |g| at the result, over m g of
 //               the heaviest free point (the CPU's solver_residual)
