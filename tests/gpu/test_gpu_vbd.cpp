@@ -23,6 +23,7 @@
 #include "maille/backend.hpp"
 #include "maille/builders.hpp"
 #include "maille/gpu.hpp"
+#include "maille/links/spring.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 
@@ -229,6 +230,23 @@ TEST_F(GpuVbd, RefusesAnObstacleStageByName) {
     EXPECT_NE(std::string(e.what()).find("has no implicit terms on the GPU"), std::string::npos)
         << e.what();
     EXPECT_NE(std::string(e.what()).find("stage '"), std::string::npos) << e.what();
+  }
+}
+
+// A clique of 66 points (every pair linked) needs 66 colours: more dispatches per sweep than the
+// GPU's VBD takes, refused by name with the count.
+TEST_F(GpuVbd, RefusesAModelOfTooManyColours) {
+  Model m;
+  const std::uint32_t n = 66;
+  for (std::uint32_t i = 0; i < n; ++i)
+    m.points.add(PointKind::free, Real(0.01), {Real(i) * Real(0.01), 0, 0});
+  for (std::uint32_t a = 0; a < n; ++a)
+    for (std::uint32_t b = a + 1; b < n; ++b) m.links.pool<Spring>().add({a, b}, {1, 1});
+  try {
+    Simulator sim(m, vbd(1.0 / 60, 10, 0.9, "gpu"));
+    ADD_FAILURE() << "66 colours ran on the GPU";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("need 66 colours"), std::string::npos) << e.what();
   }
 }
 
