@@ -8,6 +8,7 @@
 # every 10 steps). Finishes in well under two minutes on a machine with a real GPU.
 #
 # Usage: scripts/device_vbd_check.sh PATH/TO/maille [--sizes 64,128] [--gpu-device N]
+# The device column names the GPU's renderer (`maille info --backend gpu`) or the CPU's model.
 set -euo pipefail
 if [ $# -lt 1 ]; then
   echo "usage: $0 PATH/TO/maille [--sizes 64,128] [--gpu-device N]" >&2
@@ -30,6 +31,14 @@ h=0.016666666666666666
 steps=60
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# Without --gpu-device: the first EGL device that is not a software one (the NVIDIA driver's
+# GPUs are EGL devices; the default surfaceless platform may be Mesa's llvmpipe), else the default.
+if [ ${#device[@]} -eq 0 ]; then
+  hardware=$("$maille" info --backend gpu 2>/dev/null |
+    sed -n 's/^ *\([0-9][0-9]*\): .*$/&/p' | grep -v -i software | head -1 |
+    sed 's/^ *\([0-9][0-9]*\):.*/\1/' || true)
+  [ -n "$hardware" ] && device=(--gpu-device "$hardware")
+fi
 cpu_name=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//; s/,//g')
 gpu_name=$("$maille" info --backend gpu "${device[@]}" 2>/dev/null | sed -n 's/^renderer *//p' |
   tr -d ',' || true)
