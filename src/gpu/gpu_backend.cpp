@@ -245,7 +245,7 @@ class GpuBackend final : public Backend {
       current();
     } catch (const std::exception&) {
       forces_.forget(), faces_.forget(), integrate_.forget(), drive_.forget();
-      if (vbd_) vbd_->forget(), static_cast<void>(vbd_.release());
+      if (vbd_) vbd_->forget(), vbd_.reset();  // forgotten: its destructor makes no GL call
       // Their GL objects go with the context; their few host bytes are left (no GL call may
       // run without a current context).
       for (auto& st : stages_) static_cast<void>(st.release());
@@ -338,7 +338,7 @@ class GpuBackend final : public Backend {
     kinds_ = adj.kinds;
     vbd_memory_.clear();  // the guess's memory, for the solver's next load
     for (const StageMemory& mem : s.stage_memory)
-      if (mem.stage == "implicit_euler.vbd") vbd_memory_.push_back(mem);
+      if (mem.stage == kVbdMemory) vbd_memory_.push_back(mem);
     vbd_stale_ = true;
     const std::string source = forces_shader(adj.kinds);
     if (source != forces_source_) {
@@ -406,9 +406,7 @@ class GpuBackend final : public Backend {
     wind_faces(m, t);  // f_ext at the step's start
     if (!vbd_) vbd_ = std::make_unique<GpuVbd>();
     if (vbd_stale_) {
-      State memory;
-      memory.stage_memory = vbd_memory_;
-      vbd_->load(m, memory, kinds_);
+      vbd_->load(m, vbd_memory_, kinds_);
       vbd_stale_ = false;
     }
     return vbd_->step(m, *scheme.implicit_settings(), h, step, wind_, measure);

@@ -18,9 +18,6 @@ namespace maille::gpu {
 namespace {
 
 constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
-// The CPU solver's State memory (src/integrators/implicit_vbd.cpp): v at the last step's start,
-// 3 doubles per point, so that checkpoints resume and backends take over each other's runs.
-const std::string kMemory = "implicit_euler.vbd";
 
 enum Pass : unsigned { begin_pass, sweep_pass, residual_pass, decide, accelerate, health, passes };
 
@@ -168,7 +165,8 @@ void GpuVbd::forget() {
   kernels_.clear();
 }
 
-void GpuVbd::load(const Model& m, const State& s, const std::vector<KindLaw>& kinds) {
+void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
+                  const std::vector<KindLaw>& kinds) {
   points_ = m.points.size();
   colours_ = vbd_colours(m);
   const std::size_t n3 = 3 * std::size_t(points_);
@@ -177,8 +175,8 @@ void GpuVbd::load(const Model& m, const State& s, const std::vector<KindLaw>& ki
   // The guess's memory, when the state has one for this model (a resumed or handed-over run).
   std::vector<float> last(n3, 0.0f);
   history_ = false;
-  for (const StageMemory& mem : s.stage_memory)
-    if (mem.stage == kMemory && mem.values.size() == n3) {
+  for (const StageMemory& mem : memory)
+    if (mem.stage == kVbdMemory && mem.values.size() == n3) {
       for (std::size_t k = 0; k < n3; ++k) last[k] = float(mem.values[k]);
       history_ = true;
     }
@@ -279,7 +277,7 @@ void GpuVbd::download_memory(State& s) const {
   std::vector<float> tmp(3 * std::size_t(points_));
   glGetNamedBufferSubData(buffers_[unsigned(Buf::vbd_vlast) - unsigned(Buf::vbd_xn)], 0,
                           GLsizeiptr(tmp.size() * sizeof(float)), tmp.data());
-  std::vector<double>& last = s.memory(kMemory);
+  std::vector<double>& last = s.memory(std::string(kVbdMemory));
   last.assign(tmp.begin(), tmp.end());
 }
 

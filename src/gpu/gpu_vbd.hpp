@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gpu_layout.hpp"
@@ -39,6 +40,10 @@
 #include "shaders.hpp"
 
 namespace maille::gpu {
+
+// The CPU solver's State memory (src/integrators/implicit_vbd.cpp): v at the last step's start,
+// 3 doubles per point, so that checkpoints resume and backends take over each other's runs.
+inline constexpr std::string_view kVbdMemory = "implicit_euler.vbd";
 
 // More colours than this would mean as many dispatches per sweep (conditional links between
 // many points, all coloured as if active): such models are refused by name.
@@ -65,8 +70,9 @@ class GpuVbd {
   GpuVbd& operator=(const GpuVbd&) = delete;
   void forget();  // the context is gone: nothing to delete
 
-  // Colours, buffers and kernels for the model; the guess's memory from s (when it has one).
-  void load(const Model& m, const State& s, const std::vector<KindLaw>& kinds);
+  // Colours, buffers and kernels for the model; the guess's memory from `memory` (a State's
+  // stage memory: the kVbdMemory slot, when it has one of this model's size).
+  void load(const Model& m, std::span<const StageMemory> memory, const std::vector<KindLaw>& kinds);
   // One step from the device's x, v (the backend's buffers bound, the wind's face forces at t
   // computed when `wind`); x, v at t + h after it.
   DeviceImplicitStep step(const Model& m, const ImplicitSettings& settings, Real h,
