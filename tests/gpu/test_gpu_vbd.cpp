@@ -226,6 +226,22 @@ TEST_F(GpuVbd, ResumeFromACheckpointIsBitIdentical) {
   EXPECT_EQ(state_hash(resumed.state()), state_hash(whole.state()));
 }
 
+// The other way: the CPU takes over a GPU run from its downloaded state (x, v and the guess's
+// memory in float) and ends within the float bound of a run on the CPU throughout.
+TEST_F(GpuVbd, TheCpuTakesOverAGpuRun) {
+  const Model m = hanging_cloth();
+  Simulator gpu(m, vbd(1.0 / 60, 10, 0.9, "gpu")), whole(m, vbd(1.0 / 60, 10, 0.9, "cpu"));
+  ASSERT_TRUE(gpu.run_steps(6));
+  ASSERT_TRUE(whole.run_steps(12));
+  Simulator cpu(m, vbd(1.0 / 60, 10, 0.9, "cpu"));
+  cpu.restore(gpu.state(), 0);
+  ASSERT_EQ(cpu.state().stage_memory.size(), 1u);
+  ASSERT_TRUE(cpu.run_steps(6));
+  const double off = test::max_distance(positions(cpu), positions(whole));
+  std::printf("GPU 6 steps then CPU 6: %.3g m from the CPU's 12\n", off);
+  EXPECT_LE(off, float_bound(positions(whole), 12, 10));
+}
+
 TEST_F(GpuVbd, RefusesOtherSolversByName) {
   for (const char* solver : {"matrix_free", "eigen"}) {
     SimulationSettings s = vbd(1.0 / 60, 10, 0.9, "gpu");
