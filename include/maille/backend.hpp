@@ -14,6 +14,10 @@
 //              device, read back at the sampling and publishing cadence)
 //   download   x, v and f into the host State, only when someone needs them (frames, energy
 //              samples, edits, the end of a run)
+// or, for a scheme the backend steps whole on its device (steps(scheme): implicit Euler by
+// vertex block descent on the GPU), in place of integrate:
+//   implicit_step  the whole implicit step from t to t + h (the forces it needs, the solve, the
+//              solver's counters; the residual when asked, at the sampling cadence)
 // The CPU path is the Simulator's own (the reference every backend is tested against): "cpu"
 // has no Backend object. A backend is one type implementing this interface and one
 // registration (BackendRegistry::add); the GPU's is src/gpu/.
@@ -22,7 +26,9 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,6 +49,17 @@ struct BackendOptions {
   bool use_current_context = false;
 };
 
+// What a device's implicit step reports (the stats columns of the CPU's implicit solvers).
+struct DeviceImplicitStep {
+  std::uint64_t iterations = 0;  // solver_iterations: VBD sweeps
+  std::uint64_t colours = 0;     // vbd_colours
+  // vbd_acceleration_resets and solver_residual (the largest force imbalance over free points
+  // after the step, over m g of the heaviest free point, as the CPU defines it): read back from
+  // the device only when the step was asked to measure; otherwise unset.
+  std::optional<std::uint64_t> acceleration_resets;
+  std::optional<double> residual;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -60,6 +77,23 @@ class Backend {
   virtual void drive(const Model& m, double t) = 0;
   virtual void evaluate(const Model& m, double t) = 0;
   virtual void integrate(Real kick, Real drift, std::uint64_t step) = 0;
+  // Whether this backend steps `scheme` whole on its device (refuses() accepts it then): the
+  // simulator calls implicit_step in place of evaluate + integrate. A later device solver is
+  // one more answer here and its step below.
+  virtual bool steps(const Integrator& scheme) const {
+    static_cast<void>(scheme);
+    return false;
+  }
+  // One step of `scheme` from t to t + h on the device, from the device's x and v (driven points
+  // already at t): x, v at t + h on the device. `step`: the step count after it (the health
+  // flag's value). `measure`: read back the residual and the counters that need the device.
+  virtual DeviceImplicitStep implicit_step(const Model& m, const Integrator& scheme, double t,
+                                           Real h, std::uint64_t step, bool measure) {
+    static_cast<void>(m), static_cast<void>(t), static_cast<void>(h), static_cast<void>(step),
+        static_cast<void>(measure);
+    throw std::logic_error("backend " + std::string(name()) + " does not step " +
+                           std::string(scheme.name()));
+  }
   // The first step (the step count after it) whose integration produced a non-finite position
   // or velocity; 0 while there is none. Waits for the device.
   virtual std::uint64_t first_non_finite() = 0;
@@ -85,8 +119,9 @@ struct NameTable<BackendKind> {
       {BackendKind::cpu, "cpu",
        "the reference: every stage, every scheme, double precision, OpenMP threads"},
       {BackendKind::gpu, "gpu",
-       "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog and "
-       "symplectic Euler, driven points, conditional contacts, self-collision (points)"},
+       "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog, "
+       "symplectic Euler and implicit Euler by vertex block descent, driven points, conditional "
+       "contacts, self-collision (points)"},
   }};
 };
 

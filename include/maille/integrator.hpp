@@ -128,6 +128,10 @@ class Integrator {
   virtual std::optional<KickDrift> kick_drift_step(const State&, Real) const {
     return std::nullopt;
   }
+  // Implicit schemes: their solver's settings, so that a compute backend that solves the whole
+  // step on its device (Backend::steps) can tell which solver it is asked for and its
+  // iterations. nullptr for every other scheme.
+  virtual const ImplicitSettings* implicit_settings() const { return nullptr; }
   // The threads of the scheme's own passes; between steps only, any number of times (the
   // default thread count follows the free cores during a run: simulator.hpp). Schemes that hand
   // it to solvers override it.

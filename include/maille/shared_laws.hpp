@@ -1,5 +1,5 @@
 // The force laws shared with the GPU backend, compiled as C++ in namespace maille::law:
-// include/maille/detail/link_laws.glsl (`vec3` is Vec3 and `real` is Real here) and
+// include/maille/detail/link_laws.glsl (`vec3` is Vec3, `mat3` Mat3 and `real` is Real here) and
 // include/maille/detail/wind_law.glsl (float). A link kind that has such a law names it in
 // `shared_law` (link_kind.hpp); the GPU backend then runs the kind too.
 #pragma once
@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "maille/mat3.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille::law {
 
 using vec3 = Vec3;
+using mat3 = Mat3;
 using real = Real;
 using std::abs;
 using std::max;
@@ -19,6 +21,12 @@ using std::sqrt;
 
 inline Vec3 zero3() {
   return {};
+}
+inline Mat3 outer3(const Vec3& a, const Vec3& b) {
+  return Mat3::outer(a, b);
+}
+inline Mat3 identity3() {
+  return Mat3::identity();
 }
 
 #define MAILLE_SHARED inline

@@ -243,6 +243,7 @@ class Simulator : private ForceEvaluator {
   // `extra` (a stage about to be installed).
   void check_backend(const Integrator& scheme, const Stage* extra = nullptr) const;
   bool step_on_backend();
+  void implicit_step_on_backend(Real h);  // a step the backend makes whole (Backend::steps)
   void sync_host() const;  // the device's x, v, f into state_ when the device is ahead
   void check_backend_health();
   double energy_scale() const;
@@ -268,6 +269,11 @@ class Simulator : private ForceEvaluator {
   std::vector<const LinkPoolBase*> transient_;  // stages' implicit links after the last evaluate
   std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
   std::vector<TriangleContacts*> triangle_contacts_;  // and point-triangle contacts
+  // The implicit solvers' stats columns when a backend steps the scheme (registered once).
+  struct DeviceSolverIds {
+    int iterations = -1, residual = -1, colours = -1, resets = -1, refreshes = -1;
+  };
+  DeviceSolverIds device_ids_;
   double energy_scale_ = 0;
   int threads_ = 1;
   int cores_ = 1;               // those OpenMP may use (omp_get_num_procs)

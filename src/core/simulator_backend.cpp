@@ -68,6 +68,26 @@ void Simulator::check_backend_health() {
   blow_up_->step = first;
 }
 
+// The implicit solver's step on the device, with the CPU's stats columns (implicit_euler.cpp):
+// the counters and the residual are read back when this step's sample is pending (the rows
+// that stats.csv writes), so the device is not waited for every step.
+void Simulator::implicit_step_on_backend(Real h) {
+  if (device_ids_.iterations < 0) {
+    device_ids_.iterations = profile_.counter("solver_iterations");
+    device_ids_.residual = profile_.gauge("solver_residual");
+    device_ids_.colours = profile_.counter("vbd_colours");
+    device_ids_.resets = profile_.counter("vbd_acceleration_resets");
+    device_ids_.refreshes = profile_.counter("vbd_candidate_refreshes");  // none: static colours
+  }
+  const bool measure = pending_sample_.has_value();
+  const DeviceImplicitStep r =
+      backend_->implicit_step(model_, *integrator_, state_.time, h, state_.step + 1, measure);
+  profile_.set_count(device_ids_.iterations, r.iterations);
+  profile_.set_count(device_ids_.colours, r.colours);
+  if (r.acceleration_resets) profile_.set_count(device_ids_.resets, *r.acceleration_resets);
+  if (r.residual) profile_.set_gauge(device_ids_.residual, *r.residual);
+}
+
 bool Simulator::step_on_backend() {
   const auto& ids = *ids_;
   if (host_ahead_) {
@@ -85,13 +105,16 @@ bool Simulator::step_on_backend() {
     Timed t(profile_, ids.drive);
     backend_->drive(model_, state_.time);
   }
-  {
+  // A step the backend makes whole evaluates what it needs itself: the force pass runs only for
+  // the energy sample.
+  const bool sampling = state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0;
+  if (sampling || !backend_->steps(*integrator_)) {
     Timed t(profile_, ids.links);  // every force of the step, on the device
     backend_->evaluate(model_, state_.time);
   }
   // Energies at t_n need the forces at t_n (a staggered scheme's velocities are synchronised
   // with them), so the sample downloads them before the integration.
-  if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) {
+  if (sampling) {
     device_ahead_ = true;
     sync_host();
     sample_energies();
@@ -99,9 +122,13 @@ bool Simulator::step_on_backend() {
   }
   {
     Timed t(profile_, ids.integrate);
-    const std::optional<Integrator::KickDrift> k = integrator_->kick_drift_step(state_, h);
-    backend_->integrate(k->kick, k->drift, state_.step + 1);
-    state_.history = k->history_after;
+    if (backend_->steps(*integrator_)) {
+      implicit_step_on_backend(h);
+    } else {
+      const std::optional<Integrator::KickDrift> k = integrator_->kick_drift_step(state_, h);
+      backend_->integrate(k->kick, k->drift, state_.step + 1);
+      state_.history = k->history_after;
+    }
   }
   state_.time += settings_.step;
   state_.step += 1;

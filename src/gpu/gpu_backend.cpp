@@ -4,6 +4,8 @@
 //   faces      the wind's force per face (only with wind)
 //   forces     per point: links (gather over its adjacency), faces, gravity, drag
 //   integrate  per point: kick and drift, the health flag
+// or, for implicit_euler with solver = "vbd", the faces and then the whole step by vertex block
+// descent (gpu_vbd.hpp) in place of forces and integrate.
 // Positions stay on the device between steps; the Simulator downloads them only when it needs
 // them (backend.hpp). Arithmetic is float: the tests derive their tolerances from it.
 #include <epoxy/egl.h>
@@ -25,6 +27,7 @@
 #include "gpu_layout.hpp"
 #include "gpu_self_collision.hpp"
 #include "gpu_stage.hpp"
+#include "gpu_vbd.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
 #include "maille/render/headless.hpp"
@@ -242,12 +245,14 @@ class GpuBackend final : public Backend {
       current();
     } catch (const std::exception&) {
       forces_.forget(), faces_.forget(), integrate_.forget(), drive_.forget();
+      if (vbd_) vbd_->forget(), vbd_.reset();  // forgotten: its destructor makes no GL call
       // Their GL objects go with the context; their few host bytes are left (no GL call may
       // run without a current context).
       for (auto& st : stages_) static_cast<void>(st.release());
       return;
     }
     stages_.clear();
+    vbd_.reset();
     forces_ = {};
     faces_ = {};
     integrate_ = {};
@@ -268,10 +273,17 @@ class GpuBackend final : public Backend {
 
   std::string refuses(const Model& m, const Integrator& scheme,
                       std::span<const Stage* const> stages) const override {
-    if (!scheme.kick_drift_step(State(), Real(1e-3)))
+    const ImplicitSettings* implicit = scheme.implicit_settings();
+    if (implicit && implicit->solver != ImplicitSolver::vbd)
+      return "implicit solver '" + std::string(to_string(implicit->solver)) +
+             "' has no GPU version (the GPU runs implicit_euler with solver = \"vbd\"; the CPU "
+             "runs every solver)";
+    if (!steps(scheme) && !scheme.kick_drift_step(State(), Real(1e-3)))
       return "integrator '" + std::string(scheme.name()) +
-             "' has no GPU version (the GPU runs leapfrog and symplectic_euler; the CPU runs "
-             "every scheme)";
+             "' has no GPU version (the GPU runs leapfrog, symplectic_euler and implicit_euler "
+             "with solver = \"vbd\"; the CPU runs every scheme)";
+    if (steps(scheme))
+      if (std::string why = vbd_refuses(m, stages); !why.empty()) return why;
     for (const auto& pool : m.links.pools()) {
       if (pool->size() == 0) continue;
       if (pool->shared_law().empty())
@@ -323,6 +335,11 @@ class GpuBackend final : public Backend {
     upload(Buf::adjacency_offset, adj.offset);
     upload(Buf::adjacency, adj.entries);
     upload(Buf::link_params, adj.params);
+    kinds_ = adj.kinds;
+    vbd_memory_.clear();  // the guess's memory, for the solver's next load
+    for (const StageMemory& mem : s.stage_memory)
+      if (mem.stage == kVbdMemory) vbd_memory_.push_back(mem);
+    vbd_stale_ = true;
     const std::string source = forces_shader(adj.kinds);
     if (source != forces_source_) {
       forces_ = Kernel("gpu forces", source);
@@ -368,6 +385,36 @@ class GpuBackend final : public Backend {
   void evaluate(const Model& m, double t) override {
     current();
     bind();
+    wind_faces(m, t);
+    forces_.set("u_gravity", m.fields.gravity);
+    forces_.set("u_drag", float(m.fields.air_drag));
+    forces_.set_flag("u_wind", wind_);
+    forces_.run(points_);
+    for (const auto& st : stages_) st->evaluate();  // Phase::forces stages: added into f
+  }
+
+  bool steps(const Integrator& scheme) const override {
+    const ImplicitSettings* implicit = scheme.implicit_settings();
+    return implicit && implicit->solver == ImplicitSolver::vbd;
+  }
+
+  DeviceImplicitStep implicit_step(const Model& m, const Integrator& scheme, double t, Real h,
+                                   std::uint64_t step, bool measure) override {
+    if (!steps(scheme)) return Backend::implicit_step(m, scheme, t, h, step, measure);
+    current();
+    bind();
+    wind_faces(m, t);  // f_ext at the step's start
+    if (!vbd_) vbd_ = std::make_unique<GpuVbd>();
+    if (vbd_stale_) {
+      vbd_->load(m, vbd_memory_, kinds_);
+      vbd_stale_ = false;
+    }
+    return vbd_->step(m, *scheme.implicit_settings(), h, step, wind_, measure);
+  }
+
+ private:
+  // The wind's force on each face at t (FaceForces), when the model has wind.
+  void wind_faces(const Model& m, double t) {
     if (wind_) {
       const WindField& w = m.fields.wind;
       const gust::Basis b = gust::basis(w, t);
@@ -385,13 +432,9 @@ class GpuBackend final : public Backend {
       faces_.set("u_across2", b.across2);
       faces_.run(faces_count_);
     }
-    forces_.set("u_gravity", m.fields.gravity);
-    forces_.set("u_drag", float(m.fields.air_drag));
-    forces_.set_flag("u_wind", wind_);
-    forces_.run(points_);
-    for (const auto& st : stages_) st->evaluate();  // Phase::forces stages: added into f
   }
 
+ public:
   void integrate(Real kick, Real drift, std::uint64_t step) override {
     current();
     bind();
@@ -420,6 +463,7 @@ class GpuBackend final : public Backend {
     unpack(tmp, s.v());
     glGetNamedBufferSubData(buffer(Buf::f), 0, bytes, tmp.data());
     unpack(tmp, s.f());
+    if (vbd_ && !vbd_stale_) vbd_->download_memory(s);  // the guess's memory, as the CPU keeps it
   }
 
   void finish() override {
@@ -476,6 +520,11 @@ class GpuBackend final : public Backend {
   double max_invocations_ = 0;
   double max_block_ = 0;  // bytes, the largest storage block this driver binds
   std::vector<std::unique_ptr<GpuStage>> stages_;  // device versions of the installed stages
+  // Implicit Euler by VBD: made at the first implicit step, loaded again after every load.
+  std::unique_ptr<GpuVbd> vbd_;
+  bool vbd_stale_ = true;
+  std::vector<KindLaw> kinds_;           // the model's kinds, as the kernels call them
+  std::vector<StageMemory> vbd_memory_;  // the guess's memory the last load brought
 };
 
 }  // namespace

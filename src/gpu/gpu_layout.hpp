@@ -44,9 +44,23 @@ namespace maille::gpu {
   X(20, SelfGrids, SelfGrid, sc_grid, "[0]: this step's bounding box and grid")                \
   X(21, SelfContacts, uint, sc_contacts, "n_c: contacts of each particle in the last pass")
 
+// Implicit Euler by vertex block descent (gpu_vbd.hpp), after the self-collision's: owned and
+// bound by the backend's GpuVbd.
+#define MAILLE_GPU_VBD_BUFFERS(X)                                                            \
+  X(22, VbdStart, float, vbd_xn, "m, 3 per point: x_n, the step's start")                    \
+  X(23, VbdTarget, float, vbd_y, "m, 3 per point: y = x_n + h v_n + h^2 f_ext / m")          \
+  X(24, VbdLastVelocity, float, vbd_vlast, "m/s, 3 per point: v at the last step's start")   \
+  X(25, VbdPrevious1, float, vbd_prev1, "m, 3 per point: the last sweep's x (acceleration)") \
+  X(26, VbdPrevious2, float, vbd_prev2, "m, 3 per point: the sweep's before (acceleration)") \
+  X(27, VbdOrder, uint, vbd_order, "free points by colour, increasing in each colour")       \
+  X(28, VbdSolver, uint, vbd_state,                                                          \
+    "[0] accelerating, [1] this sweep's largest |g| (float bits), [2] the last sweep's, "    \
+    "[3] acceleration resets, [4] the residual's largest |g| (float bits)")
+
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
+      MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -54,10 +68,13 @@ enum class Buf : unsigned {
 // kSelfBufferCount.
 inline constexpr unsigned kBufferCount = 0 MAILLE_GPU_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kSelfBufferCount = 0 MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+inline constexpr unsigned kVbdBufferCount = 0 MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 #undef MAILLE_GPU_COUNT_BUFFER
 static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::sc_particle) == kBufferCount &&
-              unsigned(Buf::sc_contacts) == kBufferCount + kSelfBufferCount - 1);
+              unsigned(Buf::sc_contacts) == kBufferCount + kSelfBufferCount - 1 &&
+              unsigned(Buf::vbd_xn) == kBufferCount + kSelfBufferCount &&
+              unsigned(Buf::vbd_state) == kBufferCount + kSelfBufferCount + kVbdBufferCount - 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -117,6 +134,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
            "[]; };  // " doc "\n";
     MAILLE_GPU_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;

@@ -19,6 +19,8 @@ std::string head(std::initializer_list<Buf> used) {
 #define MAILLE_SHARED
 #define MAILLE_UNUSED(x)
 vec3 zero3() { return vec3(0.0); }
+mat3 outer3(vec3 a, vec3 b) { return outerProduct(a, b); }
+mat3 identity3() { return mat3(1.0); }
 #define LOAD3(buf, i) vec3(buf[3u * (i)], buf[3u * (i) + 1u], buf[3u * (i) + 2u])
 #define STORE3(buf, i, value) { vec3 s_ = (value); uint k_ = 3u * (i); \
   buf[k_] = s_.x; buf[k_ + 1u] = s_.y; buf[k_ + 2u] = s_.z; }
@@ -26,6 +28,8 @@ uniform uint u_count;  // points, faces or driven points: the invocations that w
 )";
   return s;
 }
+
+}  // namespace
 
 // The switch over the model's kinds, generated: kind k calls its shared law with its first
 // `fields` parameters.
@@ -42,8 +46,6 @@ std::string link_force_function(const std::vector<KindLaw>& kinds) {
   s += "  }\n  return vec3(0.0);\n}\n";
   return s;
 }
-
-}  // namespace
 
 std::string kernel_head(std::initializer_list<Buf> used) {
   return head(used);

@@ -20,6 +20,9 @@ struct KindLaw {
   int fields = 0;
 };
 
+// GLSL `vec3 link_force(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p)`: the switch over
+// the model's kinds, each calling its shared law with its first `fields` parameters.
+std::string link_force_function(const std::vector<KindLaw>& kinds);
 // Per point: the forces of its links (a gather over its adjacency, the kind's shared law, no
 // atomics), of its faces (the wind, summed from FaceForces), gravity and drag, into f.
 std::string forces_shader(const std::vector<KindLaw>& kinds);

@@ -166,6 +166,7 @@ class ImplicitEuler final : public Integrator {
     vbd_.reset();
   }
   bool uses_jacobians() const override { return true; }
+  const ImplicitSettings* implicit_settings() const override { return &settings_; }
   // A response stage run before the solve would zero a velocity into a facet, then the solve's
   // dv, coupled to every neighbour, would undo it: facets answer the solved motion instead.
   ResponseTiming response_timing() const override { return ResponseTiming::after_solve; }

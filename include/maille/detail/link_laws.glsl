@@ -7,7 +7,8 @@
 //
 // Rules for this file (as for smooth_math.glsl): no `inline`, `const&`, templates, brace
 // initialisers or `f` literals (the scalar type changes); scalars written real(...); every
-// parameter used or passed to MAILLE_UNUSED; zero3() for the zero vector.
+// parameter used or passed to MAILLE_UNUSED; zero3() for the zero vector; outer3(a, b) and
+// identity3() for matrices (mat3 is symmetric-safe only: see the Jacobians below).
 //
 // A law's signature is (xa, xb, va, vb, then the kind's scene fields in their declared order):
 // the GPU backend calls it with the link's parameters as stored, in that order. It returns the
@@ -43,6 +44,66 @@ MAILLE_SHARED vec3 spring_damper_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k,
   vec3 d = xb - xa;
   real inv = inverse_length(d);
   return d * (k * (real(1) - rest * inv) + z * dot(vb - va, d) * inv * inv);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Jacobians (implicit Euler; vertex block descent on the CPU and the GPU). A law's derivative
+// d f_a / d x_b (and d f_a / d v_b): the force depends on x_b - x_a and v_b - v_a only, so the
+// block at either end, -d f_i / d x_i, is the same matrix. `mat3` is Mat3 in C++ (row-major) and
+// GLSL's (column-major): every block here is symmetric, so the two agree. outer3(a, b) = a b^T,
+// identity3() = I.
+
+// d/dd of k (|d| - L0) d/|d|:  k [ n n^T + (1 - L0/|d|) (I - n n^T) ]. `definite` clamps the
+// transverse factor at 0 (a compressed spring would otherwise contribute a negative stiffness
+// and the implicit system could lose definiteness; Choi & Ko 2002).
+MAILLE_SHARED mat3 spring_dx(vec3 d, real k, real rest, bool definite) {
+  real inv = inverse_length(d);
+  vec3 n = d * inv;
+  real transverse = real(1) - rest * inv;
+  if (definite && transverse < real(0)) transverse = real(0);
+  mat3 nn = outer3(n, n);
+  return (nn + (identity3() - nn) * transverse) * k;
+}
+
+// d/d(dv) of the axial damper z ((v_b - v_a).n) n: z n n^T. (Its d/dd, from the turning of n,
+// is not symmetric and is dropped in definite mode, as Baraff & Witkin do: C++ only.)
+MAILLE_SHARED mat3 axial_dv(vec3 d, real z) {
+  vec3 n = d * inverse_length(d);
+  return outer3(n, n) * z;
+}
+
+// Each kind's block for vertex block descent: J_x + J_v / h in definite mode (velocities follow
+// positions as v = (x - x_n) / h), named <law>_block with the law's arguments then 1/h. The GPU
+// backend runs a kind under implicit Euler when its law has such a block.
+MAILLE_SHARED mat3 spring_law_block(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real rest,
+                                    real inv_h) {
+  MAILLE_UNUSED(va);
+  MAILLE_UNUSED(vb);
+  MAILLE_UNUSED(inv_h);
+  return spring_dx(xb - xa, k, rest, true);
+}
+
+MAILLE_SHARED mat3 damper_law_block(vec3 xa, vec3 xb, vec3 va, vec3 vb, real z, real inv_h) {
+  MAILLE_UNUSED(va);
+  MAILLE_UNUSED(vb);
+  return axial_dv(xb - xa, z) * inv_h;
+}
+
+MAILLE_SHARED mat3 spring_damper_law_block(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real rest,
+                                           real z, real inv_h) {
+  MAILLE_UNUSED(va);
+  MAILLE_UNUSED(vb);
+  return spring_dx(xb - xa, k, rest, true) + axial_dv(xb - xa, z) * inv_h;
+}
+
+// Zero while inactive (at or beyond the threshold, as conditional_law decides).
+MAILLE_SHARED mat3 conditional_law_block(vec3 xa, vec3 xb, vec3 va, vec3 vb, real k, real z,
+                                         real s, real rest, real inv_h) {
+  MAILLE_UNUSED(va);
+  MAILLE_UNUSED(vb);
+  vec3 d = xb - xa;
+  if (sqrt(dot(d, d)) >= s) return identity3() * real(0);
+  return spring_dx(d, k, rest, true) + axial_dv(d, z) * inv_h;
 }
 
 // Conditional spring-damper (the CORDIS contact): silent at or beyond the threshold s, a

@@ -28,27 +28,23 @@ inline Separation separation(const Vec3& xa, const Vec3& xb) {
   return {len, d * (Real(1) / (len + kTinyLength))};
 }
 
-// d/dd of k (|d| - L0) d/|d|:  k [ n n^T + (1 - L0/|d|) (I - n n^T) ].
-// In definite mode the transverse factor is clamped at 0 (a compressed spring would otherwise
-// contribute a negative stiffness and the implicit system could lose definiteness).
+// d/dd of k (|d| - L0) d/|d|:  k [ n n^T + (1 - L0/|d|) (I - n n^T) ] (the shared law,
+// link_laws.glsl). In definite mode the transverse factor is clamped at 0 (a compressed spring
+// would otherwise contribute a negative stiffness and the implicit system could lose
+// definiteness).
 inline Mat3 spring_jacobian(const Vec3& d, Real k, Real rest, JacobianMode mode) {
-  const Real inv = inverse_length(d);
-  const Vec3 n = d * inv;
-  Real transverse = 1 - rest * inv;
-  if (mode == JacobianMode::definite && transverse < 0) transverse = 0;
-  const Mat3 nn = Mat3::outer(n, n);
-  return (nn + (Mat3::identity() - nn) * transverse) * k;
+  return law::spring_dx(d, k, rest, mode == JacobianMode::definite);
 }
 
-// Derivatives of the axial damper z ((v_b - v_a).n) n. d/d(dv) = z n n^T; d/dd, from the turning
-// of n, = z/|d| [ n (P dv)^T + (dv.n) P ] with P = I - n n^T: not symmetric, dropped in
-// definite mode (as Baraff & Witkin do).
+// Derivatives of the axial damper z ((v_b - v_a).n) n. d/d(dv) = z n n^T (the shared law,
+// link_laws.glsl); d/dd, from the turning of n, = z/|d| [ n (P dv)^T + (dv.n) P ] with
+// P = I - n n^T: not symmetric, dropped in definite mode (as Baraff & Witkin do).
 inline LinkJacobian damper_jacobian(const Vec3& d, const Vec3& dv, Real z, JacobianMode mode) {
-  const Real inv = inverse_length(d);
-  const Vec3 n = d * inv;
   LinkJacobian j;
-  j.dv = Mat3::outer(n, n) * z;
+  j.dv = law::axial_dv(d, z);
   if (mode == JacobianMode::exact) {
+    const Real inv = inverse_length(d);
+    const Vec3 n = d * inv;
     const Mat3 P = Mat3::identity() - Mat3::outer(n, n);
     j.dx = (Mat3::outer(n, P * dv) + P * dot(dv, n)) * (z * inv);
   }

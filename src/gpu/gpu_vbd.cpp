@@ -1,0 +1,284 @@
+// Implicit Euler by vertex block descent on the GPU: see gpu_vbd.hpp for the passes.
+#include "gpu_vbd.hpp"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <utility>
+
+#include "../render/gl_program.hpp"
+#include "shared_laws_glsl.hpp"
+
+namespace maille::gpu {
+
+namespace {
+
+constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
+
+enum Pass : unsigned { begin_pass, sweep_pass, residual_pass, decide, accelerate, health, passes };
+
+template <class T>
+void upload(GLuint buffer, const std::vector<T>& data) {
+  // At least 16 bytes: a buffer bound to a storage block must not be empty.
+  std::vector<std::byte> bytes(std::max<std::size_t>(data.size() * sizeof(T), 16), std::byte{0});
+  if (!data.empty()) std::memcpy(bytes.data(), data.data(), data.size() * sizeof(T));
+  glNamedBufferData(buffer, GLsizeiptr(bytes.size()), bytes.data(), GL_DYNAMIC_DRAW);
+}
+
+std::uint32_t float_bits(float f) {
+  std::uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
+float bits_float(std::uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+// Whether link_laws.glsl has the block of `law` (a kind runs under the GPU's VBD then).
+bool has_block(std::string_view law) {
+  return shared::link_laws.find("mat3 " + std::string(law) + "_block(") != std::string_view::npos;
+}
+
+}  // namespace
+
+VbdColours vbd_colours(const Model& m) {
+  const std::uint32_t n = m.points.size();
+  // Every link of the model, seen from both ends (CSR of neighbours).
+  std::vector<std::uint32_t> row(n + 1, 0), neighbour;
+  for (const auto& pool : m.links.pools())
+    for (const LinkEnds& e : pool->slot_ends()) ++row[e.a + 1], ++row[e.b + 1];
+  for (std::uint32_t i = 0; i < n; ++i) row[i + 1] += row[i];
+  neighbour.resize(row[n]);
+  std::vector<std::uint32_t> fill(row.begin(), row.end() - 1);
+  for (const auto& pool : m.links.pools())
+    for (const LinkEnds& e : pool->slot_ends()) {
+      neighbour[fill[e.a]++] = e.b;
+      neighbour[fill[e.b]++] = e.a;
+    }
+  // Greedy in point order: the smallest colour none of the coloured neighbours holds (fixed
+  // points are never coloured, so links to them constrain nothing).
+  std::vector<std::uint32_t> colour(n, kUncoloured), stamp;
+  std::uint32_t colours = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!(m.points.inv_mass[i] > 0)) continue;
+    for (std::uint32_t k = row[i]; k < row[i + 1]; ++k)
+      if (const std::uint32_t c = colour[neighbour[k]]; c != kUncoloured) stamp[c] = i;
+    std::uint32_t c = 0;
+    while (c < colours && stamp[c] == i) ++c;
+    if (c == colours) {
+      ++colours;
+      stamp.push_back(kUncoloured);
+    }
+    colour[i] = c;
+  }
+  VbdColours out;
+  out.row.assign(colours + 1, 0);
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (colour[i] != kUncoloured) ++out.row[colour[i] + 1];
+  for (std::uint32_t c = 0; c < colours; ++c) out.row[c + 1] += out.row[c];
+  out.order.resize(out.row[colours]);
+  std::vector<std::uint32_t> at(out.row.begin(), out.row.end() - 1);
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (colour[i] != kUncoloured) out.order[at[colour[i]]++] = i;
+  return out;
+}
+
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages) {
+  const std::string how = "implicit_euler with solver = \"vbd\" on the GPU backend";
+  for (const Stage* st : stages)
+    return "stage '" + st->name() + "' has no implicit terms on the GPU (" + how +
+           " runs the model's links, gravity, air drag and wind; self-collision, obstacles and "
+           "group contacts enter only the CPU's solve): run this scene with --backend cpu";
+  for (const auto& pool : m.links.pools())
+    if (pool->size() > 0 && !has_block(pool->shared_law()))
+      return "link kind '" + std::string(pool->keyword()) + "' has no Jacobian block in " +
+             "include/maille/detail/link_laws.glsl (" + std::string(pool->shared_law()) +
+             "_block), which " + how + " needs: run this scene with --backend cpu";
+  if (const std::uint32_t c = vbd_colours(m).count(); c > kVbdMaxColours)
+    return "the model's links need " + std::to_string(c) + " colours (conditional links " +
+           "included, as if all were active), more than the " + std::to_string(kVbdMaxColours) +
+           " that " + how + " dispatches per sweep: run this scene with --backend cpu";
+  return {};
+}
+
+// A compute program and its uniforms' locations.
+struct GpuVbd::Kernel {
+  GLuint program = 0;
+  std::map<std::string, GLint, std::less<>> loc;
+  Kernel() = default;
+  Kernel(const char* name, const std::string& source)
+      : program(render::link_compute_program(name, source)) {}
+  Kernel(Kernel&& o) noexcept : program(std::exchange(o.program, 0)), loc(std::move(o.loc)) {}
+  Kernel& operator=(Kernel&& o) noexcept {
+    std::swap(program, o.program);
+    std::swap(loc, o.loc);
+    return *this;
+  }
+  ~Kernel() {
+    if (program) glDeleteProgram(program);
+  }
+  GLint at(const char* name) {
+    auto it = loc.find(name);
+    if (it == loc.end()) it = loc.emplace(name, glGetUniformLocation(program, name)).first;
+    return it->second;
+  }
+  void set(const char* name, GLuint value) { glProgramUniform1ui(program, at(name), value); }
+  void set(const char* name, float value) { glProgramUniform1f(program, at(name), value); }
+  void set_flag(const char* name, bool value) { glProgramUniform1i(program, at(name), value); }
+  void set(const char* name, const Vec3& value) {
+    glProgramUniform3f(program, at(name), float(value.x), float(value.y), float(value.z));
+  }
+  // `count` invocations (u_count), then a barrier for the next pass.
+  void run(GLuint count) {
+    if (count == 0) return;
+    set("u_count", count);
+    glUseProgram(program);
+    glDispatchCompute((count + kGroupSize - 1) / kGroupSize, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+};
+
+GpuVbd::GpuVbd() {
+  glCreateBuffers(GLsizei(kVbdBufferCount), buffers_.data());
+  kernels_.resize(passes);
+  kernels_[begin_pass] = Kernel("gpu vbd begin", vbd_begin_shader());
+  kernels_[decide] = Kernel("gpu vbd decide", vbd_decide_shader());
+  kernels_[accelerate] = Kernel("gpu vbd accelerate", vbd_accelerate_shader());
+  kernels_[health] = Kernel("gpu vbd health", vbd_health_shader());
+}
+
+GpuVbd::~GpuVbd() {
+  if (kernels_.empty()) return;  // forgotten: the context took the objects with it
+  kernels_.clear();
+  glDeleteBuffers(GLsizei(kVbdBufferCount), buffers_.data());
+}
+
+void GpuVbd::forget() {
+  for (Kernel& k : kernels_) k.program = 0;
+  kernels_.clear();
+}
+
+void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
+                  const std::vector<KindLaw>& kinds) {
+  points_ = m.points.size();
+  colours_ = vbd_colours(m);
+  const std::size_t n3 = 3 * std::size_t(points_);
+  for (Buf b : {Buf::vbd_xn, Buf::vbd_y, Buf::vbd_prev1, Buf::vbd_prev2})
+    upload(buffers_[unsigned(b) - unsigned(Buf::vbd_xn)], std::vector<float>(n3, 0.0f));
+  // The guess's memory, when the state has one for this model (a resumed or handed-over run).
+  std::vector<float> last(n3, 0.0f);
+  history_ = false;
+  for (const StageMemory& mem : memory)
+    if (mem.stage == kVbdMemory && mem.values.size() == n3) {
+      for (std::size_t k = 0; k < n3; ++k) last[k] = float(mem.values[k]);
+      history_ = true;
+    }
+  upload(buffers_[unsigned(Buf::vbd_vlast) - unsigned(Buf::vbd_xn)], last);
+  upload(buffers_[unsigned(Buf::vbd_order) - unsigned(Buf::vbd_xn)], colours_.order);
+  upload(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)],
+         std::vector<std::uint32_t>(8, 0u));
+  prev_swapped_ = false;
+  heaviest_ = 0;
+  for (const std::uint32_t i : colours_.order)
+    heaviest_ = std::max(heaviest_, float(m.points.mass[i]));
+  gravity_ = float(norm(m.fields.gravity));
+  const std::string source = vbd_sweep_shader(kinds, false);
+  if (source != source_) {
+    kernels_[sweep_pass] = Kernel("gpu vbd sweep", source);
+    kernels_[residual_pass] = Kernel("gpu vbd residual", vbd_sweep_shader(kinds, true));
+    source_ = source;
+  }
+}
+
+void GpuVbd::bind() const {
+  for (unsigned k = 0; k < kVbdBufferCount; ++k) {
+    unsigned b = k;
+    const unsigned p1 = unsigned(Buf::vbd_prev1) - unsigned(Buf::vbd_xn);
+    const unsigned p2 = unsigned(Buf::vbd_prev2) - unsigned(Buf::vbd_xn);
+    if (prev_swapped_ && (k == p1 || k == p2)) b = k == p1 ? p2 : p1;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unsigned(Buf::vbd_xn) + k, buffers_[b]);
+  }
+}
+
+DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings, Real h,
+                                std::uint64_t step, bool wind, bool measure) {
+  bind();
+  const float rho = float(settings.acceleration);
+  const bool accelerating = rho > 0;
+  const std::uint32_t start[5] = {accelerating ? 1u : 0u, 0u,
+                                  float_bits(std::numeric_limits<float>::infinity()), 0u, 0u};
+  glNamedBufferSubData(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)], 0, sizeof(start),
+                       start);
+
+  Kernel& begin = kernels_[begin_pass];
+  begin.set("u_gravity", m.fields.gravity);
+  begin.set("u_h", float(h));
+  begin.set_flag("u_wind", wind);
+  begin.set_flag("u_history", history_);
+  begin.run(points_);
+  history_ = true;
+
+  Kernel& sweep = kernels_[sweep_pass];
+  sweep.set("u_h", float(h));
+  sweep.set("u_drag", float(m.fields.air_drag));
+  Kernel& acc = kernels_[accelerate];
+  acc.set("u_h", float(h));
+  Real omega = 1;
+  for (int k = 1; k <= settings.iterations; ++k) {
+    for (std::uint32_t c = 0; c < colours_.count(); ++c) {
+      sweep.set("u_first", colours_.row[c]);
+      sweep.run(colours_.row[c + 1] - colours_.row[c]);
+    }
+    if (!accelerating) continue;
+    kernels_[decide].set("u_k", GLuint(k));
+    kernels_[decide].run(1);
+    // The CPU's recurrence (implicit_vbd.cpp), in double on the host.
+    const Real r2 = Real(rho) * Real(rho);
+    omega = k == 1 ? 1 : k == 2 ? 2 / (2 - r2) : 4 / (4 - r2 * omega);
+    acc.set("u_omega", float(omega));
+    acc.set_flag("u_extrapolate", k >= 2);
+    acc.run(points_);
+    prev_swapped_ = !prev_swapped_;  // this sweep's x is prev1 now, the last prev1 is prev2
+    bind();
+  }
+  kernels_[health].set("u_step", GLuint(std::min<std::uint64_t>(step, 0xfffffffeu)));
+  kernels_[health].run(points_);
+
+  DeviceImplicitStep out;
+  out.iterations = std::uint64_t(settings.iterations);
+  out.colours = colours_.count();
+  if (measure) {
+    Kernel& res = kernels_[residual_pass];
+    res.set("u_first", GLuint(0));
+    res.set("u_h", float(h));
+    res.set("u_drag", float(m.fields.air_drag));
+    res.run(GLuint(colours_.order.size()));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::uint32_t state[5] = {};
+    glGetNamedBufferSubData(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)], 0,
+                            sizeof(state), state);
+    out.acceleration_resets = state[3];
+    const double g = gravity_ > 0 ? double(gravity_) : 9.81;
+    out.residual = heaviest_ > 0 ? double(bits_float(state[4])) / (double(heaviest_) * g) : 0.0;
+  }
+  return out;
+}
+
+void GpuVbd::download_memory(State& s) const {
+  if (!history_) return;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<float> tmp(3 * std::size_t(points_));
+  glGetNamedBufferSubData(buffers_[unsigned(Buf::vbd_vlast) - unsigned(Buf::vbd_xn)], 0,
+                          GLsizeiptr(tmp.size() * sizeof(float)), tmp.data());
+  std::vector<double>& last = s.memory(std::string(kVbdMemory));
+  last.assign(tmp.begin(), tmp.end());
+}
+
+}  // namespace maille::gpu

@@ -1,0 +1,104 @@
+// Implicit Euler by vertex block descent on the GPU: the CPU solver's formulation
+// (src/integrators/implicit_vbd.hpp) with the model's links, gravity, air drag and wind, colour
+// by colour in compute shaders. Per step (GpuBackend::implicit_step):
+//   begin       per point: x_n, y = x_n + h v_n + h^2 f_ext / m (f_ext = m g + the wind's face
+//               forces at t, as the CPU takes them: explicit, at the step's start), the paper's
+//               adaptive guess x = x_n + h v_n + h^2 a~ (State memory "implicit_euler.vbd": v at
+//               the last step's start), v = (x - x_n) / h; prev1 = x
+//   sweep       per colour, one dispatch over its points: g_i = m/h^2 (y - x) - gamma m v + the
+//               links' forces, H_i = m (1/h^2 + gamma/h) I + the links' blocks (the shared laws'
+//               <law>_block: J_x + J_v / h, definite mode), gathered over the point's adjacency;
+//               x += H^-1 g, v += H^-1 g / h (v = (x - x_n) / h without the float
+//               cancellation of the difference); the sweep's largest |g| (work-group reduction,
+//               then atomicMax on its bits)
+//   decide      one invocation: the CPU's fallback, on the device (no read-back per sweep): a
+//               sweep from the third on whose largest |g| rose turns the acceleration off
+//   accelerate  per point, while on: x = w (x - prev2) + prev2 (Chebyshev, w from the host's
+//               recurrence), v by the same increment over h; the previous iterates rotate
+//   health      per point: the non-finite flag (the backend's health buffer)
+//   residual    per point, when the step measures: the largest |g| at the result, over m g of
+//               the heaviest free point (the CPU's solver_residual)
+// Colours: greedy over the free points in index order, each taking the smallest colour none of
+// its coloured neighbours holds (the CPU's rule), over the graph of every link of the model,
+// conditional links included (always, since the device does not search candidates): computed
+// on the host at load. Fixed and driven points are never in a colour, so they stay put.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gpu_layout.hpp"
+#include "maille/backend.hpp"
+#include "maille/integrator.hpp"
+#include "maille/model.hpp"
+#include "maille/stage.hpp"
+#include "maille/state.hpp"
+#include "shaders.hpp"
+
+namespace maille::gpu {
+
+// The CPU solver's State memory (src/integrators/implicit_vbd.cpp): v at the last step's start,
+// 3 doubles per point, so that checkpoints resume and backends take over each other's runs.
+inline constexpr std::string_view kVbdMemory = "implicit_euler.vbd";
+
+// More colours than this would mean as many dispatches per sweep (conditional links between
+// many points, all coloured as if active): such models are refused by name.
+inline constexpr std::uint32_t kVbdMaxColours = 64;
+
+// Free points by colour (the CPU's greedy rule over every link of the model).
+struct VbdColours {
+  std::vector<std::uint32_t> order;  // free points, colour by colour, increasing in each
+  std::vector<std::uint32_t> row;    // colour c: order[row[c] .. row[c + 1])
+  std::uint32_t count() const { return row.empty() ? 0 : std::uint32_t(row.size() - 1); }
+};
+VbdColours vbd_colours(const Model& m);
+
+// Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage (none has
+// implicit terms on the device: self-collision, obstacles, group contacts), a link kind whose
+// shared law has no <law>_block, more colours than kVbdMaxColours.
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages);
+
+class GpuVbd {
+ public:
+  GpuVbd();  // the context must be current
+  ~GpuVbd();
+  GpuVbd(const GpuVbd&) = delete;
+  GpuVbd& operator=(const GpuVbd&) = delete;
+  void forget();  // the context is gone: nothing to delete
+
+  // Colours, buffers and kernels for the model; the guess's memory from `memory` (a State's
+  // stage memory: the kVbdMemory slot, when it has one of this model's size).
+  void load(const Model& m, std::span<const StageMemory> memory, const std::vector<KindLaw>& kinds);
+  // One step from the device's x, v (the backend's buffers bound, the wind's face forces at t
+  // computed when `wind`); x, v at t + h after it.
+  DeviceImplicitStep step(const Model& m, const ImplicitSettings& settings, Real h,
+                          std::uint64_t step, bool wind, bool measure);
+  // The guess's memory into s (once the device has one).
+  void download_memory(State& s) const;
+
+ private:
+  struct Kernel;
+  void bind() const;
+
+  std::uint32_t points_ = 0;
+  VbdColours colours_;
+  bool history_ = false;  // vbd_vlast holds v at the last step's start
+  bool prev_swapped_ = false;
+  float heaviest_ = 0, gravity_ = 0;
+  std::array<unsigned, kVbdBufferCount> buffers_{};
+  std::string source_;  // the sweep's, for the model's kinds
+  std::vector<Kernel> kernels_;
+};
+
+// The kernels' sources (gpu_vbd_shaders.cpp).
+std::string vbd_begin_shader();
+std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual);
+std::string vbd_decide_shader();
+std::string vbd_accelerate_shader();
+std::string vbd_health_shader();
+
+}  // namespace maille::gpu
