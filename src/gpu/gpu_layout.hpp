@@ -54,8 +54,8 @@ namespace maille::gpu {
   X(26, VbdPrevious2, float, vbd_prev2, "m, 3 per point: the sweep's before (acceleration)") \
   X(27, VbdOrder, uint, vbd_order, "free points by colour, increasing in each colour")       \
   X(28, VbdSolver, uint, vbd_state,                                                          \
-    "[0] accelerating, [1] this sweep's largest |g| (float bits), [2] the last sweep's, "    \
-    "[3] acceleration resets, [4] the residual's largest |g| (float bits)")
+    "[0] accelerating, [2] the last sweep's merit (float bits), [3] acceleration resets, "   \
+    "[4] the residual's largest |g| (float bits); [8 + s] work group s's merit in a sweep")
 
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
@@ -88,10 +88,11 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 // coordinates' bits mapped to an order-preserving uint (negative floats flipped whole, positive
 // ones with their sign bit set); the grid kernel turns it into an origin, a cell size and
 // dimensions, and resets it for the next step.
-#define MAILLE_GPU_SELF_GRID(F)                                                                 \
-  F(uint, lo_x)                                                                                 \
-  F(uint, lo_y)                                                                                 \
-  F(uint, lo_z) F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) \
+#define MAILLE_GPU_SELF_GRID(F)                                                   \
+  F(uint, lo_x)                                                                   \
+  F(uint, lo_y)                                                                   \
+  F(uint, lo_z)                                                                   \
+  F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) \
       F(float, origin_z) F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
 
 inline constexpr std::uint32_t kEndIsB = 0x80000000u;

@@ -182,8 +182,12 @@ void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
     }
   upload(buffers_[unsigned(Buf::vbd_vlast) - unsigned(Buf::vbd_xn)], last);
   upload(buffers_[unsigned(Buf::vbd_order) - unsigned(Buf::vbd_xn)], colours_.order);
+  // Each colour's dispatch writes one merit slot per work group, after the 8 solver words.
+  slot_.assign(colours_.count() + 1, 0u);
+  for (std::uint32_t c = 0; c < colours_.count(); ++c)
+    slot_[c + 1] = slot_[c] + (colours_.row[c + 1] - colours_.row[c] + kGroupSize - 1) / kGroupSize;
   upload(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)],
-         std::vector<std::uint32_t>(8, 0u));
+         std::vector<std::uint32_t>(8 + std::size_t(slot_.back()), 0u));
   prev_swapped_ = false;
   heaviest_ = 0;
   for (const std::uint32_t i : colours_.order)
@@ -234,10 +238,13 @@ DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings
   for (int k = 1; k <= settings.iterations; ++k) {
     for (std::uint32_t c = 0; c < colours_.count(); ++c) {
       sweep.set("u_first", colours_.row[c]);
+      sweep.set("u_slot", slot_[c]);
       sweep.run(colours_.row[c + 1] - colours_.row[c]);
     }
     if (!accelerating) continue;
     kernels_[decide].set("u_k", GLuint(k));
+    kernels_[decide].set("u_slots", slot_.back());
+    kernels_[decide].set("u_growth", float(kFallbackGrowth));
     kernels_[decide].run(1);
     // The CPU's recurrence (implicit_vbd.cpp), in double on the host.
     const Real r2 = Real(rho) * Real(rho);

@@ -31,6 +31,7 @@
 #include <string_view>
 #include <vector>
 
+#include "../integrators/implicit_vbd.hpp"
 #include "gpu_layout.hpp"
 #include "maille/backend.hpp"
 #include "maille/integrator.hpp"
@@ -41,9 +42,9 @@
 
 namespace maille::gpu {
 
-// The CPU solver's State memory (src/integrators/implicit_vbd.cpp): v at the last step's start,
-// 3 doubles per point, so that checkpoints resume and backends take over each other's runs.
-inline constexpr std::string_view kVbdMemory = "implicit_euler.vbd";
+// The CPU solver's State memory slot (kVbdMemory) and fallback factor (kFallbackGrowth).
+using maille::kFallbackGrowth;
+using maille::kVbdMemory;
 
 // More colours than this would mean as many dispatches per sweep (conditional links between
 // many points, all coloured as if active): such models are refused by name.
@@ -86,7 +87,8 @@ class GpuVbd {
 
   std::uint32_t points_ = 0;
   VbdColours colours_;
-  bool history_ = false;  // vbd_vlast holds v at the last step's start
+  std::vector<std::uint32_t> slot_;  // [colours + 1]: each colour's first merit slot
+  bool history_ = false;             // vbd_vlast holds v at the last step's start
   bool prev_swapped_ = false;
   float heaviest_ = 0, gravity_ = 0;
   std::array<unsigned, kVbdBufferCount> buffers_{};

@@ -88,13 +88,14 @@ std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual) {
   s += "#define GROUP " + std::to_string(kGroupSize) + "u\n";
   s += R"(
 uniform uint u_first;  // the colour's first entry in vbd_order
+uniform uint u_slot;   // the colour's first work group among the sweep's (vbd_state[8 + slot])
 uniform float u_h;     // s
 uniform float u_drag;  // 1/s
-shared float s_max[GROUP];
+shared float s_sum[GROUP];
 void main() {
   uint t = gl_LocalInvocationID.x;
   uint k = gl_GlobalInvocationID.x;
-  float merit = 0.0;
+  float merit = 0.0;  // the residual pass: |g|; a sweep: g . H^-1 g (the CPU's merit)
   if (k < u_count) {
     uint i = vbd_order[u_first + k];
     float inv_h = 1.0 / u_h;
@@ -122,8 +123,9 @@ void main() {
         H += link_block(l.kind, xi, xj, vi, vj, p, inv_h);
       }
     }
+#if RESIDUAL
     merit = length(g);
-#if !RESIDUAL
+#else
     float det = determinant(H);
     vec3 dx = abs(det) > 0.0 ? inverse(H) * g : g;
     // Non-finite: left to the health check (the CPU does the same).
@@ -131,40 +133,52 @@ void main() {
     // eps |x| / h (2e-5 m/s at 3 m and 1/120 s), which the explicit wind, a function of v, then
     // amplifies; the increment keeps v's own relative precision.
     if (!(any(isnan(dx)) || any(isinf(dx)))) {
+      merit = dot(g, dx);
       STORE3(x, i, xi + dx);
       STORE3(v, i, vi + dx * inv_h);
     }
 #endif
   }
-  // The largest |g| of the work group, then of the dispatch (non-negative floats order as
-  // their bits do).
-  s_max[t] = merit;
+  // The residual: the largest |g| of the work group, then of the dispatch (non-negative floats
+  // order as their bits do). A sweep: the work group's sum of g . H^-1 g, into its own slot
+  // (the decide pass adds the slots in order: the same sum on every run).
+  s_sum[t] = merit;
   barrier();
   for (uint half_ = GROUP / 2u; half_ > 0u; half_ >>= 1u) {
-    if (t < half_) s_max[t] = max(s_max[t], s_max[t + half_]);
+    if (t < half_) s_sum[t] = RESIDUAL != 0 ? max(s_sum[t], s_sum[t + half_])
+                                            : s_sum[t] + s_sum[t + half_];
     barrier();
   }
-  if (t == 0u) atomicMax(vbd_state[RESIDUAL != 0 ? 4 : 1], floatBitsToUint(s_max[0]));
+  if (t == 0u) {
+#if RESIDUAL
+    atomicMax(vbd_state[4], floatBitsToUint(s_sum[0]));
+#else
+    vbd_state[8u + u_slot + gl_WorkGroupID.x] = floatBitsToUint(s_sum[0]);
+#endif
+  }
 }
 )";
   return s;
 }
 
-// The CPU's fallback: from the third sweep on, a sweep whose largest |g| rose turns the
-// acceleration off for the rest of the step.
+// The CPU's fallback (implicit_vbd.cpp, kFallbackGrowth): from the third sweep on, a sweep
+// whose merit (the sum of g . H^-1 g, the work groups' slots added in order) more than doubled
+// turns the acceleration off for the rest of the step.
 std::string vbd_decide_shader() {
   std::string s = kernel_head({Buf::vbd_state});
   s += R"(
-uniform uint u_k;  // the sweep just run, from 1
+uniform uint u_k;      // the sweep just run, from 1
+uniform uint u_slots;  // the sweep's work groups
+uniform float u_growth;
 void main() {
   if (gl_GlobalInvocationID.x != 0u) return;
-  float merit = uintBitsToFloat(vbd_state[1]);
-  if (vbd_state[0] != 0u && u_k >= 3u && merit > uintBitsToFloat(vbd_state[2])) {
+  float merit = 0.0;
+  for (uint s_ = 0u; s_ < u_slots; ++s_) merit += uintBitsToFloat(vbd_state[8u + s_]);
+  if (vbd_state[0] != 0u && u_k >= 3u && merit > u_growth * uintBitsToFloat(vbd_state[2])) {
     vbd_state[0] = 0u;
     vbd_state[3] += 1u;
   }
-  vbd_state[2] = vbd_state[1];
-  vbd_state[1] = 0u;
+  vbd_state[2] = floatBitsToUint(merit);
 }
 )";
   return s;

@@ -29,7 +29,7 @@ std::span<const StageKey<ImplicitSettings>> implicit_keys() {
           "acceleration", Bound::non_negative, 0, Real(0.999999),
           {.methods = "vbd",
            .doc = "Chebyshev factor ρ (0: off); turned off for the rest of a step when a sweep's "
-                  "residual rises"}),
+                  "merit (sum of g·H⁻¹g) more than doubles"}),
   };
   return keys;
 }

@@ -52,15 +52,6 @@ constexpr Real kMarginFactor = Real(2.5);
 // The smallest margin, m: a resting model (no motion) would otherwise find its candidates again
 // at the first sub-micron move.
 constexpr Real kMinMargin = Real(1e-4);
-// The fallback: a sweep whose merit (sweep()) grows by more than this factor turns the
-// acceleration off for the rest of the step. Chebyshev's extrapolation is not monotone: on
-// cloth_on_sphere at 1/60 s the merit rises by less than 2 in most accelerated sweeps of a
-// converging step, and a test at 1 (any rise) turned the acceleration off in most steps (10
-// sweeps: 30 % stretch against 21 %; factors 2, 4 and none gave the same 21 %).
-constexpr Real kFallbackGrowth = 2;
-// State memory: v_n of the last step's start (the adaptive guess needs last step's
-// acceleration); in the State so that checkpoints resume bit for bit.
-const std::string kMemory = "implicit_euler.vbd";
 
 }  // namespace
 
@@ -410,7 +401,7 @@ void VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const 
 }
 
 void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
-  std::vector<double>& last = s.memory(kMemory);  // v at the last step's start
+  std::vector<double>& last = s.memory(std::string(kVbdMemory));  // v at the last step's start
   const bool history = last.size() == 3 * points_;
   Vec3* x = s.x().data();
   Vec3* v = s.v().data();
