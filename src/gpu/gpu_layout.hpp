@@ -44,9 +44,23 @@ namespace maille::gpu {
   X(20, SelfGrids, SelfGrid, sc_grid, "[0]: this step's bounding box and grid")                \
   X(21, SelfContacts, uint, sc_contacts, "n_c: contacts of each particle in the last pass")
 
+// The structured layout's buffers (gpu_structured.hpp), after the self-collision's: owned and
+// bound by the backend's GpuStructured. Grid points: the points of the grids it runs, grid by
+// grid.
+#define MAILLE_GPU_GRID_BUFFERS(X)                                                           \
+  X(22, GridPoints, uint, grid_point,                                                        \
+    "per grid point: bit f its link of family f as first end, bit 6 + f as second end; "     \
+    "bits 12+: its other links before them")                                                 \
+  X(23, GridOtherOffsets, uint, grid_other_offset,                                           \
+    "grid points + 1: grid point k's other links are [o[k], o[k+1])")                        \
+  X(24, GridOthers, Adjacent, grid_other, "the grid points' links the stencil does not run") \
+  X(25, GridLinkSets, uint, grid_link_set,                                                   \
+    "6 per grid point: the parameter set of its link of family f as first end")
+
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
+      MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -54,10 +68,14 @@ enum class Buf : unsigned {
 // kSelfBufferCount.
 inline constexpr unsigned kBufferCount = 0 MAILLE_GPU_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kSelfBufferCount = 0 MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+inline constexpr unsigned kGridBufferCount = 0 MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 #undef MAILLE_GPU_COUNT_BUFFER
 static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::sc_particle) == kBufferCount &&
-              unsigned(Buf::sc_contacts) == kBufferCount + kSelfBufferCount - 1);
+              unsigned(Buf::sc_contacts) == kBufferCount + kSelfBufferCount - 1 &&
+              unsigned(Buf::grid_point) == kBufferCount + kSelfBufferCount &&
+              unsigned(Buf::grid_link_set) ==
+                  kBufferCount + kSelfBufferCount + kGridBufferCount - 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -117,6 +135,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
            "[]; };  // " doc "\n";
     MAILLE_GPU_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;
