@@ -21,7 +21,7 @@ namespace {
 constexpr std::uint32_t kPerLink = 0xffffffffu;        // a family whose links' parameters differ
 constexpr std::uint32_t kMostBefore = (1u << 20) - 1;  // other links before the stencil (bits 12+)
 constexpr std::size_t kFamilies = detail::StructuredGrid::kFamilies.size();
-enum Uniform : unsigned {
+enum Uniform : unsigned {  // GpuStructured::loc_ has one int each
   u_count,
   u_first,
   u_nx,
@@ -30,10 +30,12 @@ enum Uniform : unsigned {
   u_gravity,
   u_drag,
   u_wind,
+  u_others,
   uniforms
 };
-constexpr const char* kUniformNames[uniforms] = {"u_count",      "u_first",   "u_nx",   "u_local",
-                                                 "u_family_set", "u_gravity", "u_drag", "u_wind"};
+constexpr const char* kUniformNames[uniforms] = {"u_count", "u_first",      "u_nx",
+                                                 "u_local", "u_family_set", "u_gravity",
+                                                 "u_drag",  "u_wind",       "u_others"};
 
 // The kernel: one invocation per grid point. The stencil's links are visited in the general
 // path's order (gpu_structured.hpp): bit 6 + f is the link of family f reaching this point as
@@ -58,37 +60,19 @@ uniform uint u_family_set[6];  // each family's parameter set, or 0xffffffff: pe
 uniform vec3 u_gravity;        // m/s^2
 uniform float u_drag;          // 1/s
 uniform bool u_wind;           // face forces to sum
+uniform bool u_others;         // some grid point has links off the stencil
 vec4 params_of(uint s) {
   return vec4(link_params[4u * s], link_params[4u * s + 1u], link_params[4u * s + 2u],
               link_params[4u * s + 3u]);
-}
-// The families' (di, dj) of structured_grid.hpp as index offsets di + dj nx (all positive).
-uint family_offset(uint f) {
-  switch (f) {
-    case 0u: return 1u;
-    case 1u: return u_nx;
-    case 2u: return u_nx + 1u;
-    case 3u: return u_nx - 1u;
-    case 4u: return 2u;
-  }
-  return 2u * u_nx;
 }
 // The parameter set of the family-f link whose first end is grid point k.
 uint family_set(uint f, uint k) {
   uint s = u_family_set[f];
   return s != 0xffffffffu ? s : grid_link_set[6u * k + f];
 }
-// Point i (grid point k) as the first end of its family-f link: the law's force on a.
-vec3 as_first(uint f, uint i, uint k, vec3 xi, vec3 vi) {
-  uint j = i + family_offset(f);
-  return stencil_force(xi, LOAD3(x, j), vi, LOAD3(v, j), params_of(family_set(f, k)));
-}
-// As its second end: the opposite of the law's force on the first end.
-vec3 as_second(uint f, uint i, uint k, vec3 xi, vec3 vi) {
-  uint o = family_offset(f);
-  uint j = i - o;
-  return -stencil_force(LOAD3(x, j), xi, LOAD3(v, j), vi, params_of(family_set(f, k - o)));
-}
+// The stencil's bits in storage order: second end from rows j - 2 and j - 1, then row j's
+// families by column (bit 6 + f: second end of family f; bit f: first end).
+const uint kOrder[12] = uint[12](11u, 7u, 8u, 9u, 6u, 0u, 1u, 2u, 3u, 10u, 4u, 5u);
 // A link off the stencil, as the general kernel runs it.
 vec3 other_link(uint e, vec3 xi, vec3 vi) {
   Adjacent l = grid_other[e];
@@ -106,22 +90,27 @@ void main() {
   vec3 vi = LOAD3(v, i);
   vec3 fi = vec3(0.0);
   uint links = grid_point[k];
-  uint e = grid_other_offset[k], end = grid_other_offset[k + 1u];
+  uint e = 0u, end = 0u;  // a plain flag reads no offsets
+  if (u_others) e = grid_other_offset[k], end = grid_other_offset[k + 1u];
   uint before = e + (links >> 12);
   for (; e < before; ++e) fi += other_link(e, xi, vi);
-  // Storage order: second end of rows j - 2 and j - 1, then row j's families by column.
-  if ((links & 0x800u) != 0u) fi += as_second(5u, i, k, xi, vi);
-  if ((links & 0x080u) != 0u) fi += as_second(1u, i, k, xi, vi);
-  if ((links & 0x100u) != 0u) fi += as_second(2u, i, k, xi, vi);
-  if ((links & 0x200u) != 0u) fi += as_second(3u, i, k, xi, vi);
-  if ((links & 0x040u) != 0u) fi += as_second(0u, i, k, xi, vi);
-  if ((links & 0x001u) != 0u) fi += as_first(0u, i, k, xi, vi);
-  if ((links & 0x002u) != 0u) fi += as_first(1u, i, k, xi, vi);
-  if ((links & 0x004u) != 0u) fi += as_first(2u, i, k, xi, vi);
-  if ((links & 0x008u) != 0u) fi += as_first(3u, i, k, xi, vi);
-  if ((links & 0x400u) != 0u) fi += as_second(4u, i, k, xi, vi);
-  if ((links & 0x010u) != 0u) fi += as_first(4u, i, k, xi, vi);
-  if ((links & 0x020u) != 0u) fi += as_first(5u, i, k, xi, vi);
+  // The families' (di, dj) of structured_grid.hpp as index offsets di + dj nx (all positive).
+  uint offset[6] = uint[6](1u, u_nx, u_nx + 1u, u_nx - 1u, 2u, 2u * u_nx);
+  for (uint n = 0u; n < 12u; ++n) {
+    uint bit = kOrder[n];
+    if ((links & (1u << bit)) == 0u) continue;
+    bool second = bit >= 6u;
+    uint family = second ? bit - 6u : bit;
+    uint o = offset[family];
+    uint j = second ? i - o : i + o;
+    vec3 xj = LOAD3(x, j);
+    vec3 vj = LOAD3(v, j);
+    vec4 p = params_of(family_set(family, second ? k - o : k));
+    // The law's force on the first end; the second end gets its opposite.
+    vec3 fa = stencil_force(second ? xj : xi, second ? xi : xj, second ? vj : vi,
+                            second ? vi : vj, p);
+    fi += second ? -fa : fa;
+  }
   for (; e < end; ++e) fi += other_link(e, xi, vi);
   if (u_wind) {
     uint face_end = face_offset[i + 1u];
@@ -156,6 +145,7 @@ struct GpuStructured::Grid {
   PointGrid points;
   std::uint32_t local = 0;  // its first point in the grid buffers
   std::array<std::uint32_t, kFamilies> family_set{};
+  bool others = false;  // some point has links off the stencil
 };
 
 GridLayout grid_layout_from_environment() {
@@ -182,6 +172,7 @@ std::string_view to_string(GridLayout layout) {
 std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSets& sets,
                                                    const std::vector<KindLaw>& kinds,
                                                    GridLayout layout) {
+  static_assert(sizeof(GpuStructured::loc_) / sizeof(int) == uniforms);
   if (layout == GridLayout::general) return nullptr;
   const auto& pools = m.links.pools();
   // The stencil runs one pool's structured links: the first pool that has any.
@@ -281,6 +272,8 @@ std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSet
     word[k] |= before[k] << 12;
     offset[k + 1] += offset[k];
   }
+  for (Grid& g : grids)
+    g.others = offset[std::size_t(g.local) + g.points.nx * g.points.ny] > offset[g.local];
   std::vector<Adjacent> others(offset[local]);
   std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
   each_other([&](std::size_t k, const Adjacent& e, bool) { others[fill[k]++] = e; });
@@ -336,6 +329,7 @@ void GpuStructured::evaluate(const Vec3& g, float drag, bool wind) {
     glProgramUniform1ui(program_, loc_[u_first], grid.points.first);
     glProgramUniform1ui(program_, loc_[u_nx], grid.points.nx);
     glProgramUniform1ui(program_, loc_[u_local], grid.local);
+    glProgramUniform1i(program_, loc_[u_others], grid.others);
     glProgramUniform1uiv(program_, loc_[u_family_set], GLsizei(kFamilies), grid.family_set.data());
     glDispatchCompute((n + kGroupSize - 1) / kGroupSize, 1, 1);
   }

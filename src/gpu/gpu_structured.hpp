@@ -73,7 +73,7 @@ class GpuStructured {
   std::vector<Range> general_;
   unsigned program_ = 0;
   unsigned buffers_[4] = {};
-  int loc_[8] = {};
+  int loc_[9] = {};  // the kernel's uniforms (gpu_structured.cpp: Uniform)
 };
 
 }  // namespace maille::gpu
