@@ -342,7 +342,7 @@ class GpuBackend final : public Backend {
       forces_ = Kernel("gpu forces", source);
       forces_source_ = source;
     }
-    structured_ = GpuStructured::make(m, sets, adj.kinds, layout_);
+    structured_ = GpuStructured::make(m, sets, adj.kinds, layout_, structured_.get());
 
     wind_ = m.fields.wind.active() && !m.surface.triangles.empty();
     faces_count_ = wind_ ? std::uint32_t(m.surface.triangles.size()) : 0;

@@ -171,7 +171,7 @@ std::string_view to_string(GridLayout layout) {
 
 std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSets& sets,
                                                    const std::vector<KindLaw>& kinds,
-                                                   GridLayout layout) {
+                                                   GridLayout layout, GpuStructured* previous) {
   static_assert(sizeof(GpuStructured::loc_) / sizeof(int) == uniforms);
   if (layout == GridLayout::general) return nullptr;
   const auto& pools = m.links.pools();
@@ -287,14 +287,24 @@ std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSet
   if (m.points.size() > next)
     out->general_.push_back({next, std::uint32_t(m.points.size()) - next});
 
-  glCreateBuffers(4, out->buffers_);
+  // A reload (an edit) keeps the previous load's buffers and, for the same source, its program:
+  // the viewer's sliders reload the device between steps.
+  if (previous && previous->buffers_[0]) {
+    std::swap(out->buffers_, previous->buffers_);
+  } else {
+    glCreateBuffers(4, out->buffers_);
+  }
   upload(out->buffers_[0], word);
   upload(out->buffers_[1], offset);
   upload(out->buffers_[2], others);
   upload(out->buffers_[3], link_set);
-  out->program_ = render::link_compute_program(
-      "gpu structured forces",
-      structured_shader(kinds[std::size_t(sets.pool_kind[stencil])], kinds));
+  out->source_ = structured_shader(kinds[std::size_t(sets.pool_kind[stencil])], kinds);
+  if (previous && previous->program_ && previous->source_ == out->source_) {
+    std::swap(out->program_, previous->program_);
+    std::copy(std::begin(previous->loc_), std::end(previous->loc_), std::begin(out->loc_));
+    return out;
+  }
+  out->program_ = render::link_compute_program("gpu structured forces", out->source_);
   for (unsigned u = 0; u < uniforms; ++u)
     out->loc_[u] = glGetUniformLocation(out->program_, kUniformNames[u]);
   return out;
@@ -302,7 +312,7 @@ std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSet
 
 GpuStructured::~GpuStructured() {
   if (program_) glDeleteProgram(program_);
-  glDeleteBuffers(4, buffers_);
+  if (buffers_[0]) glDeleteBuffers(4, buffers_);  // none after forget(): no GL call
 }
 
 void GpuStructured::forget() {

@@ -51,9 +51,12 @@ class GpuStructured {
     std::uint32_t first = 0, count = 0;
   };
   // The structured layout for m, or null when it takes no grid (layout general, no grid links,
-  // or, automatic, no grid of kStructuredMinPoints). The step's context is current.
+  // or, automatic, no grid of kStructuredMinPoints). The step's context is current. `previous`
+  // (the last load's, or null) gives up its buffers and, when the kernel's source is the same,
+  // its program.
   static std::unique_ptr<GpuStructured> make(const Model& m, const LinkSets& sets,
-                                             const std::vector<KindLaw>& kinds, GridLayout layout);
+                                             const std::vector<KindLaw>& kinds, GridLayout layout,
+                                             GpuStructured* previous);
   ~GpuStructured();
   GpuStructured(const GpuStructured&) = delete;
   GpuStructured& operator=(const GpuStructured&) = delete;
@@ -71,6 +74,7 @@ class GpuStructured {
   GpuStructured() = default;
   std::vector<Grid> grids_;
   std::vector<Range> general_;
+  std::string source_;  // the kernel's
   unsigned program_ = 0;
   unsigned buffers_[4] = {};
   int loc_[9] = {};  // the kernel's uniforms (gpu_structured.cpp: Uniform)
