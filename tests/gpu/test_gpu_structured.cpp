@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 
 #include "gpu/gpu_test_support.hpp"
@@ -288,6 +289,65 @@ TEST_F(GpuStructured, HoledFlagRunsAgree) {
   SimulationSettings settings;
   settings.step = 2e-4;
   expect_runs_agree(holed_flag(), settings, 300);
+}
+
+// Every example with a grid that the GPU runs (obstacles and broad-phase contacts are refused):
+// 30 steps, structured within the float-storage drift of general (bit-identical on llvmpipe).
+TEST_F(GpuStructured, EveryGridExampleTheGpuRuns) {
+  int ran = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(MAILLE_SOURCE_DIR "/examples")) {
+    if (entry.path().extension() != ".toml") continue;
+    const Scene scene = test::example_scene(entry.path().stem().string());
+    if (point_grids(scene.model).empty() || scene.model.points.size() > 100000) continue;
+    SimulationSettings settings = scene.settings;
+    settings.backend = "gpu";
+    try {
+      Simulator probe(scene.model, settings);
+    } catch (const std::invalid_argument&) {
+      continue;  // refused by name (test_gpu_runs.cpp checks refusals)
+    }
+    const std::uint64_t steps = 30;
+    std::vector<Vec3> structured, general;
+    {
+      Layout l("structured");
+      structured = run(scene.model, scene.settings, "gpu", steps);
+    }
+    {
+      Layout l("general");
+      general = run(scene.model, scene.settings, "gpu", steps);
+    }
+    const auto cpu = run(scene.model, scene.settings, "cpu", steps);
+    const auto rounded = run(scene.model, scene.settings, "cpu", steps, true);
+    const double between = test::max_distance(structured, general);
+    const double drift = test::max_distance(cpu, rounded);
+    EXPECT_LE(between, drift) << entry.path().filename();
+    std::printf("%s: structured - general %.3g m (float-storage drift %.3g m)\n",
+                entry.path().stem().string().c_str(), between, drift);
+    ++ran;
+  }
+  EXPECT_GE(ran, 5);
+}
+
+// Two grids with a point between them: one dispatch each, the point by the general kernel.
+TEST_F(GpuStructured, TwoGridsAndAPointBetween) {
+  Model m = flag(20, 16);
+  m.points.add(PointKind::free, Real(0.01), {Real(-0.3), Real(0.5), 0});
+  FlagParams second;
+  second.nx = 24;
+  second.ny = 12;
+  second.origin = {0, 0, 1};
+  second.material = {150, 0.01};
+  build_flag(m, second, "second");
+  const auto& x = m.points.initial_position;
+  const std::uint32_t lone = 20 * 16;
+  m.links.pool<Spring>().add({lone, 5}, {40, norm(x[5] - x[lone])});
+  m.links.pool<Spring>().add({lone, lone + 30}, {40, norm(x[lone + 30] - x[lone])});
+  const State s = crumpled(m, 5);
+  expect_layouts_agree(m, s);
+  const auto grids = gpu_forces(m, s, "structured").grids;
+  ASSERT_EQ(grids.size(), 2u);
+  EXPECT_EQ(grids[1].first, lone + 1);
+  EXPECT_EQ(grids[1].nx, 24u);
 }
 
 // Edits between steps reload the device: one link's stiffness and another's rest length (their
