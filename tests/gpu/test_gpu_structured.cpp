@@ -56,6 +56,16 @@ class Layout {
   bool had_ = false;
 };
 
+// Mesa's llvmpipe, where the two layouts are measured bit-identical (a GPU's compiler may
+// contract differently in the two kernels: the bound then).
+bool on_llvmpipe() {
+  static const bool yes = [] {
+    auto b = BackendRegistry::global().find("gpu")->make(BackendOptions{});
+    return b->describe().find("llvmpipe") != std::string::npos;
+  }();
+  return yes;
+}
+
 struct Forces {
   State state;
   std::vector<gpu::StructuredGridInfo> grids;  // those run structured
@@ -184,7 +194,10 @@ TEST_F(GpuStructured, FlagForcesMatchTheGeneralLayoutAndTheCpu) {
   Model m = flag(40, 30);
   m.fields.air_drag = Real(0.2);
   const State s = crumpled(m, 1);
-  EXPECT_EQ(expect_layouts_agree(m, s), s.size()) << "llvmpipe: bit-identical expected";
+  const std::size_t identical = expect_layouts_agree(m, s);
+  if (on_llvmpipe()) {
+    EXPECT_EQ(identical, s.size()) << "llvmpipe: bit-identical expected";
+  }
   expect_near_the_cpu(m, s, gpu_forces(m, s, "structured").state);
 }
 
@@ -242,7 +255,10 @@ TEST_F(GpuStructured, HolesPinnedPointsAndOtherLinks) {
   const Model m = holed_flag();
   ASSERT_EQ(m.links.pools().front()->keyword(), "spring");
   const State s = crumpled(m, 3);
-  EXPECT_EQ(expect_layouts_agree(m, s), s.size()) << "llvmpipe: bit-identical expected";
+  const std::size_t identical = expect_layouts_agree(m, s);
+  if (on_llvmpipe()) {
+    EXPECT_EQ(identical, s.size()) << "llvmpipe: bit-identical expected";
+  }
   expect_near_the_cpu(m, s, gpu_forces(m, s, "structured").state);
 }
 
@@ -393,7 +409,10 @@ TEST_F(GpuStructured, ParameterAndModelEditsReloadTheDevice) {
   const double between = test::max_distance(structured, general);
   std::printf("after edits: structured - general %.3g m, structured - cpu %.3g m\n", between,
               test::max_distance(structured, cpu));
-  EXPECT_EQ(between, 0.0) << "llvmpipe: bit-identical expected";
+  if (on_llvmpipe()) {
+    EXPECT_EQ(between, 0.0) << "llvmpipe: bit-identical expected";
+  }
+  EXPECT_LE(between, 1e-5);
   // 160 steps of float storage on a 1 m flag: a few 1e-7 m; 1e-5 m catches a wrong link.
   EXPECT_LE(test::max_distance(structured, cpu), 1e-5);
 }
