@@ -21,6 +21,7 @@ namespace {
 constexpr std::uint32_t kPerLink = 0xffffffffu;        // a family whose links' parameters differ
 constexpr std::uint32_t kMostBefore = (1u << 20) - 1;  // other links before the stencil (bits 12+)
 constexpr std::size_t kFamilies = detail::StructuredGrid::kFamilies.size();
+static_assert(kFamilies == 6, "the word per grid point holds 2 x 6 bits, the kernel 12 calls");
 enum Uniform : unsigned {  // GpuStructured::loc_ has one int each
   u_count,
   u_first,
@@ -36,6 +37,33 @@ enum Uniform : unsigned {  // GpuStructured::loc_ has one int each
 constexpr const char* kUniformNames[uniforms] = {"u_count", "u_first",      "u_nx",
                                                  "u_local", "u_family_set", "u_gravity",
                                                  "u_drag",  "u_wind",       "u_others"};
+
+// The stencil as GLSL constants, from the CPU's family table: kDi, kDj the families' (di, dj)
+// (the index offset di + dj nx is positive), kOrder the 12 bits in the storage order of
+// structured_grid.hpp: a point's links sorted by the row of their first end, then family, then
+// the column of their first end. Bit f: the family-f link leaving the point, bit 6 + f: the one
+// reaching it. (A loop over constant tables: unrolled into 12 copies of the law, the kernel ran
+// 20 to 30 % slower on llvmpipe.)
+std::string stencil_tables() {
+  struct Call {
+    std::array<int, 3> key;  // row of the first end (relative), family, its column (relative)
+    unsigned bit;
+  };
+  std::vector<Call> calls;
+  std::string di = "const int kDi[6] = int[6](", dj = "const int kDj[6] = int[6](";
+  for (std::size_t f = 0; f < kFamilies; ++f) {
+    const auto [a, b] = detail::StructuredGrid::kFamilies[f];
+    calls.push_back({{0, int(f), 0}, unsigned(f)});
+    calls.push_back({{-b, int(f), -a}, unsigned(f) + 6u});
+    di += std::to_string(a) + (f + 1 < kFamilies ? ", " : ");\n");
+    dj += std::to_string(b) + (f + 1 < kFamilies ? ", " : ");\n");
+  }
+  std::sort(calls.begin(), calls.end(), [](const Call& p, const Call& q) { return p.key < q.key; });
+  std::string order = "const uint kOrder[12] = uint[12](";
+  for (std::size_t n = 0; n < calls.size(); ++n)
+    order += std::to_string(calls[n].bit) + (n + 1 < calls.size() ? "u, " : "u);\n");
+  return di + dj + order;
+}
 
 // The kernel: one invocation per grid point. The stencil's links are visited in the general
 // path's order (gpu_structured.hpp): bit 6 + f is the link of family f reaching this point as
@@ -70,9 +98,19 @@ uint family_set(uint f, uint k) {
   uint s = u_family_set[f];
   return s != 0xffffffffu ? s : grid_link_set[6u * k + f];
 }
-// The stencil's bits in storage order: second end from rows j - 2 and j - 1, then row j's
-// families by column (bit 6 + f: second end of family f; bit f: first end).
-const uint kOrder[12] = uint[12](11u, 7u, 8u, 9u, 6u, 0u, 1u, 2u, 3u, 10u, 4u, 5u);
+// Point i (grid point k) and its stencil link of family f at index offset o (di + dj nx), as
+// the link's first end or its second: the law's force on the first end, its opposite on the
+// second (one call of the law, its ends selected: one copy of it in the kernel's loop).
+vec3 stencil_link(uint f, uint o, bool second, uint i, uint k, vec3 xi, vec3 vi) {
+  uint j = second ? i - o : i + o;
+  vec3 xj = LOAD3(x, j);
+  vec3 vj = LOAD3(v, j);
+  vec4 p = params_of(family_set(f, second ? k - o : k));
+  vec3 fa = stencil_force(second ? xj : xi, second ? xi : xj, second ? vj : vi, second ? vi : vj,
+                          p);
+  return second ? -fa : fa;
+}
+@TABLES@
 // A link off the stencil, as the general kernel runs it.
 vec3 other_link(uint e, vec3 xi, vec3 vi) {
   Adjacent l = grid_other[e];
@@ -94,24 +132,13 @@ void main() {
   if (u_others) e = grid_other_offset[k], end = grid_other_offset[k + 1u];
   uint before = e + (links >> 12);
   for (; e < before; ++e) fi += other_link(e, xi, vi);
-  // The families' (di, dj) of structured_grid.hpp as index offsets di + dj nx (all positive).
-  uint offset[6] = uint[6](1u, u_nx, u_nx + 1u, u_nx - 1u, 2u, 2u * u_nx);
   for (uint n = 0u; n < 12u; ++n) {
     uint bit = kOrder[n];
     if ((links & (1u << bit)) == 0u) continue;
     bool second = bit >= 6u;
-    uint family = second ? bit - 6u : bit;
-    uint o = offset[family];
-    uint j = second ? i - o : i + o;
-    vec3 xj = LOAD3(x, j);
-    vec3 vj = LOAD3(v, j);
-    vec4 p = params_of(family_set(family, second ? k - o : k));
-    // The law's force on the first end; the second end gets its opposite.
-    vec3 fa = stencil_force(second ? xj : xi, second ? xi : xj, second ? vj : vi,
-                            second ? vi : vj, p);
-    fi += second ? -fa : fa;
-  }
-  for (; e < end; ++e) fi += other_link(e, xi, vi);
+    uint f = second ? bit - 6u : bit;
+    fi += stencil_link(f, uint(kDi[f] + kDj[f] * int(u_nx)), second, i, k, xi, vi);
+  }  for (; e < end; ++e) fi += other_link(e, xi, vi);
   if (u_wind) {
     uint face_end = face_offset[i + 1u];
     for (uint q = face_offset[i]; q < face_end; ++q) fi += LOAD3(face_force, face_of_point[q]);
@@ -120,6 +147,7 @@ void main() {
   STORE3(f, i, fi);
 }
 )";
+  s.replace(s.find("@TABLES@"), 8, stencil_tables());
   return s;
 }
 
