@@ -410,7 +410,6 @@ class GpuBackend final : public Backend {
       }
       forces_.set("u_base", GLuint(0));  // a later caller of the kernel runs from point 0
       structured_->evaluate(m.fields.gravity, float(m.fields.air_drag), wind_);
-      bind();
     } else {
       forces_.set("u_base", GLuint(0));
       forces_.run(points_);

@@ -349,11 +349,12 @@ std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSet
   if (previous && previous->program_ && previous->source_ == out->source_) {
     std::swap(out->program_, previous->program_);
     std::copy(std::begin(previous->loc_), std::end(previous->loc_), std::begin(out->loc_));
-    return out;
+  } else {
+    out->program_ = render::link_compute_program("gpu structured forces", out->source_);
+    for (unsigned u = 0; u < uniforms; ++u)
+      out->loc_[u] = glGetUniformLocation(out->program_, kUniformNames[u]);
   }
-  out->program_ = render::link_compute_program("gpu structured forces", out->source_);
-  for (unsigned u = 0; u < uniforms; ++u)
-    out->loc_[u] = glGetUniformLocation(out->program_, kUniformNames[u]);
+  if (out->grids_.size() == 1) out->set_grid(out->grids_[0]);
   return out;
 }
 
@@ -381,16 +382,20 @@ void GpuStructured::evaluate(const Vec3& g, float drag, bool wind) {
   glProgramUniform1i(program_, loc_[u_wind], wind);
   glUseProgram(program_);
   for (const Grid& grid : grids_) {
+    if (grids_.size() > 1) set_grid(grid);  // one grid's were set at load
     const std::uint32_t n = grid.points.nx * grid.points.ny;
-    glProgramUniform1ui(program_, loc_[u_count], n);
-    glProgramUniform1ui(program_, loc_[u_first], grid.points.first);
-    glProgramUniform1ui(program_, loc_[u_nx], grid.points.nx);
-    glProgramUniform1ui(program_, loc_[u_local], grid.local);
-    glProgramUniform1i(program_, loc_[u_others], grid.others);
-    glProgramUniform1uiv(program_, loc_[u_family_set], GLsizei(kFamilies), grid.family_set.data());
     glDispatchCompute((n + kGroupSize - 1) / kGroupSize, 1, 1);
   }
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void GpuStructured::set_grid(const Grid& grid) {
+  glProgramUniform1ui(program_, loc_[u_count], grid.points.nx * grid.points.ny);
+  glProgramUniform1ui(program_, loc_[u_first], grid.points.first);
+  glProgramUniform1ui(program_, loc_[u_nx], grid.points.nx);
+  glProgramUniform1ui(program_, loc_[u_local], grid.local);
+  glProgramUniform1i(program_, loc_[u_others], grid.others);
+  glProgramUniform1uiv(program_, loc_[u_family_set], GLsizei(kFamilies), grid.family_set.data());
 }
 
 }  // namespace maille::gpu

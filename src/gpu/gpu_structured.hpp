@@ -72,6 +72,7 @@ class GpuStructured {
  private:
   struct Grid;
   GpuStructured() = default;
+  void set_grid(const Grid& grid);  // its uniforms
   std::vector<Grid> grids_;
   std::vector<Range> general_;
   std::string source_;  // the kernel's
