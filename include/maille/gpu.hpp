@@ -36,4 +36,25 @@ struct SelfCollisionDebug {
 // it runs no self-collision. Waits for the device.
 std::optional<SelfCollisionDebug> self_collision_debug(Backend& b);
 
+// How the GPU runs the links of grid cloth (the grids the CPU's structured kernel takes,
+// detail/structured_grid.hpp; docs/rendering.md, "The structured layout"):
+//   automatic   structured on the grids where it pays (at least kStructuredMinPoints points),
+//               general elsewhere
+//   structured  structured on every grid the CPU takes
+//   general     every link through the per-point adjacency
+// The environment variable MAILLE_GPU_LAYOUT = auto | structured | general chooses it for every
+// gpu backend the process starts (benchmarks, tests); unset: automatic. Another value is refused
+// when the backend starts, naming the variable.
+enum class GridLayout : std::uint8_t { automatic, structured, general };
+inline constexpr std::uint32_t kStructuredMinPoints = 4096;  // 64 x 64
+
+// A grid the backend's last load runs structured: its first point and its size.
+struct StructuredGridInfo {
+  std::uint32_t first = 0, nx = 0, ny = 0;
+};
+// The layout a "gpu" backend runs with, and the grids it ran structured at its last load (empty
+// for another backend, the general layout, or a model without grids).
+GridLayout grid_layout(Backend& b);
+std::vector<StructuredGridInfo> structured_grids(Backend& b);
+
 }  // namespace maille::gpu

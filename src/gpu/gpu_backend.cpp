@@ -2,7 +2,8 @@
 // (gpu_layout.hpp), and one step as four compute dispatches (shaders.hpp):
 //   drive      driven points' x and v at t (uploaded: the paths are evaluated on the host)
 //   faces      the wind's force per face (only with wind)
-//   forces     per point: links (gather over its adjacency), faces, gravity, drag
+//   forces     per point: links (gather over its adjacency), faces, gravity, drag; on grid
+//              cloth, per grid point by fixed offsets (the structured layout, gpu_structured.hpp)
 //   integrate  per point: kick and drift, the health flag
 // or, for implicit_euler with solver = "vbd", the faces and then the whole step by vertex block
 // descent (gpu_vbd.hpp) in place of forces and integrate.
@@ -27,6 +28,7 @@
 #include "gpu_layout.hpp"
 #include "gpu_self_collision.hpp"
 #include "gpu_stage.hpp"
+#include "gpu_structured.hpp"
 #include "gpu_vbd.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
@@ -61,7 +63,8 @@ struct Adjacency {
   std::vector<KindLaw> kinds;
 };
 
-Adjacency pack_links(const Model& m) {
+// `slot_sets` (when not null) receives each slot's parameter set (the structured layout's).
+Adjacency pack_links(const Model& m, LinkSets* slot_sets) {
   const std::uint32_t n = m.points.size();
   Adjacency out;
   out.offset.assign(n + 1, 0);
@@ -72,6 +75,10 @@ Adjacency pack_links(const Model& m) {
   std::vector<std::uint32_t> fill(out.offset.begin(), out.offset.end() - 1);
   std::unordered_map<std::array<float, 4>, std::uint32_t, ParamsHash> sets;
   for (const auto& pool : m.links.pools()) {
+    if (slot_sets) {
+      slot_sets->pool_base.push_back(slot_sets->set_of_slot.size());
+      slot_sets->pool_kind.push_back(pool->size() == 0 ? -1 : int(out.kinds.size()));
+    }
     if (pool->size() == 0) continue;
     const auto kind = static_cast<std::uint32_t>(out.kinds.size());
     const std::size_t fields = pool->fields().size();
@@ -83,6 +90,7 @@ Adjacency pack_links(const Model& m) {
       for (std::size_t f = 0; f < fields; ++f) p[f] = float(pool->param(id, f));
       auto [it, added] = sets.try_emplace(p, std::uint32_t(sets.size()));
       if (added) out.params.insert(out.params.end(), p.begin(), p.end());
+      if (slot_sets) slot_sets->set_of_slot.push_back(it->second);
       const auto [a, b] = ends[slot];
       out.entries[fill[a]++] = {b, kind, it->second};
       out.entries[fill[b]++] = {a, kind | kEndIsB, it->second};
@@ -236,6 +244,7 @@ class GpuBackend final : public Backend {
     GLint64 block = 0;
     glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     max_block_ = double(block);
+    layout_ = grid_layout_from_environment();
   }
 
   // Frees the buffers and programs when the context can be made current here; otherwise (it is
@@ -246,6 +255,7 @@ class GpuBackend final : public Backend {
     } catch (const std::exception&) {
       forces_.forget(), faces_.forget(), integrate_.forget(), drive_.forget();
       if (vbd_) vbd_->forget(), vbd_.reset();  // forgotten: its destructor makes no GL call
+      if (structured_) structured_->forget();
       // Their GL objects go with the context; their few host bytes are left (no GL call may
       // run without a current context).
       for (auto& st : stages_) static_cast<void>(st.release());
@@ -253,6 +263,7 @@ class GpuBackend final : public Backend {
     }
     stages_.clear();
     vbd_.reset();
+    structured_.reset();
     forces_ = {};
     faces_ = {};
     integrate_ = {};
@@ -268,6 +279,8 @@ class GpuBackend final : public Backend {
     const std::vector<std::string> devices = render::egl_devices();
     out += "devices      " + std::to_string(devices.size()) + " EGL device(s) (--gpu-device N)\n";
     for (const auto& d : devices) out += "             " + d + "\n";
+    out += "grid layout  " + std::string(to_string(layout_)) +
+           " (MAILLE_GPU_LAYOUT = auto | structured | general)\n";
     return out;
   }
 
@@ -331,7 +344,8 @@ class GpuBackend final : public Backend {
     upload(Buf::inv_mass, inv_mass);
     upload(Buf::mass, mass);
 
-    Adjacency adj = pack_links(m);
+    LinkSets sets;
+    Adjacency adj = pack_links(m, layout_ == GridLayout::general ? nullptr : &sets);
     upload(Buf::adjacency_offset, adj.offset);
     upload(Buf::adjacency, adj.entries);
     upload(Buf::link_params, adj.params);
@@ -345,6 +359,7 @@ class GpuBackend final : public Backend {
       forces_ = Kernel("gpu forces", source);
       forces_source_ = source;
     }
+    structured_ = GpuStructured::make(m, sets, adj.kinds, layout_, structured_.get());
 
     wind_ = m.fields.wind.active() && !m.surface.triangles.empty();
     faces_count_ = wind_ ? std::uint32_t(m.surface.triangles.size()) : 0;
@@ -389,7 +404,17 @@ class GpuBackend final : public Backend {
     forces_.set("u_gravity", m.fields.gravity);
     forces_.set("u_drag", float(m.fields.air_drag));
     forces_.set_flag("u_wind", wind_);
-    forces_.run(points_);
+    if (structured_) {  // the grids by stencil, the points between them by their adjacency
+      for (const GpuStructured::Range& r : structured_->general_ranges()) {
+        forces_.set("u_base", GLuint(r.first));
+        forces_.run(r.count);
+      }
+      forces_.set("u_base", GLuint(0));  // a later caller of the kernel runs from point 0
+      structured_->evaluate(m.fields.gravity, float(m.fields.air_drag), wind_);
+    } else {
+      forces_.set("u_base", GLuint(0));
+      forces_.run(points_);
+    }
     for (const auto& st : stages_) st->evaluate();  // Phase::forces stages: added into f
   }
 
@@ -483,6 +508,11 @@ class GpuBackend final : public Backend {
     return std::nullopt;
   }
 
+  GridLayout layout() const { return layout_; }
+  std::vector<StructuredGridInfo> structured_grids() const {
+    return structured_ ? structured_->grids() : std::vector<StructuredGridInfo>{};
+  }
+
  private:
   void current() {
     if (own_) own_->make_current();
@@ -525,6 +555,8 @@ class GpuBackend final : public Backend {
   bool vbd_stale_ = true;
   std::vector<KindLaw> kinds_;           // the model's kinds, as the kernels call them
   std::vector<StageMemory> vbd_memory_;  // the guess's memory the last load brought
+  GridLayout layout_ = GridLayout::automatic;
+  std::unique_ptr<GpuStructured> structured_;  // null: every point runs the general kernel
 };
 
 }  // namespace
@@ -541,6 +573,16 @@ void register_backend() {
 std::optional<SelfCollisionDebug> self_collision_debug(Backend& b) {
   auto* gpu = dynamic_cast<GpuBackend*>(&b);
   return gpu ? gpu->self_collision_debug() : std::nullopt;
+}
+
+GridLayout grid_layout(Backend& b) {
+  auto* gpu = dynamic_cast<GpuBackend*>(&b);
+  return gpu ? gpu->layout() : GridLayout::general;
+}
+
+std::vector<StructuredGridInfo> structured_grids(Backend& b) {
+  auto* gpu = dynamic_cast<GpuBackend*>(&b);
+  return gpu ? gpu->structured_grids() : std::vector<StructuredGridInfo>{};
 }
 
 }  // namespace maille::gpu

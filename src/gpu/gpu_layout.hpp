@@ -56,11 +56,23 @@ namespace maille::gpu {
   X(28, VbdSolver, uint, vbd_state,                                                          \
     "[0] accelerating, [2] the last sweep's merit (float bits), [3] acceleration resets, "   \
     "[4] the residual's largest |g| (float bits); [8 + s] work group s's merit in a sweep")
+// The structured layout's buffers (gpu_structured.hpp), after VBD's: owned and
+// bound by the backend's GpuStructured. Grid points: the points of the grids it runs, grid by
+// grid.
+#define MAILLE_GPU_GRID_BUFFERS(X)                                                           \
+  X(29, GridPoints, uint, grid_point,                                                        \
+    "per grid point: bit f its link of family f as first end, bit 6 + f as second end; "     \
+    "bits 12+: its other links before them")                                                 \
+  X(30, GridOtherOffsets, uint, grid_other_offset,                                           \
+    "grid points + 1: grid point k's other links are [o[k], o[k+1])")                        \
+  X(31, GridOthers, Adjacent, grid_other, "the grid points' links the stencil does not run") \
+  X(32, GridLinkSets, uint, grid_link_set,                                                   \
+    "6 per grid point: the parameter set of its link of family f as first end")
 
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
-      MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM)
+      MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -69,12 +81,16 @@ enum class Buf : unsigned {
 inline constexpr unsigned kBufferCount = 0 MAILLE_GPU_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kSelfBufferCount = 0 MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kVbdBufferCount = 0 MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+inline constexpr unsigned kGridBufferCount = 0 MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 #undef MAILLE_GPU_COUNT_BUFFER
 static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::sc_particle) == kBufferCount &&
               unsigned(Buf::sc_contacts) == kBufferCount + kSelfBufferCount - 1 &&
               unsigned(Buf::vbd_xn) == kBufferCount + kSelfBufferCount &&
-              unsigned(Buf::vbd_state) == kBufferCount + kSelfBufferCount + kVbdBufferCount - 1);
+              unsigned(Buf::vbd_state) == kBufferCount + kSelfBufferCount + kVbdBufferCount - 1 &&
+              unsigned(Buf::grid_point) == kBufferCount + kSelfBufferCount + kVbdBufferCount &&
+              unsigned(Buf::grid_link_set) ==
+                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount - 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -136,6 +152,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
     MAILLE_GPU_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;

@@ -51,6 +51,10 @@ std::string kernel_head(std::initializer_list<Buf> used) {
   return head(used);
 }
 
+std::string link_force_glsl(const std::vector<KindLaw>& kinds) {
+  return link_force_function(kinds);
+}
+
 std::string forces_shader(const std::vector<KindLaw>& kinds) {
   std::string s =
       head({Buf::x, Buf::v, Buf::f, Buf::inv_mass, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
@@ -61,9 +65,10 @@ std::string forces_shader(const std::vector<KindLaw>& kinds) {
 uniform vec3 u_gravity;  // m/s^2
 uniform float u_drag;    // 1/s
 uniform bool u_wind;     // face forces to sum
+uniform uint u_base;     // the first point of this dispatch (the structured layout runs grids)
 void main() {
-  uint i = gl_GlobalInvocationID.x;
-  if (i >= u_count) return;
+  if (gl_GlobalInvocationID.x >= u_count) return;
+  uint i = u_base + gl_GlobalInvocationID.x;
   vec3 xi = LOAD3(x, i);
   vec3 vi = LOAD3(v, i);
   vec3 fi = vec3(0.0);

@@ -24,8 +24,11 @@ struct KindLaw {
 // the model's kinds, each calling its shared law with its first `fields` parameters.
 std::string link_force_function(const std::vector<KindLaw>& kinds);
 // Per point: the forces of its links (a gather over its adjacency, the kind's shared law, no
-// atomics), of its faces (the wind, summed from FaceForces), gravity and drag, into f.
+// atomics), of its faces (the wind, summed from FaceForces), gravity and drag, into f. Runs the
+// points u_base .. u_base + u_count - 1 (the structured layout runs the grids' points).
 std::string forces_shader(const std::vector<KindLaw>& kinds);
+// link_force(kind, xa, xb, va, vb, p): the switch over the model's kinds (after the laws).
+std::string link_force_glsl(const std::vector<KindLaw>& kinds);
 // Per face: the wind's force on each corner (the shared pressure law and gust sines).
 std::string faces_shader();
 // Per point: v += kick f / m, x += drift v (free points), the health flag on non-finite values.
