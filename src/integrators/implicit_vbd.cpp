@@ -52,6 +52,9 @@ constexpr Real kMarginFactor = Real(2.5);
 // The smallest margin, m: a resting model (no motion) would otherwise find its candidates again
 // at the first sub-micron move.
 constexpr Real kMinMargin = Real(1e-4);
+// The State memory's key, made once (kVbdMemory is 18 characters: a std::string of it made per
+// step would allocate).
+const std::string kMemory{kVbdMemory};
 
 }  // namespace
 
@@ -401,7 +404,7 @@ void VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const 
 }
 
 void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
-  std::vector<double>& last = s.memory(std::string(kVbdMemory));  // v at the last step's start
+  std::vector<double>& last = s.memory(kMemory);  // v at the last step's start
   const bool history = last.size() == 3 * points_;
   Vec3* x = s.x().data();
   Vec3* v = s.v().data();

@@ -19,6 +19,7 @@
 #include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
 #include "self_collision_view.hpp"
+#include "self_contact_link.hpp"
 #include "triangle_contact_terms.hpp"
 #include "triangle_proximity.hpp"
 
@@ -575,10 +576,11 @@ class SelfCollisionStage final : public Stage {
   std::vector<std::string> warnings_;  // leak_warnings of the resolved settings
   std::array<int, 8> ids_{-1, -1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
-  // This step's contact candidates as conditional links (same law), for implicit schemes: the
-  // pairs within s + margin, margin covering the step's motion, so that a solve that moves
-  // points by a whole step (vertex block descent) still sees every pair that comes within s.
-  LinkPool<ConditionalSpringDamper> contacts_;
+  // This step's contact candidates as conditional links (same law) with their friction lagged
+  // (self_contact_link.hpp), for implicit schemes: the pairs within s + margin, margin covering
+  // the step's motion, so that a solve that moves points by a whole step (vertex block descent)
+  // still sees every pair that comes within s.
+  LinkPool<collision::FrictionalContact> contacts_;
   // primitive = "triangles": this step's point-triangle candidates within s + margin
   collision::TriangleContactTerms triangle_terms_;
   std::unique_ptr<SelfCollision> wide_;  // the same particles and exclusion, radius s + margin
@@ -637,8 +639,22 @@ class SelfCollisionStage final : public Stage {
     const Real target = std::max(needed, collision::kMinMarginFraction * st.radius);
     if (!wide_ || needed > wide_margin_ || wide_margin_ > 4 * target) build_wide(m, 2 * target);
     kept.assign(1, double(wide_margin_));
-    wide_->for_each_close_pair(s.x().data(), ctx.threads, [&](std::uint32_t a, std::uint32_t b) {
-      contacts_.add({a, b}, {st.stiffness, st.damping, st.radius, st.radius});
+    const Vec3* x = s.x().data();
+    const Vec3* v = s.v().data();
+    wide_->for_each_close_pair(x, ctx.threads, [&](std::uint32_t a, std::uint32_t b) {
+      collision::FrictionalContact::Params p;
+      p.normal = {st.stiffness, st.damping, st.radius, st.radius};
+      p.friction = st.friction;
+      // The friction's lag: the normal force and normal of the step's start, as apply() took
+      // them (the same expressions, so that the solvers' start-of-step forces match it).
+      if (st.friction > 0 && norm2(x[b] - x[a]) < st.radius * st.radius) {
+        const Vec3 fn =
+            law::contact_normal_law(x[a], x[b], v[a], v[b], st.stiffness, st.damping, st.radius);
+        const Vec3 d = x[b] - x[a];
+        p.lag_normal = d * (Real(1) / (norm(d) + Real(1e-30)));
+        p.lag_force = std::abs(dot(fn, p.lag_normal));
+      }
+      contacts_.add({a, b}, p);
     });
     contacts_.prepare(std::uint32_t(s.size()));
     triangle_terms_.set_law(st.radius, st.stiffness, st.damping);
