@@ -13,13 +13,13 @@
 //   scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,max_penetration_m,
 //   final_kinetic_J,max_residual,stable,sim_s
 //
-// solver: leapfrog (at 0.9 of the engine's stability estimate), matrix_free or vbd (sweeps in
-// `iterations`); max_stretch over structural links and samples (every 1/240 s, or every step
+// solver: leapfrog (at 0.9 of the engine's stability estimate), matrix_free (Newton iterations in
+// `iterations`, 0 for the default one) or vbd (sweeps in `iterations`); max_stretch over structural links and samples (every 1/240 s, or every step
 // when longer); max_penetration from the obstacle's depth gauge at the same samples;
 // max_residual the largest solver_residual (force imbalance over m g, implicit solvers).
-// Only the steps are timed, on one thread. --quick: the sphere at 32^2, the heap at 24^2, four
+// Only the steps are timed, on one thread. --quick: the sphere at 32^2, the heap at 24^2, five
 // settings, 0.5 s simulated. The full study: the sphere at 32^2, 64^2, 128^2 and the heap at
-// 32^2, 64^2 (at 128^2 leapfrog's limit makes it minutes), eight settings, 1 s.
+// 32^2, 64^2 (at 128^2 leapfrog's limit makes it minutes), nine settings, 1 s.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -40,7 +40,7 @@ namespace {
 struct Setting {
   std::string solver;  // leapfrog, matrix_free, vbd
   double step = 0;     // s; 0: leapfrog's own (0.9 of the stability estimate)
-  int iterations = 0;  // vbd sweeps
+  int iterations = 0;  // vbd: sweeps; matrix_free: Newton iterations (0: the default, 1)
 };
 
 std::string sphere_text(int n) {
@@ -88,7 +88,9 @@ Outcome run(const std::string& text, double spacing, const Setting& set, double 
   s.integrator = set.solver == "leapfrog" ? "leapfrog" : "implicit_euler";
   if (set.solver != "leapfrog") {
     s.implicit.solver = *parse_name<ImplicitSolver>(set.solver);
-    if (set.iterations > 0) s.implicit.iterations = set.iterations;
+    if (set.iterations > 0)
+      (set.solver == "vbd" ? s.implicit.iterations : s.implicit.newton_iterations) =
+          set.iterations;
   }
   s.step = set.step > 0 ? set.step : 1e-4;
   Outcome o;
@@ -128,12 +130,14 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
   if (o.quick) {
     settings = {{"leapfrog", 0, 0},
                 {"matrix_free", 1.0 / 60, 0},
+                {"matrix_free", 1.0 / 60, 3},
                 {"vbd", 1.0 / 60, 10},
                 {"vbd", 1.0 / 240, 10}};
   } else {
     settings.push_back({"leapfrog", 0, 0});
     for (const double h : {1.0 / 60, 1.0 / 120, 1.0 / 240})
       settings.push_back({"matrix_free", h, 0});
+    settings.push_back({"matrix_free", 1.0 / 60, 3});
     for (const double h : {1.0 / 60, 1.0 / 120, 1.0 / 240}) settings.push_back({"vbd", h, 10});
     settings.push_back({"vbd", 1.0 / 60, 30});
   }
