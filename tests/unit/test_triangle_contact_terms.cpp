@@ -51,7 +51,7 @@ struct Contacts {
   collision::TriangleContactTerms terms;
   Contacts()
       : set(all(s.m)), mask(s.m.points.size(), 1), prox(s.m, set, mask, std::size_t{1} << 20) {
-    terms.set_law(kRadius, kStiffness, kDamping);
+    terms.set_law(kRadius, kStiffness, kDamping, 0);
     prox.candidates(s.x.data(), s.v.data(), kRadius, Real(0.01), Real(0.05), nullptr, 1,
                     terms.storage());
   }
@@ -103,6 +103,49 @@ TEST(TriangleContactTerms, AreTheExplicitForceWithoutFriction) {
     const Real want = kStiffness * (kRadius - d) - kDamping * t.s.v[p].y;  // corners' v: -0.2 too
     EXPECT_NEAR(explicit_f[p].y, want + kDamping * (-Real(0.2)), 1e-9) << "particle " << p;
   }
+}
+
+// With friction, lagged at the step's start: there the terms are the explicit force, friction
+// included (the solvers take the stage's start-of-step force back out through them); a
+// candidate in contact at the start keeps its friction when the particle leaves the face, with
+// the tangent block mu F_n / max(|v_t|, slip) (I - n n^T) / h.
+TEST(TriangleContactTerms, AreTheExplicitForceWithLaggedFrictionAtTheStepStart) {
+  Contacts t;
+  const Real mu = Real(0.5), inv_h = 60;
+  t.terms.set_law(kRadius, kStiffness, kDamping, mu);
+  t.terms.lag(t.s.x.data(), t.s.v.data());
+  const std::size_t n = t.s.m.points.size();
+  std::vector<Vec3> explicit_f(n), terms_f(n), point_f(n);
+  std::vector<Mat3> hessian(n);
+  t.prox.apply(t.s.x.data(), t.s.v.data(), explicit_f.data(), {kRadius, kStiffness, kDamping, mu},
+               nullptr, 1);
+  t.terms.accumulate(t.s.x.data(), t.s.v.data(), terms_f.data());
+  std::vector<std::uint32_t> row, entries;
+  t.rows(row, entries);
+  const std::vector<std::uint32_t> points = Contacts::all(t.s.m);
+  t.terms.add_point_terms(points, row.data(), entries.data(), t.s.x.data(), t.s.v.data(), inv_h,
+                          point_f.data(), hessian.data());
+  Real largest = 0, tangential = 0;
+  for (const Vec3& f : explicit_f) largest = std::max(largest, norm(f));
+  for (std::uint32_t p : {9u, 10u, 11u})
+    tangential = std::max(tangential, std::hypot(explicit_f[p].x, explicit_f[p].z));
+  ASSERT_GT(tangential, Real(1e-3) * largest);  // friction acts (the particles slide)
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_LT(norm(terms_f[i] - explicit_f[i]), 1e-12 * largest) << "point " << i;
+    EXPECT_LT(norm(point_f[i] - explicit_f[i]), 1e-12 * largest) << "point " << i;
+  }
+  // The particle over the face lifted out of reach: its friction stays, along -v_t, and its
+  // block has a tangent part.
+  auto x = t.s.x;
+  x[9].y = 2 * kRadius;
+  std::vector<Vec3> f(n);
+  std::vector<Mat3> h(n);
+  const std::uint32_t one[] = {9u};
+  t.terms.add_point_terms(one, row.data(), entries.data(), x.data(), t.s.v.data(), inv_h, f.data(),
+                          h.data());
+  EXPECT_GT(norm(f[9]), 0);
+  EXPECT_LT(dot(f[9], Vec3{t.s.v[9].x, 0, t.s.v[9].z}), 0);
+  EXPECT_GT(dot(h[9] * Vec3{1, 0, 0}, Vec3{1, 0, 0}), 0);
 }
 
 // -d f_i / d x_i along the contact normal is the block's n^T H n (inv_h = 0: stiffness only).

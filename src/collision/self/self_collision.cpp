@@ -657,9 +657,10 @@ class SelfCollisionStage final : public Stage {
       contacts_.add({a, b}, p);
     });
     contacts_.prepare(std::uint32_t(s.size()));
-    triangle_terms_.set_law(st.radius, st.stiffness, st.damping);
+    triangle_terms_.set_law(st.radius, st.stiffness, st.damping, st.friction);
     engine_.triangle_candidates(s.x().data(), s.v().data(), Real(ctx.h), wide_margin_, ctx.threads,
                                 triangle_terms_.storage());
+    triangle_terms_.lag(x, v);
   }
   double last_cell_ = 0;
 };

@@ -1,7 +1,9 @@
 #include "triangle_contact_terms.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include "maille/self_collision.hpp"
 #include "triangle_proximity.hpp"
 
 namespace maille::collision {
@@ -23,28 +25,57 @@ bool has_corner(const std::array<std::uint32_t, 4>& c, std::uint32_t p) {
 
 bool TriangleContactTerms::evaluate(std::size_t e, const Vec3* x, const Vec3* v, Eval& out) const {
   const auto& c = candidates_[e];
+  const bool rubbing = friction_ > 0 && e < lag_force_.size() && lag_force_[e] > 0;
   const std::array<Real, 3> w = closest_weights(x[c[0]], x[c[1]], x[c[2]], x[c[3]]);
   const Vec3 d = x[c[0]] - (x[c[1]] * w[0] + x[c[2]] * w[1] + x[c[3]] * w[2]);
   const Real d2 = dot(d, d);
-  if (d2 >= radius_ * radius_ || d2 == 0) return false;
+  out.touching = d2 < radius_ * radius_ && d2 != 0;
   // An edge or a corner shared with an earlier candidate of the same particle that touches it
   // too is that candidate's (the explicit force pushes once per feature, lowest triangle).
-  const Feature f = feature(c, w, std::uint32_t(e));
-  if (f.kind < 2)
-    for (std::size_t o = e; o-- > 0 && candidates_[o][0] == c[0];) {
-      const auto& other = candidates_[o];
-      if (!has_corner(other, f.a) || (f.kind == 1 && !has_corner(other, f.b))) continue;
-      const std::array<Real, 3> wo =
-          closest_weights(x[other[0]], x[other[1]], x[other[2]], x[other[3]]);
-      if (feature(other, wo, std::uint32_t(o)) == f) return false;
-    }
-  const Real dist = std::sqrt(d2);
-  out.n = d / dist;
+  if (out.touching) {
+    const Feature f = feature(c, w, std::uint32_t(e));
+    if (f.kind < 2)
+      for (std::size_t o = e; o-- > 0 && candidates_[o][0] == c[0];) {
+        const auto& other = candidates_[o];
+        if (!has_corner(other, f.a) || (f.kind == 1 && !has_corner(other, f.b))) continue;
+        const std::array<Real, 3> wo =
+            closest_weights(x[other[0]], x[other[1]], x[other[2]], x[other[3]]);
+        if (feature(other, wo, std::uint32_t(o)) == f) {
+          out.touching = false;
+          break;
+        }
+      }
+  }
+  if (!out.touching && !rubbing) return false;
   out.c = {1, -w[0], -w[1], -w[2]};
   Vec3 dv{};
   for (std::size_t j = 0; j < 4; ++j) dv += v[c[j]] * out.c[j];
-  out.force = out.n * (stiffness_ * (radius_ - dist) - damping_ * dot(dv, out.n));
+  out.force = Vec3{};
+  if (out.touching) {
+    const Real dist = std::sqrt(d2);
+    out.n = d / dist;
+    out.force = out.n * (stiffness_ * (radius_ - dist) - damping_ * dot(dv, out.n));
+  }
+  out.friction = 0;
+  if (rubbing) {  // the explicit law's (triangle_proximity.cpp), its normal and F_n held
+    const Vec3 n = lag_normal_[e];
+    const Vec3 vt = dv - n * dot(dv, n);
+    out.friction = friction_ * lag_force_[e] / std::max(norm(vt), kSelfCollisionSlip);
+    out.force -= vt * out.friction;
+  }
   return true;
+}
+
+void TriangleContactTerms::lag(const Vec3* x, const Vec3* v) {
+  lag_force_.assign(candidates_.size(), 0);
+  lag_normal_.assign(candidates_.size(), Vec3{});
+  if (!(friction_ > 0)) return;
+  Eval ev;
+  for (std::size_t e = 0; e < candidates_.size(); ++e)
+    if (evaluate(e, x, v, ev) && ev.touching) {
+      lag_normal_[e] = ev.n;
+      lag_force_[e] = std::abs(dot(ev.force, ev.n));
+    }
 }
 
 Real TriangleContactTerms::distance(std::size_t e, const Vec3* x) const {
@@ -72,7 +103,11 @@ void TriangleContactTerms::add_point_terms(std::span<const std::uint32_t> points
       if (!evaluate(e, x, v, ev)) continue;
       const Real c = ev.c[role];
       f[i] += ev.force * c;
-      hessian[i] += Mat3::outer(ev.n, ev.n) * (k * c * c);
+      if (ev.touching) hessian[i] += Mat3::outer(ev.n, ev.n) * (k * c * c);
+      if (ev.friction > 0) {
+        const Vec3& n = lag_normal_[e];
+        hessian[i] += (Mat3::identity() - Mat3::outer(n, n)) * (ev.friction * inv_h * c * c);
+      }
     }
 }
 
@@ -80,7 +115,8 @@ void TriangleContactTerms::linearise(const Vec3* x, const Vec3* v) {
   active_.clear();
   Eval ev;
   for (std::size_t e = 0; e < candidates_.size(); ++e)
-    if (evaluate(e, x, v, ev)) active_.push_back({std::uint32_t(e), ev.n, ev.c});
+    if (evaluate(e, x, v, ev))
+      active_.push_back({std::uint32_t(e), ev.n, ev.c, ev.touching, ev.friction});
 }
 
 void TriangleContactTerms::apply(Real a, Real b, const Vec3* u, Vec3* out) const {
@@ -89,7 +125,11 @@ void TriangleContactTerms::apply(Real a, Real b, const Vec3* u, Vec3* out) const
     const auto& c = candidates_[ac.e];
     Vec3 sum{};
     for (std::size_t j = 0; j < 4; ++j) sum += u[c[j]] * ac.c[j];
-    const Vec3 t = ac.n * (s * dot(ac.n, sum));
+    Vec3 t = ac.touching ? ac.n * (s * dot(ac.n, sum)) : Vec3{};
+    if (ac.friction > 0) {  // a damper of scale `friction` across the held normal
+      const Vec3& n = lag_normal_[ac.e];
+      t += (sum - n * dot(n, sum)) * (b * ac.friction);
+    }
     for (std::size_t j = 0; j < 4; ++j) out[c[j]] += t * ac.c[j];
   }
 }
@@ -97,9 +137,13 @@ void TriangleContactTerms::apply(Real a, Real b, const Vec3* u, Vec3* out) const
 void TriangleContactTerms::add_diagonal(Real a, Real b, Mat3* diagonal) const {
   const Real s = a * stiffness_ + b * damping_;
   for (const Active& ac : active_) {
-    const Mat3 nn = Mat3::outer(ac.n, ac.n);
+    Mat3 block = ac.touching ? Mat3::outer(ac.n, ac.n) * s : Mat3{};
+    if (ac.friction > 0) {
+      const Vec3& n = lag_normal_[ac.e];
+      block += (Mat3::identity() - Mat3::outer(n, n)) * (b * ac.friction);
+    }
     for (std::size_t j = 0; j < 4; ++j)
-      diagonal[candidates_[ac.e][j]] += nn * (s * ac.c[j] * ac.c[j]);
+      diagonal[candidates_[ac.e][j]] += block * (ac.c[j] * ac.c[j]);
   }
 }
 

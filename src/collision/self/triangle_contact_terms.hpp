@@ -15,12 +15,21 @@ namespace maille::collision {
 
 class TriangleContactTerms final : public TriangleContacts {
  public:
-  // The law: contact radius s, stiffness k, damping z (friction stays explicit).
-  void set_law(Real radius, Real stiffness, Real damping) {
+  // The law: contact radius s, stiffness k, damping z, friction mu (lagged: lag()).
+  void set_law(Real radius, Real stiffness, Real damping, Real friction) {
     radius_ = radius;
     stiffness_ = stiffness;
     damping_ = damping;
+    friction_ = friction;
   }
+  // The friction's lag, at the step's start (x_n, v_n), after the candidates are stored: each
+  // acting candidate's normal and normal force are held for the solve (IPC's lagged friction,
+  // as obstacles and point-point contacts do), so that its Coulomb friction, -mu F_n v_t /
+  // max(|v_t|, slip) on the particle (v_t across the held normal, v the particle's velocity
+  // less the closest point's), is a smooth term of the solve with the tangent block
+  // c^2 mu F_n / max(|v_t|, slip) (I - n n^T) / h, its scale held. A candidate that acted at
+  // the step's start keeps its friction through the step.
+  void lag(const Vec3* x, const Vec3* v);
   // Filled by the stage each step ({particle, corners}, sorted by particle).
   std::vector<std::array<std::uint32_t, 4>>& storage() { return candidates_; }
 
@@ -38,17 +47,23 @@ class TriangleContactTerms final : public TriangleContacts {
   // Candidate e at x, v: whether it acts (closer than s, not a shared feature counted by an
   // earlier candidate of its particle), and then its normal, coefficients and force.
   struct Eval {
-    Vec3 n{}, force{};  // force on the particle
+    Vec3 n{}, force{};  // the normal (when `touching`) and the force on the particle
     std::array<Real, 4> c{};
+    bool touching = false;  // within s (else only the lagged friction acts)
+    Real friction = 0;      // the friction's scale mu F_n / max(|v_t|, slip), held
   };
   bool evaluate(std::size_t e, const Vec3* x, const Vec3* v, Eval& out) const;
 
-  Real radius_ = 0, stiffness_ = 0, damping_ = 0;
+  Real radius_ = 0, stiffness_ = 0, damping_ = 0, friction_ = 0;
   std::vector<std::array<std::uint32_t, 4>> candidates_;
+  std::vector<Real> lag_force_;   // [candidates] |F_n| at the step's start (0: no friction)
+  std::vector<Vec3> lag_normal_;  // [candidates] n at the step's start
   struct Active {
     std::uint32_t e;
     Vec3 n;
     std::array<Real, 4> c;
+    bool touching;
+    Real friction;
   };
   std::vector<Active> active_;  // linearise's contacts
 };

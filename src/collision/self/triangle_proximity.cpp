@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "broad_phase.hpp"
+#include "maille/self_collision.hpp"
 
 namespace maille::collision {
 
@@ -221,7 +222,8 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
            if (r.friction > 0) {
              const Vec3 vt = dv - nrm * vn;
              const Real speed = norm(vt);
-             force -= vt * (r.friction * std::abs(dot(force, nrm)) / std::max(speed, Real(1e-3)));
+             force -= vt * (r.friction * std::abs(dot(force, nrm)) /
+                            std::max(speed, kSelfCollisionSlip));
            }
            const Feature fe = feature_of(tri, t, w);
            if (out.size() >= cap) {
