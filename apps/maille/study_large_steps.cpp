@@ -14,12 +14,12 @@
 //   final_kinetic_J,max_residual,stable,sim_s
 //
 // solver: leapfrog (at 0.9 of the engine's stability estimate), matrix_free (Newton iterations in
-// `iterations`, 0 for the default one) or vbd (sweeps in `iterations`); max_stretch over structural links and samples (every 1/240 s, or every step
-// when longer); max_penetration from the obstacle's depth gauge at the same samples;
-// max_residual the largest solver_residual (force imbalance over m g, implicit solvers).
-// Only the steps are timed, on one thread. --quick: the sphere at 32^2, the heap at 24^2, five
-// settings, 0.5 s simulated. The full study: the sphere at 32^2, 64^2, 128^2 and the heap at
-// 32^2, 64^2 (at 128^2 leapfrog's limit makes it minutes), nine settings, 1 s.
+// `iterations`, 0 for the default one) or vbd (sweeps in `iterations`); max_stretch over structural
+// links and samples (every 1/240 s, or every step when longer); max_penetration from the obstacle's
+// depth gauge at the same samples; max_residual the largest solver_residual (force imbalance over m
+// g, implicit solvers). Only the steps are timed, on one thread. --quick: the sphere at 32^2, the
+// heap at 24^2, five settings, 0.5 s simulated. The full study: the sphere at 32^2, 64^2, 128^2 and
+// the heap at 32^2, 64^2 (at 128^2 leapfrog's limit makes it minutes), nine settings, 1 s.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -89,8 +89,7 @@ Outcome run(const std::string& text, double spacing, const Setting& set, double 
   if (set.solver != "leapfrog") {
     s.implicit.solver = *parse_name<ImplicitSolver>(set.solver);
     if (set.iterations > 0)
-      (set.solver == "vbd" ? s.implicit.iterations : s.implicit.newton_iterations) =
-          set.iterations;
+      (set.solver == "vbd" ? s.implicit.iterations : s.implicit.newton_iterations) = set.iterations;
   }
   s.step = set.step > 0 ? set.step : 1e-4;
   Outcome o;

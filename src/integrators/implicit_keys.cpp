@@ -17,12 +17,12 @@ std::span<const StageKey<ImplicitSettings>> implicit_keys() {
           "tolerance", Bound::positive, 0, 0,
           {.methods = "matrix_free, eigen",
            .doc = "CG stops when the residual is below tolerance × the right-hand side's norm"}),
-      integer<&I::max_iterations>("max_iterations", 1, 1 << 20,
-                                  {.methods = "matrix_free, eigen",
-                                   .doc = "CG iterations per solve"}),
-      integer<&I::newton_iterations>("newton_iterations", 1, 100,
-                                     {.methods = "matrix_free, eigen",
-                                      .doc = "linearisations per step (1: Baraff–Witkin)"}),
+      integer<&I::max_iterations>(
+          "max_iterations", 1, 1 << 20,
+          {.methods = "matrix_free, eigen", .doc = "CG iterations per solve"}),
+      integer<&I::newton_iterations>(
+          "newton_iterations", 1, 100,
+          {.methods = "matrix_free, eigen", .doc = "linearisations per step (1: Baraff–Witkin)"}),
       integer<&I::iterations>("iterations", 1, 100000,
                               {.methods = "vbd", .doc = "sweeps over every free point per step"}),
       number<&I::acceleration>(

@@ -5,8 +5,8 @@
 #include <array>
 
 #include "maille/link_kind.hpp"
-#include "maille/shared_laws.hpp"
 #include "maille/mat3.hpp"
+#include "maille/shared_laws.hpp"
 
 namespace maille {
 
