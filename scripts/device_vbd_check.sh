@@ -49,7 +49,8 @@ for n in "${size_list[@]}"; do
   sets=(--set "flag[0].resolution=[$n,$n]" --set "flag[0].mass=$mass"
         --set "simulation.step=$h" --set 'simulation.integrator="implicit_euler"'
         --set 'simulation.implicit.solver="vbd"' --set simulation.implicit.iterations=10
-        --set simulation.implicit.acceleration=0.9 --no-self-collision)
+        --set simulation.implicit.acceleration=0.9 --set 'simulation.implicit.coarse="off"'
+        --no-self-collision)
   for backend in gpu cpu; do
     if [ "$backend" = gpu ]; then
       where=(--backend gpu "${device[@]}")

@@ -11,15 +11,17 @@
 // Writes large_steps.csv:
 //
 //   scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,max_penetration_m,
-//   final_kinetic_J,max_residual,stable,sim_s
+//   final_kinetic_J,max_residual,stable,sim_s,coarse
 //
 // solver: leapfrog (at 0.9 of the engine's stability estimate), matrix_free (Newton iterations in
 // `iterations`, 0 for the default one) or vbd (sweeps in `iterations`); max_stretch over structural
 // links and samples (every 1/240 s, or every step when longer); max_penetration from the obstacle's
 // depth gauge at the same samples; max_residual the largest solver_residual (force imbalance over m
-// g, implicit solvers). Only the steps are timed, on one thread. --quick: the sphere at 32^2, the
-// heap at 24^2, five settings, 0.5 s simulated. The full study: the sphere at 32^2, 64^2, 128^2 and
-// the heap at 32^2, 64^2 (at 128^2 leapfrog's limit makes it minutes), nine settings, 1 s.
+// g, implicit solvers); coarse: VBD's coarse correction (aggregates, or off: sweeps with the
+// Chebyshev acceleration), empty for the other solvers. Only the steps are timed, on one thread.
+// --quick: the sphere at 32^2, the heap at 24^2, six settings, 0.5 s simulated. The full study:
+// the sphere at 32^2, 64^2, 128^2 and the heap at 32^2, 64^2 (at 128^2 leapfrog's limit makes it
+// minutes), eleven settings, 1 s.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -41,6 +43,7 @@ struct Setting {
   std::string solver;  // leapfrog, matrix_free, vbd
   double step = 0;     // s; 0: leapfrog's own (0.9 of the stability estimate)
   int iterations = 0;  // vbd: sweeps; matrix_free: Newton iterations (0: the default, 1)
+  VbdCoarse coarse = VbdCoarse::aggregates;  // vbd: the coarse correction, or sweeps only
 };
 
 std::string sphere_text(int n) {
@@ -90,6 +93,7 @@ Outcome run(const std::string& text, double spacing, const Setting& set, double 
     s.implicit.solver = *parse_name<ImplicitSolver>(set.solver);
     if (set.iterations > 0)
       (set.solver == "vbd" ? s.implicit.iterations : s.implicit.newton_iterations) = set.iterations;
+    s.implicit.coarse = set.coarse;
   }
   s.step = set.step > 0 ? set.step : 1e-4;
   Outcome o;
@@ -127,11 +131,9 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
   const double duration = o.quick ? 0.5 : 1.0;
   std::vector<Setting> settings;
   if (o.quick) {
-    settings = {{"leapfrog", 0, 0},
-                {"matrix_free", 1.0 / 60, 0},
-                {"matrix_free", 1.0 / 60, 3},
-                {"vbd", 1.0 / 60, 10},
-                {"vbd", 1.0 / 240, 10}};
+    settings = {{"leapfrog", 0, 0},           {"matrix_free", 1.0 / 60, 0},
+                {"matrix_free", 1.0 / 60, 3}, {"vbd", 1.0 / 60, 10},
+                {"vbd", 1.0 / 240, 10},       {"vbd", 1.0 / 60, 10, VbdCoarse::off}};
   } else {
     settings.push_back({"leapfrog", 0, 0});
     for (const double h : {1.0 / 60, 1.0 / 120, 1.0 / 240})
@@ -139,6 +141,8 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
     settings.push_back({"matrix_free", 1.0 / 60, 3});
     for (const double h : {1.0 / 60, 1.0 / 120, 1.0 / 240}) settings.push_back({"vbd", h, 10});
     settings.push_back({"vbd", 1.0 / 60, 30});
+    settings.push_back({"vbd", 1.0 / 60, 10, VbdCoarse::off});
+    settings.push_back({"vbd", 1.0 / 240, 10, VbdCoarse::off});
   }
   struct Case {
     const char* scene;
@@ -151,20 +155,22 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
               o.out.string().c_str(), duration);
   write("large_steps.csv", [&](std::ostream& out) {
     out << "scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,"
-           "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s\n";
+           "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s,coarse\n";
     for (const Case& c : cases) {
       const bool sphere = std::string(c.scene) == "sphere";
       const std::string text = sphere ? sphere_text(c.n) : heap_text(c.n);
       const double spacing = (sphere ? 1.0 : 0.8) / (c.n - 1);
       for (const Setting& set : settings) {
         const Outcome r = run(text, spacing, set, duration);
+        const std::string coarse = set.solver == "vbd" ? std::string(to_string(set.coarse)) : "";
         out << c.scene << ',' << c.n * c.n << ',' << set.solver << ',' << r.step << ','
             << set.iterations << ',' << r.wall_per_sim << ',' << r.max_stretch << ','
             << r.max_penetration << ',' << r.final_kinetic << ',' << r.max_residual << ','
-            << r.stable << ',' << r.sim_s << '\n';
-        std::printf("  %-6s %6d %-11s h %-9.3g it %-3d %8.3f s/s stretch %6.3f pen %8.2e m%s\n",
-                    c.scene, c.n * c.n, set.solver.c_str(), r.step, set.iterations, r.wall_per_sim,
-                    r.max_stretch, r.max_penetration, r.stable ? "" : "  UNSTABLE");
+            << r.stable << ',' << r.sim_s << ',' << coarse << '\n';
+        std::printf(
+            "  %-6s %6d %-11s %-10s h %-9.3g it %-3d %8.3f s/s stretch %6.3f pen %8.2e m%s\n",
+            c.scene, c.n * c.n, set.solver.c_str(), coarse.c_str(), r.step, set.iterations,
+            r.wall_per_sim, r.max_stretch, r.max_penetration, r.stable ? "" : "  UNSTABLE");
       }
     }
   });

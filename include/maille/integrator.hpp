@@ -49,14 +49,28 @@ struct NameTable<ImplicitSolver> {
   }};
 };
 
+// VBD's coarse correction ([simulation.implicit] coarse = "..."; src/integrators/vbd_coarse.hpp).
+enum class VbdCoarse : std::uint8_t { aggregates, off };
+template <>
+struct NameTable<VbdCoarse> {
+  static constexpr std::string_view what = "coarse correction";
+  static constexpr std::array<Name<VbdCoarse>, 2> names{{
+      {VbdCoarse::aggregates, "aggregates",
+       "a linear solve over aggregates of points every other sweep (convergence that does not "
+       "degrade with resolution)"},
+      {VbdCoarse::off, "off", "sweeps only (with the Chebyshev acceleration)"},
+  }};
+};
+
 // Settings of the implicit scheme ([simulation.implicit] in scene files).
 struct ImplicitSettings {
   ImplicitSolver solver = ImplicitSolver::matrix_free;
-  Real tolerance = Real(1e-6);    // CG stops when |r| <= tolerance |b|
-  int max_iterations = 1000;      // CG iterations per solve
-  int newton_iterations = 1;      // CG: linearisations per step (1: Baraff-Witkin)
-  int iterations = 10;            // vbd: sweeps over every free point per step, >= 1
-  Real acceleration = Real(0.9);  // vbd: Chebyshev factor rho in [0, 1); 0 = off
+  Real tolerance = Real(1e-6);               // CG stops when |r| <= tolerance |b|
+  int max_iterations = 1000;                 // CG iterations per solve
+  int newton_iterations = 1;                 // CG: linearisations per step (1: Baraff-Witkin)
+  int iterations = 10;                       // vbd: sweeps over every free point per step, >= 1
+  Real acceleration = Real(0.9);             // vbd: Chebyshev factor rho in [0, 1); 0 = off
+  VbdCoarse coarse = VbdCoarse::aggregates;  // vbd: the coarse correction (replaces Chebyshev)
 };
 
 // [simulation.implicit]'s keys (stage_keys.hpp), declared in implicit_keys.cpp: the scene reader

@@ -655,7 +655,13 @@ def obstacles(d, figures, v):
 
 
 SOLVER_COLOURS = {"leapfrog": "tab:blue", "matrix_free": "tab:orange", "vbd": "tab:green",
-                  "bullet": "tab:red"}
+                  "vbd, sweeps only": "tab:olive", "bullet": "tab:red"}
+
+
+def solver_name(r):
+    """A large-steps row's solver: VBD without its coarse correction is "vbd, sweeps only"."""
+    return "vbd, sweeps only" if r["solver"] == "vbd" and r.get("coarse") == "off" \
+        else r["solver"]
 
 
 def iterations_label(r):
@@ -678,9 +684,9 @@ def large_steps(d, figures, v):
         for r in rows:
             if r["scene"] != scene or not r["stable"]:
                 continue
-            label = r["solver"] + iterations_label(r)
+            label = solver_name(r) + iterations_label(r)
             ax.scatter(r["max_stretch"] * 100, r["wall_s_per_sim_s"],
-                       color=SOLVER_COLOURS[r["solver"]], s=10 + 20 * math.log2(
+                       color=SOLVER_COLOURS[solver_name(r)], s=10 + 20 * math.log2(
                            max(r["particles"], 1024) / 512),
                        marker="o" if r["iterations"] <= 1 or (r["solver"] == "vbd" and
                                                              r["iterations"] <= 10) else "s",
@@ -706,7 +712,7 @@ def large_steps(d, figures, v):
         ["scene", "particles", "solver", "step (s)", "sweeps / Newton its", "wall s / sim s",
          "largest stretch", "deepest penetration (mm)", "kinetic energy left (J)",
          "largest residual (m g)", "stable"],
-        [[r["scene"], grouped(r["particles"]), r["solver"], g(r["step_s"]),
+        [[r["scene"], grouped(r["particles"]), solver_name(r), g(r["step_s"]),
           str(int(r["iterations"])) if r["iterations"] else "",
           g(r["wall_s_per_sim_s"]), pct(r["max_stretch"]),
           g(r["max_penetration_m"] * 1e3), g(r["final_kinetic_J"]),

@@ -291,6 +291,11 @@ class GpuBackend final : public Backend {
       return "implicit solver '" + std::string(to_string(implicit->solver)) +
              "' has no GPU version (the GPU runs implicit_euler with solver = \"vbd\"; the CPU "
              "runs every solver)";
+    if (implicit && implicit->coarse != VbdCoarse::off)
+      return "vbd's coarse correction (coarse = \"" + std::string(to_string(implicit->coarse)) +
+             "\", the default) has no GPU version: set coarse = \"off\" in "
+             "[simulation.implicit] (sweeps with the Chebyshev acceleration) or run with "
+             "--backend cpu";
     if (!steps(scheme) && !scheme.kick_drift_step(State(), Real(1e-3)))
       return "integrator '" + std::string(scheme.name()) +
              "' has no GPU version (the GPU runs leapfrog, symplectic_euler and implicit_euler "

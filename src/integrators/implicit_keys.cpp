@@ -10,7 +10,7 @@ namespace maille {
 
 std::span<const StageKey<ImplicitSettings>> implicit_keys() {
   using I = ImplicitSettings;
-  static const std::array<StageKey<I>, 6> keys{
+  static const std::array<StageKey<I>, 7> keys{
       choice<&I::solver>("solver", {.doc = "CG on link blocks, CG on an assembled Eigen sparse "
                                            "matrix, or vertex block descent (docs/implicit.md)"}),
       number<&I::tolerance>(
@@ -28,8 +28,12 @@ std::span<const StageKey<ImplicitSettings>> implicit_keys() {
       number<&I::acceleration>(
           "acceleration", Bound::non_negative, 0, Real(0.999999),
           {.methods = "vbd",
-           .doc = "Chebyshev factor ρ (0: off); turned off for the rest of a step when a sweep's "
-                  "merit (sum of g·H⁻¹g) more than doubles"}),
+           .doc = "Chebyshev factor ρ (0: off), with coarse = \"off\" only; turned off for the "
+                  "rest of a step when a sweep's merit (sum of g·H⁻¹g) more than doubles"}),
+      choice<&I::coarse>(
+          "coarse", {.methods = "vbd",
+                     .doc = "coarse correction every other sweep: a linear solve over aggregates "
+                            "of points (docs/implicit.md), or off"}),
   };
   return keys;
 }

@@ -60,6 +60,7 @@ const std::string kMemory{kVbdMemory};
 
 void VertexBlockDescent::reset() {
   points_ = 0;
+  coarse_.reset();
   static_ready_ = false;
   coloured_ = false;
   rows_.clear();
@@ -105,6 +106,9 @@ void VertexBlockDescent::build_static_rows(const Model& m) {
     if (m.points.inv_mass[i] > 0) free_.push_back(i);
   static_ready_ = true;
   coloured_ = false;
+  coarse_.reset();
+  if (settings_.coarse == VbdCoarse::aggregates) coarse_.build(m, free_, n);
+  direction_.assign(n, Vec3{});
 }
 
 void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3* x,
@@ -385,22 +389,31 @@ void VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const 
     // Starting or (far) leaving a contact: the step stops just inside the surface (bisection
     // on whether the point touches), touching; the next step sees the contact's stiffness.
     const Vec3 x0 = x[i], dx = trial_x_[i] - x0;
-    const std::span<const std::uint32_t> one(&i, 1);
-    Real lo = 0, hi = 1;
-    for (int k = 0; k < kBisections; ++k) {
-      const Real mid = Real(0.5) * (lo + hi);
-      trial_x_[i] = x0 + dx * mid;
-      trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
-      trial_touch_[i] = 0;
-      for (const PointContacts* c : contacts_)
-        c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
-                     trial_touch_.data());
-      (bool(trial_touch_[i]) == bool(touching_[i]) ? lo : hi) = mid;
-    }
+    const auto [lo, hi] = contact_change(i, x0, dx, inv_h);
     x[i] = x0 + dx * (touching_[i] ? lo : hi);
     v[i] = (x[i] - xn_[i]) * inv_h;
     touching_[i] = 1;  // just inside either way: the acceleration leaves it there
   }
+}
+
+// Where on the move x0 -> x0 + dx point i's contact state (touching or not, as touching_[i]
+// says at x0) changes: [lo, hi] within 1/1024 of the move, lo on the side of x0. Uses the
+// trial arrays of point i only.
+std::pair<Real, Real> VertexBlockDescent::contact_change(std::uint32_t i, const Vec3& x0,
+                                                         const Vec3& dx, Real inv_h) {
+  const std::span<const std::uint32_t> one(&i, 1);
+  Real lo = 0, hi = 1;
+  for (int k = 0; k < kBisections; ++k) {
+    const Real mid = Real(0.5) * (lo + hi);
+    trial_x_[i] = x0 + dx * mid;
+    trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
+    trial_touch_[i] = 0;
+    for (const PointContacts* c : contacts_)
+      c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                   trial_touch_.data());
+    (bool(trial_touch_[i]) == bool(touching_[i]) ? lo : hi) = mid;
+  }
+  return {lo, hi};
 }
 
 void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
@@ -457,7 +470,11 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   }
   result.colours = int(colour_row_.size()) - 1;
 
-  const Real rho = settings_.acceleration, half_thinnest = Real(0.5) * thinnest_;
+  const Real half_thinnest = Real(0.5) * thinnest_;
+  const bool coarse = coarse_.aggregates() > 0;
+  // The coarse correction replaces the acceleration: with both, the 64^2 cloth on a sphere
+  // stretched 27 % at 1/60 s instead of 5.6 % (docs/implicit.md).
+  const Real rho = coarse ? Real(0) : settings_.acceleration;
   bool accelerate = rho > 0;
   Real omega = 1, last_merit = std::numeric_limits<Real>::infinity();
   if (accelerate)
@@ -470,25 +487,11 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
       ++result.acceleration_resets;
     }
     last_merit = merit;
-    if (accelerate) {
-      omega = k == 1 ? 1 : k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega);
-      // Points in contact (or that entered one in this sweep) are not extrapolated: across a
-      // stiff contact's jump the
-      // extrapolation throws a point deep into (or through) a thin obstacle.
-      if (k >= 2)
-        for (const std::uint32_t i : free_) {
-          // Nor points near a face (a bound): the extrapolation could carry them across it.
-          if (touching_[i] || bound_[i] < std::numeric_limits<Real>::infinity()) continue;
-          // Nor by more than half the thinnest contact region: a jump that long could cross a
-          // thin box unseen (the sweeps' own steps are watched in update_block).
-          const Vec3 to = (x[i] - prev2_[i]) * omega + prev2_[i];
-          if (norm2(to - x[i]) > half_thinnest * half_thinnest) continue;
-          x[i] = to;
-          v[i] = (x[i] - xn_[i]) * (Real(1) / h);
-        }
-      std::swap(prev1_, prev2_);
-      for (const std::uint32_t i : free_) prev1_[i] = x[i];
-    }
+    if (accelerate) extrapolate(k, rho, omega, x, v, h, half_thinnest);
+    // A coarse correction after every kCoarseEvery-th sweep, never after the last (the sweeps
+    // smooth what the correction leaves between aggregates).
+    if (coarse && k % kCoarseEvery == 0 && k < settings_.iterations && coarse_step(m, x, v, h))
+      ++result.coarse_corrections;
     // Contacts found for a smaller motion: find them again (and colour again) before going on.
     if (dynamic_ && k < settings_.iterations && 2 * largest_motion(x) > margin_) {
       find_candidates(m, xn_.data(), margin_for(x));
@@ -498,6 +501,89 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   }
   stop_at_first_touch(x, v, h, true);  // the solve's result: only if it went through
   return result;
+}
+
+// Chebyshev's extrapolation after sweep k: x = omega (x - x^(k-2)) + x^(k-2).
+void VertexBlockDescent::extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3* v, Real h,
+                                     Real half_thinnest) {
+  omega = k == 1 ? 1 : k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega);
+  // Points in contact (or that entered one in this sweep) are not extrapolated: across a stiff
+  // contact's jump the extrapolation throws a point deep into (or through) a thin obstacle.
+  if (k >= 2)
+    for (const std::uint32_t i : free_) {
+      // Nor points near a face (a bound): the extrapolation could carry them across it.
+      if (touching_[i] || bound_[i] < std::numeric_limits<Real>::infinity()) continue;
+      // Nor by more than half the thinnest contact region: a jump that long could cross a thin
+      // box unseen (the sweeps' own steps are watched in update_block).
+      const Vec3 to = (x[i] - prev2_[i]) * omega + prev2_[i];
+      if (norm2(to - x[i]) > half_thinnest * half_thinnest) continue;
+      x[i] = to;
+      v[i] = (x[i] - xn_[i]) * (Real(1) / h);
+    }
+  std::swap(prev1_, prev2_);
+  for (const std::uint32_t i : free_) prev1_[i] = x[i];
+}
+
+// g and H of every free point at (x, v), in blocks (threads when there are many points).
+void VertexBlockDescent::all_point_terms(const Model& m, const Vec3* x, const Vec3* v, Real h) {
+  const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
+  const auto count = static_cast<std::int64_t>(free_.size());
+  const std::int64_t blocks = (count + kBlock - 1) / kBlock;
+#pragma omp parallel for schedule(static) num_threads(threads_) if (parallel)
+  for (std::int64_t b = 0; b < blocks; ++b) {
+    const std::int64_t lo = b * kBlock, hi = std::min(count, lo + kBlock);
+    point_terms({free_.data() + lo, std::size_t(hi - lo)}, m, x, v, h);
+  }
+}
+
+// One coarse correction (vbd_coarse.hpp): x += alpha p, the coarse matrix factorised at x (once
+// per correction: the contacts a sweep starts change the diagonal, and a matrix kept from the
+// step's first correction stretched the 64^2 cloth on a sphere 120 % at 1/60 s instead of
+// 5.6 %). Contacts hold as in a sweep: a point moves at most its conservative bound (taken
+// again at x), and one that would enter a point contact stops just inside it. A point whose
+// move would be longer than half the thinnest contact region stays (a thin box). False when no
+// correction was taken (the coarse matrix not positive definite, or a zero direction).
+bool VertexBlockDescent::coarse_step(const Model& m, Vec3* x, Vec3* v, Real h) {
+  all_point_terms(m, x, v, h);
+  if (!coarse_.prepare(x, v, h, hess_.data())) return false;
+  const Real alpha = coarse_.direction(g_.data(), direction_.data());
+  if (!(alpha > 0)) return false;
+  const Real inv_h = Real(1) / h, half_thinnest = Real(0.5) * thinnest_;
+  if (bounded_) take_bounds(m, x);
+  for (const std::uint32_t i : free_) {
+    if (bound_[i] < std::numeric_limits<Real>::infinity()) continue;  // in a two-body contact
+    Vec3 d = direction_[i] * alpha;
+    if (touching_[i]) {
+      for (const PointContacts* c : contacts_) {  // not into an obstacle
+        const Vec3 push = c->push(i, x[i]);
+        const Real into = dot(push, d);
+        if (into < 0) d -= push * (into / norm2(push));
+      }
+      // Nor, in contact, farther from x_n than half the thinnest contact region (inside a thin
+      // box the push may point to a side face: leaves_cleanly).
+      if (norm2(x[i] + d - xn_[i]) > half_thinnest * half_thinnest) continue;
+    }
+    const Vec3 to = x[i] + d;
+    if (!is_finite(d) || norm2(d) > half_thinnest * half_thinnest) continue;
+    if (!contacts_.empty()) {
+      const std::span<const std::uint32_t> one(&i, 1);
+      trial_x_[i] = to;
+      trial_v_[i] = (to - xn_[i]) * inv_h;
+      trial_touch_[i] = 0;
+      for (const PointContacts* c : contacts_)
+        c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                     trial_touch_.data());
+      if (trial_touch_[i] && !touching_[i]) {
+        x[i] += d * contact_change(i, x[i], d, inv_h).second;
+        v[i] = (x[i] - xn_[i]) * inv_h;
+        touching_[i] = 1;
+        continue;
+      }
+    }
+    x[i] = to;
+    v[i] = (x[i] - xn_[i]) * inv_h;
+  }
+  return true;
 }
 
 // Whether point i, touching a contact at x[i], may take its Newton step trial_x_[i] out of it

@@ -55,6 +55,7 @@ SimulationSettings vbd(double h, int iterations, double acceleration, const std:
   s.implicit.solver = ImplicitSolver::vbd;
   s.implicit.iterations = iterations;
   s.implicit.acceleration = acceleration;
+  s.implicit.coarse = VbdCoarse::off;  // the GPU has no coarse correction (refused: below)
   s.backend = backend;
   s.threads = 1;
   s.publish_every = 1 << 30;
@@ -258,10 +259,24 @@ TEST_F(GpuVbd, RefusesOtherSolversByName) {
   }
 }
 
+TEST_F(GpuVbd, RefusesTheCoarseCorrectionByName) {
+  SimulationSettings s = vbd(1.0 / 60, 10, 0.9, "gpu");
+  s.implicit.coarse = VbdCoarse::aggregates;  // the default
+  try {
+    Simulator sim(hanging_cloth(), s);
+    ADD_FAILURE() << "the coarse correction ran on the GPU";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("coarse correction (coarse = \"aggregates\""),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(GpuVbd, RefusesAnObstacleStageByName) {
   Scene scene = test::example_scene("cloth_on_sphere");
   scene.settings.integrator = "implicit_euler";
   scene.settings.implicit.solver = ImplicitSolver::vbd;
+  scene.settings.implicit.coarse = VbdCoarse::off;
   scene.settings.backend = "gpu";
   try {
     Simulator sim(scene.model, scene.settings);
