@@ -15,34 +15,17 @@
 # enough for about 2e7 particle-steps per run (at least 3), after 2 untimed warm-up steps.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/gpu_bench_common.sh
 sizes=64,256,1024,2048
 steps=
 out=bench/results/gpu-flags.csv
-device=()
-maille=
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --sizes) sizes=$2; shift 2 ;;
-    --steps) steps=$2; shift 2 ;;
-    --out) out=$2; shift 2 ;;
-    --gpu-device) device=(--gpu-device "$2"); shift 2 ;;
-    --maille) maille=$2; shift 2 ;;
-    *) echo "usage: $0 [--sizes 64,256] [--steps N] [--out FILE] [--gpu-device N] [--maille PATH]" >&2
-       exit 2 ;;
-  esac
-done
-if [ -z "$maille" ]; then
-  scripts/setup.sh
-  cmake --preset release >/dev/null
-  cmake --build --preset release --target maille
-  maille=build/release/apps/maille/maille
-fi
+usage="usage: $0 [--sizes 64,256] [--steps N] [--out FILE] [--gpu-device N] [--maille PATH]"
+gpu_bench_options "$@"
+gpu_bench_build_maille
 unset OMP_WAIT_POLICY  # benchmarks run alone: spinning OpenMP threads are right (scripts/bench.sh)
 cores=$(nproc)
 cpu_name=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//; s/,//g')
-gpu_name=$("$maille" info --backend gpu "${device[@]}" 2>/dev/null | sed -n 's/^renderer *//p' |
-  tr -d ',' || true)
-gpu_name=${gpu_name:-unavailable}
+gpu_name=$(gpu_bench_gpu_name)
 mkdir -p "$(dirname "$out")"
 tmp=$(mktemp)
 trap 'rm -f "$tmp" "$tmp.err"' EXIT

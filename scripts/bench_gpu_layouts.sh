@@ -16,33 +16,15 @@
 # warm-up steps; --rounds default 2. --out -: the CSV to stdout only.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/lib/gpu_bench_common.sh
 sizes=64,128,256
 steps=
 rounds=2
 out=bench/results/gpu-layouts.csv
-device=()
-maille=
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --sizes) sizes=$2; shift 2 ;;
-    --steps) steps=$2; shift 2 ;;
-    --rounds) rounds=$2; shift 2 ;;
-    --out) out=$2; shift 2 ;;
-    --gpu-device) device=(--gpu-device "$2"); shift 2 ;;
-    --maille) maille=$2; shift 2 ;;
-    *) echo "usage: $0 [--sizes 64,128] [--steps N] [--rounds R] [--out FILE] [--gpu-device N] [--maille PATH]" >&2
-       exit 2 ;;
-  esac
-done
-if [ -z "$maille" ]; then
-  scripts/setup.sh
-  cmake --preset release >/dev/null
-  cmake --build --preset release --target maille
-  maille=build/release/apps/maille/maille
-fi
-gpu_name=$("$maille" info --backend gpu "${device[@]}" 2>/dev/null | sed -n 's/^renderer *//p' |
-  tr -d ',' || true)
-gpu_name=${gpu_name:-unavailable}
+usage="usage: $0 [--sizes 64,128] [--steps N] [--rounds R] [--out FILE] [--gpu-device N] [--maille PATH]"
+gpu_bench_options "$@"
+gpu_bench_build_maille
+gpu_name=$(gpu_bench_gpu_name)
 tmp=$(mktemp)
 trap 'rm -f "$tmp" "$tmp.err" "$tmp.rows"' EXIT
 : >"$tmp.rows"

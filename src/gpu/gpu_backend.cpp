@@ -16,20 +16,18 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <unordered_map>
-#include <utility>
 
 #include "../core/gust.hpp"
-#include "../render/gl_program.hpp"
 #include "gpu_layout.hpp"
 #include "gpu_self_collision.hpp"
 #include "gpu_stage.hpp"
 #include "gpu_structured.hpp"
 #include "gpu_vbd.hpp"
+#include "kernel.hpp"
 #include "maille/backend.hpp"
 #include "maille/gpu.hpp"
 #include "maille/render/headless.hpp"
@@ -130,53 +128,6 @@ void unpack(const std::vector<float>& in, std::span<Vec3> out) {
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = {Real(in[3 * i]), Real(in[3 * i + 1]), Real(in[3 * i + 2])};
 }
-
-// A compute program and its uniforms' locations (looked up once).
-class Kernel {
- public:
-  Kernel() = default;
-  Kernel(std::string_view name, const std::string& source)
-      : program_(render::link_compute_program(name, source)) {}
-  Kernel(Kernel&& o) noexcept : program_(std::exchange(o.program_, 0)), loc_(std::move(o.loc_)) {}
-  Kernel& operator=(Kernel&& o) noexcept {
-    std::swap(program_, o.program_);
-    std::swap(loc_, o.loc_);
-    return *this;
-  }
-  ~Kernel() {
-    if (program_) glDeleteProgram(program_);
-  }
-  void forget() { program_ = 0; }  // its context is gone or not current: nothing to delete
-  GLint at(const char* name) {
-    auto it = loc_.find(name);
-    if (it == loc_.end()) it = loc_.emplace(name, glGetUniformLocation(program_, name)).first;
-    return it->second;
-  }
-  void set(const char* name, GLuint value) { glProgramUniform1ui(program_, at(name), value); }
-  void set(const char* name, float value) { glProgramUniform1f(program_, at(name), value); }
-  void set_flag(const char* name, bool value) { glProgramUniform1i(program_, at(name), value); }
-  void set(const char* name, const Vec3& value) {
-    glProgramUniform3f(program_, at(name), float(value.x), float(value.y), float(value.z));
-  }
-  void set(const char* name, const float (&value)[3]) {
-    glProgramUniform3f(program_, at(name), value[0], value[1], value[2]);
-  }
-  void set(const char* name, const float (&value)[4]) {
-    glProgramUniform4f(program_, at(name), value[0], value[1], value[2], value[3]);
-  }
-  // Runs `count` invocations (u_count), then makes its writes visible to the next kernel.
-  void run(GLuint count) {
-    if (count == 0) return;
-    set("u_count", count);
-    glUseProgram(program_);
-    glDispatchCompute((count + kGroupSize - 1) / kGroupSize, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
-
- private:
-  GLuint program_ = 0;
-  std::map<std::string, GLint, std::less<>> loc_;
-};
 
 std::string gl_string(GLenum e) {
   const auto* s = reinterpret_cast<const char*>(glGetString(e));

@@ -6,11 +6,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <map>
-#include <utility>
 
 #include "../collision/self/self_collision_view.hpp"
-#include "../render/gl_program.hpp"
 #include "maille/self_collision.hpp"
 #include "shaders.hpp"
 
@@ -39,36 +36,6 @@ std::vector<std::uint32_t> download(GLuint buffer, std::size_t count) {
 }
 
 }  // namespace
-
-// A compute program and its uniforms' locations.
-struct GpuSelfCollision::Kernel {
-  GLuint program = 0;
-  std::map<std::string, GLint, std::less<>> loc;
-  Kernel(const char* name, const std::string& source)
-      : program(render::link_compute_program(name, source)) {}
-  Kernel(Kernel&& o) noexcept : program(std::exchange(o.program, 0)), loc(std::move(o.loc)) {}
-  Kernel& operator=(Kernel&&) = delete;
-  ~Kernel() {
-    if (program) glDeleteProgram(program);
-  }
-  GLint at(const char* name) {
-    auto it = loc.find(name);
-    if (it == loc.end()) it = loc.emplace(name, glGetUniformLocation(program, name)).first;
-    return it->second;
-  }
-  void set(const char* name, GLuint value) { glProgramUniform1ui(program, at(name), value); }
-  void set(const char* name, float value) { glProgramUniform1f(program, at(name), value); }
-  void set_flag(const char* name, bool value) { glProgramUniform1i(program, at(name), value); }
-  // `count` invocations (u_count) in `groups` work groups, then a barrier for the next pass.
-  void run(GLuint count, GLuint groups) {
-    if (groups == 0) return;
-    set("u_count", count);
-    glUseProgram(program);
-    glDispatchCompute(groups, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
-  void run(GLuint count) { run(count, (count + kGroupSize - 1) / kGroupSize); }
-};
 
 std::string GpuSelfCollision::check(const Stage& st) {
   const SelfCollisionView view = self_collision_view(st);

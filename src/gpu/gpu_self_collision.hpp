@@ -36,6 +36,7 @@
 
 #include "gpu_layout.hpp"
 #include "gpu_stage.hpp"
+#include "kernel.hpp"
 #include "maille/gpu.hpp"
 #include "maille/model.hpp"
 #include "maille/stage.hpp"
@@ -62,7 +63,6 @@ class GpuSelfCollision final : public GpuStage {
   SelfCollisionDebug debug() const;
 
  private:
-  struct Kernel;
   void bind() const;
 
   const Stage* stage_;

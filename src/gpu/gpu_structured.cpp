@@ -91,7 +91,7 @@ std::string structured_shader(const KindLaw& stencil, const std::vector<KindLaw>
                    Buf::face_offset, Buf::face_of_point, Buf::face_force, Buf::grid_point,
                    Buf::grid_other_offset, Buf::grid_other, Buf::grid_link_set});
   s += shared::link_laws;
-  s += link_force_glsl(kinds);
+  s += link_force_function(kinds);
   const char* component[] = {"p.x", "p.y", "p.z", "p.w"};
   s += "vec3 stencil_force(vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p) {\n  return " + stencil.law +
        "(xa, xb, va, vb";

@@ -7,10 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <map>
-#include <utility>
 
-#include "../render/gl_program.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
@@ -108,43 +105,6 @@ std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages) {
   return {};
 }
 
-// A compute program and its uniforms' locations.
-struct GpuVbd::Kernel {
-  GLuint program = 0;
-  std::map<std::string, GLint, std::less<>> loc;
-  Kernel() = default;
-  Kernel(const char* name, const std::string& source)
-      : program(render::link_compute_program(name, source)) {}
-  Kernel(Kernel&& o) noexcept : program(std::exchange(o.program, 0)), loc(std::move(o.loc)) {}
-  Kernel& operator=(Kernel&& o) noexcept {
-    std::swap(program, o.program);
-    std::swap(loc, o.loc);
-    return *this;
-  }
-  ~Kernel() {
-    if (program) glDeleteProgram(program);
-  }
-  GLint at(const char* name) {
-    auto it = loc.find(name);
-    if (it == loc.end()) it = loc.emplace(name, glGetUniformLocation(program, name)).first;
-    return it->second;
-  }
-  void set(const char* name, GLuint value) { glProgramUniform1ui(program, at(name), value); }
-  void set(const char* name, float value) { glProgramUniform1f(program, at(name), value); }
-  void set_flag(const char* name, bool value) { glProgramUniform1i(program, at(name), value); }
-  void set(const char* name, const Vec3& value) {
-    glProgramUniform3f(program, at(name), float(value.x), float(value.y), float(value.z));
-  }
-  // `count` invocations (u_count), then a barrier for the next pass.
-  void run(GLuint count) {
-    if (count == 0) return;
-    set("u_count", count);
-    glUseProgram(program);
-    glDispatchCompute((count + kGroupSize - 1) / kGroupSize, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
-};
-
 GpuVbd::GpuVbd() {
   glCreateBuffers(GLsizei(kVbdBufferCount), buffers_.data());
   kernels_.resize(passes);
@@ -161,7 +121,7 @@ GpuVbd::~GpuVbd() {
 }
 
 void GpuVbd::forget() {
-  for (Kernel& k : kernels_) k.program = 0;
+  for (Kernel& k : kernels_) k.forget();
   kernels_.clear();
 }
 

@@ -33,6 +33,7 @@
 
 #include "../integrators/implicit_vbd.hpp"
 #include "gpu_layout.hpp"
+#include "kernel.hpp"
 #include "maille/backend.hpp"
 #include "maille/integrator.hpp"
 #include "maille/model.hpp"
@@ -82,7 +83,6 @@ class GpuVbd {
   void download_memory(State& s) const;
 
  private:
-  struct Kernel;
   void bind() const;
 
   std::uint32_t points_ = 0;

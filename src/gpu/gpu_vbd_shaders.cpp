@@ -13,17 +13,7 @@ namespace {
 // `mat3 link_block(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p, float inv_h)`: kind k
 // calls its law's block (<law>_block) with its first `fields` parameters and 1/h.
 std::string link_block_function(const std::vector<KindLaw>& kinds) {
-  std::string s =
-      "mat3 link_block(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p, float inv_h) {\n"
-      "  switch (kind) {\n";
-  const char* component[] = {"p.x", "p.y", "p.z", "p.w"};
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    s += "    case " + std::to_string(k) + "u: return " + kinds[k].law + "_block(xa, xb, va, vb";
-    for (int f = 0; f < kinds[k].fields; ++f) s += std::string(", ") + component[f];
-    s += ", inv_h);\n";
-  }
-  s += "  }\n  return mat3(0.0);\n}\n";
-  return s;
+  return link_switch_function(kinds, {"mat3", "link_block", "_block", ", float inv_h", ", inv_h"});
 }
 
 }  // namespace

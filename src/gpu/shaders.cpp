@@ -31,28 +31,29 @@ uniform uint u_count;  // points, faces or driven points: the invocations that w
 
 }  // namespace
 
-// The switch over the model's kinds, generated: kind k calls its shared law with its first
-// `fields` parameters.
-std::string link_force_function(const std::vector<KindLaw>& kinds) {
-  std::string s =
-      "vec3 link_force(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p) {\n"
-      "  switch (kind) {\n";
+// The switch over the model's kinds, generated: kind k calls its shared law (with the form's
+// suffix) with its first `fields` parameters, then the form's extra arguments.
+std::string link_switch_function(const std::vector<KindLaw>& kinds, const LinkSwitch& form) {
+  std::string s = std::string(form.type) + " " + std::string(form.name) +
+                  "(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p" +
+                  std::string(form.extra_params) + ") {\n  switch (kind) {\n";
   const char* component[] = {"p.x", "p.y", "p.z", "p.w"};
   for (std::size_t k = 0; k < kinds.size(); ++k) {
-    s += "    case " + std::to_string(k) + "u: return " + kinds[k].law + "(xa, xb, va, vb";
+    s += "    case " + std::to_string(k) + "u: return " + kinds[k].law + std::string(form.suffix) +
+         "(xa, xb, va, vb";
     for (int f = 0; f < kinds[k].fields; ++f) s += std::string(", ") + component[f];
-    s += ");\n";
+    s += std::string(form.extra_args) + ");\n";
   }
-  s += "  }\n  return vec3(0.0);\n}\n";
+  s += "  }\n  return " + std::string(form.type) + "(0.0);\n}\n";
   return s;
+}
+
+std::string link_force_function(const std::vector<KindLaw>& kinds) {
+  return link_switch_function(kinds, {"vec3", "link_force", "", "", ""});
 }
 
 std::string kernel_head(std::initializer_list<Buf> used) {
   return head(used);
-}
-
-std::string link_force_glsl(const std::vector<KindLaw>& kinds) {
-  return link_force_function(kinds);
 }
 
 std::string forces_shader(const std::vector<KindLaw>& kinds) {

@@ -20,15 +20,19 @@ struct KindLaw {
   int fields = 0;
 };
 
-// GLSL `vec3 link_force(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p)`: the switch over
-// the model's kinds, each calling its shared law with its first `fields` parameters.
+// GLSL `<type> <name>(uint kind, vec3 xa, vec3 xb, vec3 va, vec3 vb, vec4 p<extra_params>)`: the
+// switch over the model's kinds, kind k calling its shared law `<law><suffix>` with its first
+// `fields` parameters, then `extra_args`; `<type>(0.0)` for an unknown kind.
+struct LinkSwitch {
+  std::string_view type, name, suffix, extra_params, extra_args;
+};
+std::string link_switch_function(const std::vector<KindLaw>& kinds, const LinkSwitch& form);
+// `vec3 link_force(kind, xa, xb, va, vb, p)`: each kind's force law (after the laws).
 std::string link_force_function(const std::vector<KindLaw>& kinds);
 // Per point: the forces of its links (a gather over its adjacency, the kind's shared law, no
 // atomics), of its faces (the wind, summed from FaceForces), gravity and drag, into f. Runs the
 // points u_base .. u_base + u_count - 1 (the structured layout runs the grids' points).
 std::string forces_shader(const std::vector<KindLaw>& kinds);
-// link_force(kind, xa, xb, va, vb, p): the switch over the model's kinds (after the laws).
-std::string link_force_glsl(const std::vector<KindLaw>& kinds);
 // Per face: the wind's force on each corner (the shared pressure law and gust sines).
 std::string faces_shader();
 // Per point: v += kick f / m, x += drift v (free points), the health flag on non-finite values.

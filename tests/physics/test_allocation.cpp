@@ -2,7 +2,8 @@
 // flag allocates nothing, with leapfrog and with implicit Euler (matrix-free CG), on one thread
 // and two; and so does every scheme (every implicit solver) on a scene with every stage kind
 // on: wind, a drive, [[contact]] links, a geometric contact, self-collision (points and
-// triangles), obstacles by every method (facets with the single-pass schemes that take them).
+// triangles), obstacles by every method (facets with the single-pass schemes that take them);
+// and contacts still allocate nothing when the thread count falls from two to one.
 // Counted by replacing the global operator new in this test binary.
 #include <gtest/gtest.h>
 
@@ -278,6 +279,75 @@ TEST(Allocation, NoneInGroupContactsAfterTheFirstSteps) {
     for (const auto& c : sim.profile().counters())
       if (c.name == "active_conditional_links") active = c.last;
     EXPECT_GT(active, 0u) << "the cube left the floor: nothing was measured";
+  }
+}
+
+}  // namespace
+}  // namespace maille
+
+namespace maille {
+namespace {
+
+// The default thread count falls from two to one (another program takes a core) while contacts
+// act: nothing allocates in the steps on one thread, though thread 0 alone now finds every
+// contact the two threads shared (each pass leaves every thread's list room for all of them:
+// src/collision/thread_lists.hpp; unit.ThreadLists makes the worst split on cue). The cores
+// are told: two free, then one.
+long allocations_two_threads_then_one(Model model, SimulationSettings s, int first, int counted) {
+  int free_cores = 2;
+  s.threads = 0;
+  Simulator sim(std::move(model), s);
+  sim.set_core_sampling({[&free_cores] { return free_cores; }, 0.0, 0});
+  if (!sim.follows_cores()) {
+    ADD_FAILURE() << "one core: the thread count cannot change";
+    return -1;
+  }
+  if (!sim.run_steps(first) || sim.threads() != 2) {
+    ADD_FAILURE() << "the first steps did not run on two threads: "
+                  << (sim.blow_up() ? sim.blow_up()->message : std::to_string(sim.threads()));
+    return -1;
+  }
+  free_cores = 1;
+  sim.run_steps(1);  // the switch to one thread itself
+  g_allocations = 0;
+  g_counting = true;
+  sim.run_steps(counted);
+  g_counting = false;
+  EXPECT_EQ(sim.threads(), 1);
+  return g_allocations.load();
+}
+
+// Two square sheets 1 cm apart, in contact all over and at rest (no gravity, no wind): every
+// step finds the same contacts, about 5 per point, spread over the whole grid (every chunk of
+// the dynamic schedule holds some). `contact` is the table that finds them.
+std::string sheets_scene(const std::string& contact) {
+  std::string s = R"(
+[fields]
+gravity = [0.0, 0.0, 0.0]
+)";
+  for (const auto& [name, z] : {std::pair{"a", "0.0"}, std::pair{"b", "0.01"}})
+    s += std::string("[[flag]]\nname = \"") + name + "\"\norigin = [0.0, 0.0, " + z +
+         "]\nwidth = 0.46\nheight = 0.46\nresolution = [24, 24]\nmass = 0.1\n"
+         "stiffness = 200.0\nfixed = \"none\"\n";
+  return s + contact;
+}
+
+TEST(Allocation, NoneWhenTheThreadsFallToOneWithContacts) {
+  static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
+  static const StageRegistry stages = StageRegistry::with_builtins();
+  const std::string self =
+      "[self_collision]\ngroups = [\"a\", \"b\"]\nradius = 0.03\nstiffness = 1.0\n";
+  const std::pair<const char*, std::string> cases[] = {
+      {"group contacts",
+       "[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 1.0\nthreshold = 0.03\n"},
+      {"self-collision, points", self},
+      {"self-collision, triangles", self + "primitive = \"triangles\"\n"},
+  };
+  for (const auto& [what, contact] : cases) {
+    auto scene = parse_scene(sheets_scene(contact), "sheets", kinds, stages);
+    ASSERT_TRUE(scene) << scene.error().to_string();
+    SimulationSettings s = test::settings(2e-5, "leapfrog");  // the sheets' springs: h < 6.6e-5 s
+    EXPECT_EQ(allocations_two_threads_then_one(std::move(scene->model), s, 10, 10), 0) << what;
   }
 }
 

@@ -25,6 +25,7 @@
 #include <omp.h>
 #endif
 
+#include "../thread_lists.hpp"
 #include "facet_grid.hpp"
 #include "facet_response.hpp"
 #include "maille/obstacle.hpp"
@@ -154,6 +155,7 @@ class FacetObstacleStage final : public Stage {
       }
       respond_resting(resting, v, f, inv_mass, step, counts[t]);
     }
+    collision::room_for_any_item(scratch_);  // whichever thread meets the busiest particle next
     Counts total;
     for (const Counts& c : counts) total.add(c);
     report(ctx, total);

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "../thread_lists.hpp"
+
 namespace maille::collision {
 
 namespace {
@@ -24,6 +26,12 @@ constexpr std::array<std::array<int, 3>, 13> kForward = {{{-1, -1, 1},
                                                           {0, 1, 0},
                                                           {1, 1, 0},
                                                           {1, 0, 0}}};
+
+// After a pass: any thread may find every pair next time (thread_lists.hpp). The callers give
+// every sink the same cap.
+void make_room(std::vector<Sink>& sinks) {
+  if (!sinks.empty()) room_for_any_split(sinks, sinks.front().cap, &Sink::pairs);
+}
 
 }  // namespace
 
@@ -45,6 +53,7 @@ void brute_pairs(const Query& q, std::vector<Sink>& sinks, int threads) {
     Sink& s = sinks[std::size_t(thread_id())];
     for (std::int64_t b = a + 1; b < n; ++b) test_pair(q, std::uint32_t(a), std::uint32_t(b), s);
   }
+  make_room(sinks);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -125,6 +134,7 @@ Real UniformGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thr
         for (std::uint32_t j = c0; j < c1; ++j) test_pair(q, order_[i], order_[j], s);
     }
   }
+  make_room(sinks);
   return c;
 }
 
@@ -217,6 +227,7 @@ Real HashedGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thre
         if (same(t, x, y, z)) test_pair(q, a, order_[t], s);
     }
   }
+  make_room(sinks);
   return c;
 }
 
@@ -304,6 +315,7 @@ void Octree::find(const Query& q, std::vector<Sink>& sinks, int threads) {
     else
       pair(a, b, q, s);
   }
+  make_room(sinks);
 }
 
 // Fills node `idx` with particles order_[begin, end), the Morton prefix of `level` bits per

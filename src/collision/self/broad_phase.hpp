@@ -87,7 +87,9 @@ inline void test_pair(const Query& q, std::uint32_t a, std::uint32_t b, Sink& s)
   s.pairs.push_back(a), s.pairs.push_back(b), s.pairs.push_back(b), s.pairs.push_back(a);
 }
 
-// Sinks: one per thread (resized by the callers to the thread count).
+// Sinks: one per thread (resized by the callers to the thread count). Each pass leaves every
+// sink room for all the pairs it found (thread_lists.hpp): which thread finds which pairs is
+// up to the dynamic schedule.
 void brute_pairs(const Query& q, std::vector<Sink>& sinks, int threads);
 
 struct Box {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "../thread_lists.hpp"
 #include "broad_phase.hpp"
 #include "maille/self_collision.hpp"
 
@@ -182,6 +183,7 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
   }
   for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
   if (full_) return;
+  collision::room_for_any_split(per_thread_candidates_, cap);  // any thread may find them all
   // (particle, triangle) order: the same candidates in the same order whatever the threads.
   all_candidates_.clear();
   for (const auto& list : per_thread_candidates_)
@@ -235,6 +237,7 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   }
   for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
   if (full_) return 0;
+  collision::room_for_any_split(per_thread_, cap);  // next time (thread_lists.hpp)
   // Applied in (particle, feature, triangle) order: the same sums whatever the threads. A
   // particle touching an edge or a corner shared by several triangles is pushed once (else a
   // particle resting on a flat mesh would feel 2 k on an edge and up to 6 k on a corner).
