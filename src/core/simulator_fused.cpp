@@ -53,11 +53,13 @@ void finish_points(const FusedRows& r, std::uint32_t first, std::uint32_t count,
   for (std::uint32_t i = first; i < end; ++i)
     r.f[i] += point_update::field_force(r.g, r.gamma, r.mass[i], r.inv_mass[i], r.v[i]);
   if (faces) r.wind->row(*faces, row, r.x, r.v, r.f);
-  // 0, or NaN where a force is not finite: any order of the sum tells, so it vectorises (a
-  // sum in order is one dependent add per point).
+  // 0, or NaN where a force is not finite: any order of the sum tells, so it runs over the
+  // row's coordinates as one array (Vec3 has no padding) in vectors (a sum in order is one
+  // dependent add per point; by point, the vectoriser gathers).
+  const Real* c = &r.f[first].x;
   Real bad = 0;
 #pragma omp simd reduction(+ : bad)
-  for (std::uint32_t i = first; i < end; ++i) bad += r.f[i].x * 0 + r.f[i].y * 0 + r.f[i].z * 0;
+  for (std::uint32_t k = 0; k < 3 * count; ++k) bad += c[k] * 0;
   if (!std::isfinite(bad)) {
     r.failed->store(true, std::memory_order_relaxed);
     return;
