@@ -68,6 +68,13 @@ class LinkPoolBase {
                                  const detail::StructuredGrid::RowHook* hook) const {
     (void)x, (void)v, (void)f, (void)hook;
   }
+  // Whether no link off the structured kernel (the general schedule's) has an end on its grids
+  // (false where unknown), and those links alone: adds their forces into f (inside a parallel
+  // region the threads split each group). The fused grid step runs them after the grids' rows.
+  virtual bool others_off_grids() const { return false; }
+  virtual void other_forces(const Vec3* x, const Vec3* v, Vec3* f) const {
+    (void)x, (void)v, (void)f;
+  }
   // Sizes the structured kernel's row buffers for `threads` threads, outside parallel regions
   // (link_forces does it before each pass: nothing is allocated once they have grown).
   virtual void reserve_threads(int threads) const { (void)threads; }
@@ -229,6 +236,9 @@ class LinkPool final : public LinkPoolBase {
     base_ = static_cast<std::uint32_t>(structured);
     schedule_.build(std::span<const LinkEnds>(ends_).subspan(structured), point_count);
     if constexpr (kStructured) stencil_.build(ends_, same_record());
+    others_off_grids_ = std::none_of(ends_.begin() + structured, ends_.end(), [&](LinkEnds l) {
+      return on_grids(l.a) || on_grids(l.b);
+    });
     if (++prepared_count_ < 3) {
       std::vector<LinkEnds>().swap(spare_ends_);
       std::vector<Params>().swap(spare_params_);
@@ -241,6 +251,10 @@ class LinkPool final : public LinkPoolBase {
   }
 
   std::size_t structured_links() const override { return stencil_.size(); }
+  bool others_off_grids() const override { return others_off_grids_; }
+  void other_forces(const Vec3* x, const Vec3* v, Vec3* f) const override {
+    schedule_.for_each_chunk([&](std::uint32_t c) { run_chunk(c, x, v, f); });
+  }
   std::span<const PointGrid> structured_grids() const override { return stencil_.grids(); }
   void reserve_threads(int threads) const override {
     if (stencil_.size() > 0) stencil_.reserve(threads);
@@ -248,7 +262,8 @@ class LinkPool final : public LinkPoolBase {
 
   // The structured kernel's strips (detail/structured_grid.hpp): each thread of the team takes
   // a strip of rows of each grid, computes the link rows it shares with its neighbours (two
-  // above, its own last two) before a barrier, then its rows in order: link row, sum, hook.
+  // above, its own last two) and calls the hook's strip before a barrier, then its rows in
+  // order: link row, sum, hook.
   void structured_forces(const Vec3* x, const Vec3* v, Vec3* f,
                          const detail::StructuredGrid::RowHook* hook) const override {
     if (stencil_.size() == 0) return;
@@ -272,6 +287,8 @@ class LinkPool final : public LinkPoolBase {
           if (r0 - 2 + h >= 0) link_row(g, std::uint32_t(r0 - 2 + h), x, v, halo[h]);
           if (r1 - 2 + h >= r0) link_row(g, std::uint32_t(r1 - 2 + h), x, v, tail[h]);
         }
+        if (hook && hook->strip)
+          hook->strip(hook->context, g, std::uint32_t(r0), std::uint32_t(r1));
       }
 #pragma omp barrier
       if (!works) continue;
@@ -286,7 +303,7 @@ class LinkPool final : public LinkPoolBase {
         const std::uint32_t first = grid.first + std::uint32_t(row) * grid.nx;
         gather_row(buffer(row), buffer(row - 1), buffer(row - 2), grid.nx, f + first,
                    hook != nullptr);
-        if (hook) hook->run(hook->context, first, grid.nx);
+        if (hook) hook->run(hook->context, g, std::uint32_t(row));
       }
     }
 #pragma omp barrier
@@ -481,6 +498,12 @@ class LinkPool final : public LinkPoolBase {
   static constexpr bool kStructured = kAlwaysActive && requires {
     requires K::grid_stencil;
   };
+
+  bool on_grids(std::uint32_t point) const {
+    for (const PointGrid& g : stencil_.grids())
+      if (point >= g.first && point - g.first < std::uint64_t(g.nx) * g.ny) return true;
+    return false;
+  }
 
   // Bit-for-bit equality of two slots' records (a uniform row runs on its first record).
   auto same_record() const {
@@ -677,6 +700,7 @@ class LinkPool final : public LinkPoolBase {
   detail::CpuSchedule schedule_;           // the links from slot base_ on
   detail::StructuredGrid stencil_;         // the grid links: slots 0 .. base_ - 1
   std::uint32_t base_ = 0;
+  bool others_off_grids_ = true;  // no link of the schedule has an end on the stencil's grids
   // prepare()'s working arrays, kept by pools prepared often (see prepare).
   std::vector<LinkEnds> spare_ends_;
   std::vector<Params> spare_params_;

@@ -38,6 +38,7 @@ namespace maille {
 
 namespace detail {
 class ThreadChooser;  // src/core/follow_cores.hpp
+class WindRows;       // src/core/wind_rows.hpp
 }
 
 // A publish_every or sample_every that no run reaches: "never" (runs that publish or sample
@@ -281,6 +282,7 @@ class Simulator : private ForceEvaluator {
   bool follows_cores_ = false;  // the thread count is the default: it follows the free cores
   CoreSampling core_sampling_;
   std::unique_ptr<detail::ThreadChooser> chooser_;  // built at the first step
+  std::unique_ptr<detail::WindRows> wind_rows_;     // the fused step's wind, at its first
   bool overlays_ = false;
   bool device_snapshots_ = false;
   struct StageIds;

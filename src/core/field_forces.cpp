@@ -6,17 +6,7 @@
 #include "gust.hpp"
 #include "point_update.hpp"
 #include "stages.hpp"
-
-// Tells the vectoriser that iterations of the next loop do not overlap in memory (the wind
-// loops write F0 at [k] and F1 at [cells + k] of one buffer: GCC versioned them on a run-time
-// overlap test, and the scalar version ran).
-#if defined(__clang__)
-#define MAILLE_NO_OVERLAP _Pragma("clang loop vectorize(assume_safety)")
-#elif defined(__GNUC__)
-#define MAILLE_NO_OVERLAP _Pragma("GCC ivdep")
-#else
-#define MAILLE_NO_OVERLAP
-#endif
+#include "wind_grid.hpp"
 
 namespace maille::stages {
 
@@ -39,18 +29,13 @@ void point_fields(const Model& m, State& s) {
 // Wind pressure on each face (see WindField and gust::face_force), in two parts:
 //
 // Grids (Surface::grids, the flag's faces): row by row, in tiles of up to grid_tile points of a
-// row. Per tile, a row of points is copied into struct-of-arrays buffers on the stack (with each
-// point's coordinates along and across the wind when there are gusts), the row of cells between
-// it and the next is computed by vectorised loops with contiguous loads only (the gust's
-// arguments of both faces of each cell, double; the sines, float; geometry and force of both
-// faces, double, into a buffer), and each point of the row sums the forces of its six faces
-// from that row of cells and the one below:
-//
-//      row j+1   d ----- c            point (i, j) is corner of: F0, F1 of cell (i, j),
-//                |  F1 / |            F0 of cell (i-1, j), F0 and F1 of cell (i-1, j-1),
-//                |   /   |            F1 of cell (i, j-1); cells outside the grid count 0.
-//                | / F0  |
-//      row j     a ----- b            F0 = (a, b, c), F1 = (a, c, d)
+// row (the pieces and the cell diagram: wind_grid.hpp; the fused grid step runs the same pieces
+// inside its rows: wind_rows.hpp). Per tile, a row of points is copied into struct-of-arrays
+// buffers on the stack (with each point's coordinates along and across the wind when there are
+// gusts), the row of cells between it and the next is computed by vectorised loops with
+// contiguous loads only (the gust's arguments of both faces of each cell, double; the sines,
+// float; geometry and force of both faces, float, into a buffer), and each point of the row
+// sums the forces of its six faces from that row of cells and the one below.
 //
 // No point is written twice, so there is no colouring and no read-modify-write chain, and a
 // point's sum has the same order whatever the tiles. Tiles and strips of rows split the work
@@ -63,73 +48,15 @@ void point_fields(const Model& m, State& s) {
 // cannot know that faces of one colour share no corner).
 //
 // The gust field was 80 % of the default scene's step before; docs/benchmarks.md has the story.
-constexpr std::int64_t grid_tile = 64;
 constexpr std::int64_t wind_block = 64;
 
-struct WindLaw {
-  gust::Basis basis;
-  Real coef = 0;  // rho C_d / 12 (gust::face_force)
-};
-
-// A tile of width points runs the cells i0 - 1 .. i0 + width - 1 (k = i - i0 + 1), padded to a
-// multiple of 4 cells so that the vectorised loops have no scalar remainder.
-constexpr std::int64_t padded_cells(std::int64_t width) {
-  return (width + 1 + 3) / 4 * 4;
-}
-constexpr std::int64_t cell_cap = padded_cells(grid_tile);
-
-// One row of a tile: points i0 - 1 .. i0 - 1 + cells (index k = i - i0 + 1), x and v by axis.
-// Where the grid has no such point (left of its first column, right of its last, the padding),
-// the row repeats its neighbour: the cell there is then degenerate (a2 = 0 exactly) and gets
-// no force, so every row of a tile runs the same cells with no test.
-struct GridRow {
-  alignas(64) Real x[3][cell_cap + 1];
-  alignas(64) Real v[3][cell_cap + 1];  // a third of each velocity: a face's mean is their sum
-  // With gusts: a third of each point's coordinates along and across the wind (gust::arguments),
-  // so that a face's are the sum of its corners'.
-  alignas(64) double s[cell_cap + 1];
-  alignas(64) double q[cell_cap + 1];
-};
-// One row of the cells of a tile: the force on each corner of F0 at [axis][k] and of F1 at
-// [axis][cells + k].
-constexpr std::int64_t face_cap = 2 * cell_cap;
-struct CellRow {
-  alignas(64) Real f[3][face_cap];
-};
-// The gust at the faces of one row of cells (indexed as CellRow) or of a block of loose faces.
-struct GustBuffers {
-  alignas(64) float r[4][face_cap];     // the four reduced arguments, turns
-  alignas(64) float gust[3][face_cap];  // w - U at the centre, m/s
-};
-static_assert(face_cap >= wind_block);
-
-void load_row(const Vec3* x, const Vec3* v, std::int64_t base, std::int64_t k0, std::int64_t k1,
-              GridRow& r) {
-  constexpr Real third = Real(1) / Real(3);
-  for (std::int64_t k = k0; k < k1; ++k) {
-    const Vec3 p = x[base + k], u = v[base + k];
-    r.x[0][k] = p.x, r.x[1][k] = p.y, r.x[2][k] = p.z;
-    r.v[0][k] = u.x * third, r.v[1][k] = u.y * third, r.v[2][k] = u.z * third;
-  }
-}
-
-// The gust at faces [0, n) from their reduced arguments (gb.r) into gb.gust: float only.
-void gust_sines(const gust::Basis& basis, std::int64_t n, GustBuffers& gb) {
-  const float* __restrict r0 = gb.r[0];
-  const float* __restrict r1 = gb.r[1];
-  const float* __restrict r2 = gb.r[2];
-  const float* __restrict r3 = gb.r[3];
-  float* __restrict gx = gb.gust[0];
-  float* __restrict gy = gb.gust[1];
-  float* __restrict gz = gb.gust[2];
-  MAILLE_NO_OVERLAP
-  for (std::int64_t j = 0; j < n; ++j) {
-    const float r[4] = {r0[j], r1[j], r2[j], r3[j]};
-    float g[3];
-    gust::gust_from(basis, r, g);
-    gx[j] = g[0], gy[j] = g[1], gz[j] = g[2];
-  }
-}
+using wind_grid::CellRow;
+using wind_grid::grid_tile;
+using wind_grid::GridRow;
+using wind_grid::GustBuffers;
+using wind_grid::padded_cells;
+using wind_grid::WindLaw;
+static_assert(wind_grid::face_cap >= wind_block);
 
 // The reduced arguments of faces [0, n) from their centres (m, by axis) into gb.r.
 void gust_arguments(const gust::Basis& basis, const Real* __restrict px, const Real* __restrict py,
@@ -151,150 +78,15 @@ inline Vec3 air(const gust::Basis& b, const GustBuffers& gb, std::int64_t j) {
                : b.mean;
 }
 
-// The cells k in [0, cells) between rows lo and hi into out; returns how many faces of the
-// cells k >= 1 are not degenerate (cell 0 is the left neighbour tile's or a ghost).
-template <bool Gusty>
-std::uint64_t cell_row(const WindLaw& law, const GridRow* __restrict lo,
-                       const GridRow* __restrict hi, std::int64_t cells, CellRow* __restrict out) {
-  GustBuffers gb;
-  if (Gusty) {
-    // Arguments of F0 then F1, from the corners' s and q (double to float), then the sines.
-    // Separate loops of one width each: fused with the force, GCC 12 vectorised none of it.
-    float* __restrict r0 = gb.r[0];
-    float* __restrict r1 = gb.r[1];
-    float* __restrict r2 = gb.r[2];
-    float* __restrict r3 = gb.r[3];
-    float* __restrict t0 = gb.r[0] + cells;
-    float* __restrict t1 = gb.r[1] + cells;
-    float* __restrict t2 = gb.r[2] + cells;
-    float* __restrict t3 = gb.r[3] + cells;
-    const double* __restrict ls = lo->s;
-    const double* __restrict lq = lo->q;
-    const double* __restrict hs = hi->s;
-    const double* __restrict hq = hi->q;
-    MAILLE_NO_OVERLAP
-    for (std::int64_t k = 0; k < cells; ++k) {
-      const double s_ac = ls[k] + hs[k + 1], q_ac = lq[k] + hq[k + 1];
-      float r[4];
-      gust::arguments(law.basis, s_ac + ls[k + 1], q_ac + lq[k + 1], r);
-      r0[k] = r[0], r1[k] = r[1], r2[k] = r[2], r3[k] = r[3];
-      gust::arguments(law.basis, s_ac + hs[k], q_ac + hq[k], r);
-      t0[k] = r[0], t1[k] = r[1], t2[k] = r[2], t3[k] = r[3];
-    }
-    gust_sines(law.basis, 2 * cells, gb);
-  }
-  const Real* __restrict lx = lo->x[0];
-  const Real* __restrict ly = lo->x[1];
-  const Real* __restrict lz = lo->x[2];
-  const Real* __restrict hx = hi->x[0];
-  const Real* __restrict hy = hi->x[1];
-  const Real* __restrict hz = hi->x[2];
-  const Real* __restrict lvx = lo->v[0];
-  const Real* __restrict lvy = lo->v[1];
-  const Real* __restrict lvz = lo->v[2];
-  const Real* __restrict hvx = hi->v[0];
-  const Real* __restrict hvy = hi->v[1];
-  const Real* __restrict hvz = hi->v[2];
-  Real* __restrict f0x = out->f[0];
-  Real* __restrict f0y = out->f[1];
-  Real* __restrict f0z = out->f[2];
-  Real* __restrict f1x = out->f[0] + cells;
-  Real* __restrict f1y = out->f[1] + cells;
-  Real* __restrict f1z = out->f[2] + cells;
-  // The pressure law in float, like the gust: a face's force to about 1e-7 of the largest one
-  // (1.5e-7 measured by physics.WindStage), far below what the drag law knows, at twice the
-  // vector width. Edges and velocity sums are differences and
-  // sums of doubles taken in double first (positions are metres from the origin), then rounded.
-  const float coef = float(law.coef);
-  const float mx = float(law.basis.mean.x), my = float(law.basis.mean.y),
-              mz = float(law.basis.mean.z);
-  const float* __restrict g0x = gb.gust[0];
-  const float* __restrict g0y = gb.gust[1];
-  const float* __restrict g0z = gb.gust[2];
-  std::uint64_t pushed = 0;
-  MAILLE_NO_OVERLAP
-  for (std::int64_t k = 0; k < cells; ++k) {
-    // Cell corners a = lo[k], b = lo[k + 1], c = hi[k + 1], d = hi[k]; faces abc and acd.
-    const float abx = float(lx[k + 1] - lx[k]), aby = float(ly[k + 1] - ly[k]),
-                abz = float(lz[k + 1] - lz[k]);
-    const float acx = float(hx[k + 1] - lx[k]), acy = float(hy[k + 1] - ly[k]),
-                acz = float(hz[k + 1] - lz[k]);
-    const float adx = float(hx[k] - lx[k]), ady = float(hy[k] - ly[k]), adz = float(hz[k] - lz[k]);
-    const float n0x = aby * acz - abz * acy, n0y = abz * acx - abx * acz,
-                n0z = abx * acy - aby * acx;
-    const float n1x = acy * adz - acz * ady, n1y = acz * adx - acx * adz,
-                n1z = acx * ady - acy * adx;
-    const double vacx = lvx[k] + hvx[k + 1], vacy = lvy[k] + hvy[k + 1], vacz = lvz[k] + hvz[k + 1];
-    const float s0x = float(vacx + lvx[k + 1]), s0y = float(vacy + lvy[k + 1]),
-                s0z = float(vacz + lvz[k + 1]);
-    const float s1x = float(vacx + hvx[k]), s1y = float(vacy + hvy[k]), s1z = float(vacz + hvz[k]);
-    const float w0x = Gusty ? mx + g0x[k] : mx, w0y = Gusty ? my + g0y[k] : my,
-                w0z = Gusty ? mz + g0z[k] : mz;
-    const float w1x = Gusty ? mx + g0x[cells + k] : mx, w1y = Gusty ? my + g0y[cells + k] : my,
-                w1z = Gusty ? mz + g0z[cells + k] : mz;
-    // gust::face_force by component, in float: coef |d| d / |a2|^2 a2, d = (w - v) . a2.
-    const float d0 = (w0x - s0x) * n0x + (w0y - s0y) * n0y + (w0z - s0z) * n0z;
-    const float d1 = (w1x - s1x) * n1x + (w1y - s1y) * n1y + (w1z - s1z) * n1z;
-    const float l0 = n0x * n0x + n0y * n0y + n0z * n0z;
-    const float l1 = n1x * n1x + n1y * n1y + n1z * n1z;
-    const float c0 = gust::face_force_scale(coef, d0, l0);
-    const float c1 = gust::face_force_scale(coef, d1, l1);
-    f0x[k] = Real(n0x * c0), f0y[k] = Real(n0y * c0), f0z[k] = Real(n0z * c0);
-    f1x[k] = Real(n1x * c1), f1y[k] = Real(n1y * c1), f1z[k] = Real(n1z * c1);
-    pushed += std::uint64_t(l0 != 0) + std::uint64_t(l1 != 0);
-  }
-  // Cell 0 is not this tile's to count.
-  const Vec3 a{lx[0], ly[0], lz[0]}, b{lx[1], ly[1], lz[1]}, c{hx[1], hy[1], hz[1]},
-      d{hx[0], hy[0], hz[0]};
-  pushed -= std::uint64_t(norm2(cross(b - a, c - a)) != 0) +
-            std::uint64_t(norm2(cross(c - a, d - a)) != 0);
-  return pushed;
-}
-
-void zero_cells(CellRow& r) {
-  for (int axis = 0; axis < 3; ++axis)
-    for (std::int64_t k = 0; k < face_cap; ++k) r.f[axis][k] = 0;
-}
-
-// Points i0 .. i0 + width - 1 of one row: f += the forces of their six faces.
-void add_row(const CellRow& below, const CellRow& above, std::int64_t width, Vec3* f) {
-  const std::int64_t cells = padded_cells(width);
-  Real sum[3][grid_tile];
-  for (int axis = 0; axis < 3; ++axis) {
-    const Real* a0 = above.f[axis];
-    const Real* a1 = above.f[axis] + cells;
-    const Real* b0 = below.f[axis];
-    const Real* b1 = below.f[axis] + cells;
-    for (std::int64_t i = 0; i < width; ++i)
-      sum[axis][i] = ((a0[i + 1] + a1[i + 1]) + a0[i]) + ((b0[i] + b1[i]) + b1[i + 1]);
-  }
-  for (std::int64_t i = 0; i < width; ++i) f[i] += Vec3{sum[0][i], sum[1][i], sum[2][i]};
-}
-
-// Tile [i0, i0 + width) x rows [j0, j1) of grid g.
+// Tile [i0, i0 + width) x rows [j0, j1) of grid g (wind_grid.hpp's pieces).
 template <bool Gusty>
 std::uint64_t wind_grid_tile(const WindLaw& law, const FaceGrid& g, std::int64_t i0,
                              std::int64_t width, std::int64_t j0, std::int64_t j1, const Vec3* x,
                              const Vec3* v, Vec3* f) {
+  using wind_grid::cell_row;
   const std::int64_t nx = g.nx, ny = g.ny, cells = padded_cells(width);
-  // Points k in [p0, p1) of a row exist; the others, up to k = cells, are ghosts.
-  const std::int64_t p0 = i0 == 0 ? 1 : 0;
-  const std::int64_t p1 = i0 + width == nx ? width + 1 : width + 2;
   auto load = [&](std::int64_t j, GridRow& r) {
-    load_row(x, v, std::int64_t(g.first) + j * nx + i0 - 1, p0, p1, r);
-    for (int axis = 0; axis < 3; ++axis) {
-      if (p0 == 1) r.x[axis][0] = r.x[axis][1], r.v[axis][0] = r.v[axis][1];
-      for (std::int64_t k = p1; k <= cells; ++k)
-        r.x[axis][k] = r.x[axis][p1 - 1], r.v[axis][k] = r.v[axis][p1 - 1];
-    }
-    if (Gusty) {
-      constexpr Real third = Real(1) / Real(3);
-      const Vec3 ka = law.basis.k_along * third, kc = law.basis.k_across * third;
-      for (std::int64_t k = 0; k <= cells; ++k) {
-        const Vec3 p{r.x[0][k], r.x[1][k], r.x[2][k]};
-        r.s[k] = dot(ka, p), r.q[k] = dot(kc, p);
-      }
-    }
+    wind_grid::load_row<Gusty>(law, g, i0, width, j, x, v, r);
   };
   GridRow rows[2];
   CellRow cell_rows[2];
@@ -307,19 +99,19 @@ std::uint64_t wind_grid_tile(const WindLaw& law, const FaceGrid& g, std::int64_t
   if (j0 > 0) {
     load(j0 - 1, *next);
     load(j0, *here);
-    cell_row<Gusty>(law, next, here, cells, below);
+    cell_row<Gusty>(law, *next, *here, cells, *below);
   } else {
-    zero_cells(*below);
+    wind_grid::zero_cells(*below);
     load(j0, *here);
   }
   for (std::int64_t j = j0; j < j1; ++j) {
     if (j + 1 < ny) {
       load(j + 1, *next);
-      pushed += cell_row<Gusty>(law, here, next, cells, above);
+      pushed += cell_row<Gusty>(law, *here, *next, cells, *above);
     } else {
-      zero_cells(*above);
+      wind_grid::zero_cells(*above);
     }
-    add_row(*below, *above, width, f + g.first + j * nx + i0);
+    wind_grid::add_row(*below, *above, width, f + g.first + j * nx + i0);
     std::swap(below, above);
     std::swap(here, next);
   }
@@ -388,7 +180,7 @@ std::uint64_t wind_loose(const WindLaw& law, const Model& m, State& s) {
       }
       if (Gusty) {
         gust_arguments(law.basis, px, py, pz, count, gb);
-        gust_sines(law.basis, count, gb);
+        wind_grid::gust_sines(law.basis, count, gb);
       }
       for (std::int64_t j = 0; j < count; ++j) {
         const Vec3 fc = gust::face_force(air<Gusty>(law.basis, gb, j), law.coef,
@@ -410,8 +202,7 @@ std::uint64_t wind_loose(const WindLaw& law, const Model& m, State& s) {
 
 template <bool Gusty>
 std::uint64_t wind(const Model& m, State& s, int threads) {
-  const WindField& w = m.fields.wind;
-  const WindLaw law{gust::basis(w, s.time), w.density * w.drag_coefficient / Real(12)};
+  const WindLaw law = wind_grid::law(m.fields.wind, s.time);
   return wind_grids<Gusty>(law, m, s, threads) + wind_loose<Gusty>(law, m, s);
 }
 

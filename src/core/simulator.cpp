@@ -16,6 +16,7 @@
 #include "health.hpp"
 #include "simulator_detail.hpp"
 #include "stages.hpp"
+#include "wind_rows.hpp"
 
 namespace maille {
 

@@ -279,6 +279,96 @@ TEST(StructuredGrid, FusedStepIsBitIdenticalToTheUnfusedStep) {
   }
 }
 
+// The fused grid step with gusty wind on the flags' faces (wind_rows.hpp): two flags (two
+// grids; 70 points per row: two tiles of the wind's rows, 33 and 12 rows: two strips each on two
+// threads) and a rope hung beside them (links of the same pool between points off the grids, as
+// the default scene's pole: they run after the rows), the unfused step every step against the
+// fused step, and two threads against one, bit for bit, with the same wind_faces count. A face
+// off the grids, or a link from the rope to a flag, keeps the step unfused.
+struct WindRun {
+  std::vector<Vec3> x, v;
+  std::uint64_t wind_faces = 0;
+  double field_stage_ns = 0;  // the last step's field_forces stage: 0 when it was fused
+};
+
+WindRun windy_run(const Model& m, int sample_every, int threads, const char* scheme) {
+  SimulationSettings s = quick();
+  s.integrator = scheme;
+  s.sample_every = sample_every;
+  s.threads = threads;
+  Simulator sim(m, s);
+  EXPECT_TRUE(sim.run_steps(301));  // the last one (step 300) fused where sample_every allows
+  WindRun r;
+  r.x.assign(sim.state().x().begin(), sim.state().x().end());
+  r.v.assign(sim.state().v().begin(), sim.state().v().end());
+  for (const auto& c : sim.profile().counters())
+    if (c.name == "wind_faces") r.wind_faces = c.last;
+  for (const auto& st : sim.profile().stages())
+    if (st.name == "field_forces") r.field_stage_ns = st.last_ns;
+  return r;
+}
+
+void expect_same_bits(const WindRun& a, const WindRun& b, const std::string& what) {
+  ASSERT_EQ(a.x.size(), b.x.size());
+  for (std::size_t i = 0; i < a.x.size(); ++i) {
+    ASSERT_EQ(a.x[i], b.x[i]) << what << " point " << i;
+    ASSERT_EQ(a.v[i], b.v[i]) << what << " point " << i;
+  }
+  EXPECT_EQ(a.wind_faces, b.wind_faces) << what;
+}
+
+Model two_windy_flags() {
+  Model m = flag(70, 33);
+  FlagParams p;
+  p.origin = {0, 0, 1};
+  p.nx = 20;
+  p.ny = 12;
+  build_flag(m, p, "small");
+  RopeParams r;
+  r.start = {-0.5, 1, 0};
+  r.end = {-0.5, 0, 0.3};
+  r.points = 12;
+  build_rope(m, r, "rope");
+  m.fields.air_drag = Real(0.05);
+  return m;
+}
+
+TEST(StructuredGrid, FusedStepWithGustyWindIsBitIdenticalToTheUnfusedStep) {
+  const Model m = two_windy_flags();
+  for (const char* scheme : {"leapfrog", "symplectic_euler"}) {
+    const WindRun fused = windy_run(m, kNeverEvery, 1, scheme);
+    const WindRun unfused = windy_run(m, 1, 1, scheme);
+    const WindRun two = windy_run(m, kNeverEvery, 2, scheme);
+    const WindRun mixed = windy_run(m, 7, 2, scheme);
+    EXPECT_EQ(fused.field_stage_ns, 0) << scheme << ": the step was not fused";
+    EXPECT_GT(unfused.field_stage_ns, 0) << scheme;
+    // Every face of both flags pushed: 2 (nx - 1)(ny - 1) each.
+    EXPECT_EQ(fused.wind_faces, 2u * 69 * 32 + 2u * 19 * 11) << scheme;
+    expect_same_bits(fused, unfused, std::string(scheme) + " fused / unfused");
+    expect_same_bits(fused, two, std::string(scheme) + " 1 / 2 threads");
+    expect_same_bits(fused, mixed, std::string(scheme) + " fused / mixed, 2 threads");
+  }
+  Model calm = m;  // the wind did something
+  calm.fields.wind = {};
+  EXPECT_GT(max_difference(windy_run(calm, kNeverEvery, 1, "leapfrog").x,
+                           windy_run(m, kNeverEvery, 1, "leapfrog").x),
+            1e-4);
+}
+
+TEST(StructuredGrid, AFaceOrALinkOffTheGridsKeepsTheWindyStepUnfused) {
+  Model loose = two_windy_flags();
+  loose.surface.triangles.push_back({0, 2, 2 * 70});  // a face across grid cells: a loose face
+  Model tied = two_windy_flags();
+  const auto rope_end = std::uint32_t(tied.points.size() - 1);
+  tied.links.pool<SpringDamper>().add({rope_end, 69}, {50, Real(0.5), 0});
+  for (const Model* m : {&loose, &tied}) {
+    const WindRun a = windy_run(*m, kNeverEvery, 1, "leapfrog");
+    const WindRun b = windy_run(*m, 1, 1, "leapfrog");
+    EXPECT_GT(a.field_stage_ns, 0);
+    expect_same_bits(a, b, m == &loose ? "loose face" : "rope tied to a flag");
+  }
+}
+
 // A force stage that adds nothing: with it the step is never fused, and nothing else changes.
 class NothingStage final : public Stage {
  public:

@@ -18,10 +18,11 @@
 // (the buffers of rows j, j - 1 and j - 2, read at the column offset of each family): a gather,
 // no scatter, so the sum of a point does not depend on how rows are split among threads. Once
 // row j is summed it is complete (no later row's link reaches it), so a caller may finish it at
-// once (RowHook: fields and the kick-drift update, the fused step of simulator_fused.cpp). The
-// threads take strips of rows; a strip computes the two link rows above it (its halo) and its
-// own last two (which read the next strip's first rows) before a barrier, so that no strip reads
-// positions another has already moved.
+// once (RowHook: fields, the wind and the kick-drift update, the fused step of
+// simulator_fused.cpp). The threads take strips of rows; a strip computes the two link rows
+// above it (its halo) and its own last two (which read the next strip's first rows) before a
+// barrier, so that no strip reads positions another has already moved (RowHook::strip lets the
+// caller do the same: the wind's cells, src/core/wind_rows.hpp).
 //
 // The implicit solvers run the links by segment (for_each_segment): rows are cut into blocks of
 // at least two rows, about kBlocks per grid; blocks of even rank run together, then those of
@@ -56,9 +57,12 @@ class StructuredGrid {
       {{1, 0}, {0, 1}, {1, 1}, {-1, 1}, {2, 0}, {0, 2}}};
   static constexpr std::uint32_t kBlocks = 16;  // per grid, at most
 
-  // Called on each finished row of points (first .. first + count - 1), inside the strips.
+  // Called inside the strips: `strip` (may be null) by each thread that takes rows r0 .. r1 - 1
+  // of grid g, before the barrier (rows r0 - 1 and r1 are other strips', still at t_n);
+  // `run` on each finished row of points (row j of grid g).
   struct RowHook {
-    void (*run)(void* context, std::uint32_t first, std::uint32_t count) = nullptr;
+    void (*strip)(void* context, std::size_t g, std::uint32_t r0, std::uint32_t r1) = nullptr;
+    void (*run)(void* context, std::size_t g, std::uint32_t j) = nullptr;
     void* context = nullptr;
   };
 
