@@ -190,22 +190,33 @@ void plot(const char* label, const std::vector<float>& values, const char* unit)
                    *hi + 1e-9f * (1 + std::abs(*hi)), ImVec2(ImGui::GetContentRegionAvail().x, 44));
 }
 
-// Implicit Euler's solver and, for vertex block descent, its sweeps and acceleration.
-void implicit_controls(PhysicsThread& physics, ImplicitSettings implicit) {
-  if (ImGui::BeginCombo("solver", std::string(to_string(implicit.solver)).c_str())) {
-    for (const auto& n : NameTable<ImplicitSolver>::names)
-      if (ImGui::Selectable(std::string(n.name).c_str(), n.value == implicit.solver)) {
-        implicit.solver = n.value;
-        physics.set_implicit(implicit);
+// A combo over a name table's choices; true when the user picked another one.
+template <class E>
+bool name_combo(const char* label, E& value) {
+  bool picked = false;
+  if (ImGui::BeginCombo(label, std::string(to_string(value)).c_str())) {
+    for (const auto& n : NameTable<E>::names)
+      if (ImGui::Selectable(std::string(n.name).c_str(), n.value == value) && n.value != value) {
+        value = n.value;
+        picked = true;
       }
     ImGui::EndCombo();
   }
+  return picked;
+}
+
+// Implicit Euler's solver and, for vertex block descent, its sweeps, coarse correction and (with
+// the correction off) acceleration.
+void implicit_controls(PhysicsThread& physics, ImplicitSettings implicit) {
+  if (name_combo("solver", implicit.solver)) physics.set_implicit(implicit);
   if (implicit.solver != ImplicitSolver::vbd) return;
   int sweeps = implicit.iterations;
   if (ImGui::SliderInt("sweeps", &sweeps, 1, 200) && sweeps != implicit.iterations) {
     implicit.iterations = sweeps;
     physics.set_implicit(implicit);
   }
+  if (name_combo("coarse", implicit.coarse)) physics.set_implicit(implicit);
+  if (implicit.coarse != VbdCoarse::off) return;  // the correction replaces the acceleration
   float rho = float(implicit.acceleration);
   if (ImGui::SliderFloat("acceleration", &rho, 0.0f, 0.99f, "%.2f") &&
       Real(rho) != implicit.acceleration) {
