@@ -3,9 +3,10 @@
 // one simulated second. With 10 sweeps each run stays finite and no point sinks into a
 // geometric obstacle deeper than the penalty's bound (below). A self-colliding cloth never
 // passes through itself (no pair of its triangles intersects, checked every 1/60 s): at 1/240 s
-// with 10 sweeps; at 1/60 s with the sweeps its folds need (`apart_sweeps`, measured: with 10,
-// cloth_heap's folds cross in 120 triangle pairs and cloth_on_sphere's in 68; the contacts'
-// solve is not converged there, docs/implicit.md).
+// with 10 sweeps; at 1/60 s with the sweeps its folds need (`apart_sweeps`, measured with the
+// coarse correction: cloth_on_sphere's folds cross in 40 triangle pairs with 10 sweeps and 34
+// with 30, none with 100; cloth_heap's in none with 10, where sweeps and Chebyshev alone left
+// 120; the contacts' solve is not converged there, docs/implicit.md).
 #include <gtest/gtest.h>
 
 #include <toml++/toml.h>
@@ -31,7 +32,7 @@ struct Example {
 };
 const Example kExamples[] = {
     {"cloth_down_stairs"},
-    {"cloth_heap", 30},
+    {"cloth_heap", 10},
     {"cloth_in_bowl"},
     {"cloth_on_cone"},
     {"cloth_on_cylinder"},
