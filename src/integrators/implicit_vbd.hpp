@@ -57,7 +57,7 @@ inline constexpr Real kFallbackGrowth = 2;
 // The coarse correction (coarse = "aggregates") runs after every kCoarseEvery-th sweep. Cloth on
 // a sphere at 1/60 s with 10 sweeps, largest stretch at 64^2 and 128^2: after every sweep 10.5
 // and 10.3 % (twice the corrections' cost), every second 5.6 and 9.1 %, every third 5.8 and 20 %
-// (docs/implicit.md).
+// (before the final contact rules, docs/implicit.md).
 inline constexpr int kCoarseEvery = 2;
 
 struct VbdResult {

@@ -38,13 +38,14 @@ constexpr Real kSmoothing = Real(2) / Real(3);
 // The LDL^T's cost grows about as their number to the power 1.5 on a cloth, and was 37 % of the
 // step with 1849 aggregates (a 128^2 cloth); larger aggregates converge less per correction.
 // Cloth on a sphere at 1/60 s, 10 sweeps, largest stretch (at most 300 / 600 / 2000): 64^2
-// 7.4 / 5.6 / 5.6 %, 128^2 9.1 / 9.1 / 7.4 %.
+// 7.4 / 5.6 / 5.6 %, 128^2 9.1 / 9.1 / 7.4 % (before the final contact rules: docs/implicit.md).
 constexpr std::size_t kMaxAggregates = 600;
 // Jacobi smoothings of the prolongation: each spreads a jump between aggregates over one more
 // ring of points. The same runs with 1 and 2: 64^2 4.4 and 5.6 %, 128^2 15.7 and 9.1 %.
 constexpr int kSmoothingSteps = 2;
-// The largest step along the direction: the model's alpha is about an aggregate's width for a
-// smooth error (vbd_coarse.hpp); a larger one means the quadratic model is poor.
+// The largest step along the direction: the model's alpha was 1.3 to 3.1 on the cloth on a
+// sphere (the smoothed direction is still too stiff for a smooth error, vbd_coarse.hpp); a much
+// larger one means the quadratic model is poor.
 constexpr Real kMaxStep = 16;
 
 }  // namespace
