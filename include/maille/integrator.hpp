@@ -71,6 +71,8 @@ struct ImplicitSettings {
   int iterations = 10;                       // vbd: sweeps over every free point per step, >= 1
   Real acceleration = Real(0.9);             // vbd: Chebyshev factor rho in [0, 1); 0 = off
   VbdCoarse coarse = VbdCoarse::aggregates;  // vbd: the coarse correction (replaces Chebyshev)
+
+  bool operator==(const ImplicitSettings&) const = default;
 };
 
 // [simulation.implicit]'s keys (stage_keys.hpp), declared in implicit_keys.cpp: the scene reader

@@ -198,7 +198,8 @@ class Simulation {
            "simulation." + changed +
                " cannot change while the simulation runs: give it in overrides= when making "
                "the Simulation (live: simulation.step, simulation.integrator, "
-               "simulation.duration, fields, links' and builders' parameters)");
+               "simulation.implicit.*, simulation.duration, fields, links' and builders' "
+               "parameters)");
     const std::uint32_t n = sim_->model().points.size();
     if (!from_code_ && scene.model.points.size() != n)
       fail("--set", key,
@@ -216,6 +217,9 @@ class Simulation {
         // drive, a stage's table): the model read replaces the running one, state kept.
         sim_->edit_model([&](Model& m) { m = std::move(scene.model); });
       }
+      // [simulation.implicit] before the scheme: a switch to implicit_euler builds it with them.
+      if (!(scene.settings.implicit == sim_->settings().implicit))
+        sim_->set_implicit(scene.settings.implicit);
       if (scene.settings.integrator != sim_->settings().integrator)
         sim_->set_integrator(scene.settings.integrator);
       if (scene.settings.step != sim_->settings().step) sim_->set_step(scene.settings.step);
@@ -430,10 +434,6 @@ class Simulation {
     if (a.runaway_factor != b.runaway_factor) return "runaway_factor";
     if (a.backend != b.backend) return "backend";
     if (a.backend_options.device != b.backend_options.device) return "gpu_device";
-    if (a.implicit.solver != b.implicit.solver || a.implicit.tolerance != b.implicit.tolerance ||
-        a.implicit.max_iterations != b.implicit.max_iterations ||
-        a.implicit.newton_iterations != b.implicit.newton_iterations)
-      return "implicit";
     return {};
   }
 

@@ -82,6 +82,27 @@ def test_live_set_changes_the_run():
     a.step(10)
 
 
+def test_live_set_of_the_implicit_settings():
+    """[simulation.implicit] is live (Simulator::set_implicit, as the viewer's controls): a live
+    edit gives the run that the same keys at construction give; it was once ignored."""
+    keys = {"simulation.integrator": "implicit_euler", "simulation.step": 1.0 / 120,
+            "simulation.implicit.solver": "vbd"}
+    a = maille.Simulation(FLAG, overrides=keys)
+    b = maille.Simulation(FLAG, overrides=keys)
+    c = maille.Simulation(FLAG, overrides={**keys, "simulation.implicit.iterations": 3,
+                                           "simulation.implicit.coarse": "off"})
+    a.set("simulation.implicit.iterations", 3)
+    a.set("simulation.implicit.coarse", "off")
+    for s in (a, b, c):
+        s.step(20)
+    assert a.state_hash() == c.state_hash()
+    assert a.state_hash() != b.state_hash()
+    assert a.stats()["solver_iterations"] == 3
+    with pytest.raises(maille.SceneError) as e:
+        a.set("simulation.implicit.coarse", "multigrid")
+    assert e.value.key == "simulation.implicit.coarse"
+
+
 def test_live_set_of_a_stage_key():
     """A stage's table (self-collision's radius: at 0.2 m contacts start at once) is a live key."""
     heap = EXAMPLES / "cloth_heap.toml"
