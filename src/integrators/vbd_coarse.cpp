@@ -57,10 +57,9 @@ struct CoarseCorrection::Impl {
     std::vector<std::int64_t> target;  // [links] see kNowhere
   };
   std::vector<Pool> pools;
-  std::vector<std::uint32_t> free;       // free points, increasing
-  std::vector<std::uint32_t> aggregate;  // [points] kNone for fixed points
-  std::size_t count = 0;                 // aggregates
-  std::size_t largest = 0;
+  std::vector<std::uint32_t> free;           // free points, increasing
+  std::vector<std::uint32_t> aggregate;      // [points] kNone for fixed points
+  std::size_t count = 0;                     // aggregates
   std::vector<std::uint32_t> order;          // [aggregates] place in the factorised order
   std::vector<Mat3> values;                  // [aggregates + off-diagonal blocks]
   std::vector<std::array<int, 9>> value_at;  // into upper's values, -1: lower triangle
@@ -88,10 +87,6 @@ void CoarseCorrection::reset() {
 std::size_t CoarseCorrection::aggregates() const {
   return impl_ ? impl_->count : 0;
 }
-std::size_t CoarseCorrection::largest_aggregate() const {
-  return impl_ ? impl_->largest : 0;
-}
-
 namespace {
 
 // Vanek's greedy aggregation of `nodes` (in order) over a graph given by rows: a node whose
@@ -170,9 +165,6 @@ void CoarseCorrection::Impl::aggregate_points(std::span<const std::uint32_t> fre
     count = greedy_aggregates(nodes, row, adjacent, assign);
     for (const std::uint32_t i : free) aggregate[i] = assign[aggregate[i]];
   }
-  std::vector<std::size_t> size(count, 0);
-  for (const std::uint32_t i : free) ++size[aggregate[i]];
-  largest = count ? *std::max_element(size.begin(), size.end()) : 0;
 }
 
 // The coarse matrix's blocks (aggregates, then one per pair of linked aggregates), each link's

@@ -46,8 +46,6 @@ class CoarseCorrection {
   void build(const Model& m, std::span<const std::uint32_t> free, std::size_t points);
   void reset();
   std::size_t aggregates() const;
-  // Largest and mean points per aggregate (docs, tests).
-  std::size_t largest_aggregate() const;
 
   // The step's coarse matrix from the links' blocks at (x, v) and the points' diagonal blocks
   // `diag` (the sweeps' H_i). False when it is not positive definite (no correction this step).
