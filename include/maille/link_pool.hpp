@@ -113,6 +113,12 @@ class LinkPoolBase {
   virtual void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
                                const std::uint32_t* slots, const Vec3* x, const Vec3* v, Real inv_h,
                                Vec3* f, Mat3* hessian) const = 0;
+  // The same terms link by link (VBD's coarse correction, vbd_coarse.hpp): every link once, in
+  // storage order, its force into f[a] (f[b] gets the opposite), its block into hessian[a],
+  // hessian[b] and blocks[l] (zero for an inactive conditional link). One evaluation per link
+  // where add_point_terms makes two; the sums are scattered, so one thread runs it.
+  virtual void add_link_terms(const Vec3* x, const Vec3* v, Real inv_h, Vec3* f, Mat3* hessian,
+                              Mat3* blocks) const = 0;
   // Conditional kinds: appends the storage slots of the links whose ends are closer than their
   // distance scale (threshold) plus `margin` (the contact candidates of a step whose points
   // move less than margin / 2). Always-active kinds append nothing.
@@ -236,9 +242,8 @@ class LinkPool final : public LinkPoolBase {
     base_ = static_cast<std::uint32_t>(structured);
     schedule_.build(std::span<const LinkEnds>(ends_).subspan(structured), point_count);
     if constexpr (kStructured) stencil_.build(ends_, same_record());
-    others_off_grids_ = std::none_of(ends_.begin() + structured, ends_.end(), [&](LinkEnds l) {
-      return on_grids(l.a) || on_grids(l.b);
-    });
+    others_off_grids_ = std::none_of(ends_.begin() + structured, ends_.end(),
+                                     [&](LinkEnds l) { return on_grids(l.a) || on_grids(l.b); });
     if (++prepared_count_ < 3) {
       std::vector<LinkEnds>().swap(spare_ends_);
       std::vector<Params>().swap(spare_params_);
@@ -334,6 +339,20 @@ class LinkPool final : public LinkPoolBase {
     return kHasJacobian;
   }
 
+  // Link l's force on a and its block J_x + J_v / h (definite mode), for VBD: the kind's fused
+  // block when it has one, else its force and Jacobian.
+  LinkBlock vbd_block(std::size_t l, const Vec3* x, const Vec3* v,
+                      Real inv_h) const requires kHasJacobian {
+    const auto [a, b] = ends_[l];
+    if constexpr (kHasBlock) {
+      return K::block(x[a], x[b], v[a], v[b], params_[l], inv_h);
+    } else {
+      const LinkJacobian j =
+          K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
+      return {K::force(x[a], x[b], v[a], v[b], params_[l]), j.dx + j.dv * inv_h};
+    }
+  }
+
   void implicit_blocks(const Vec3* x, const Vec3* v, Real h, Mat3* blocks,
                        Vec3* rhs) const override {
     if constexpr (kHasJacobian) {
@@ -384,20 +403,32 @@ class LinkPool final : public LinkPoolBase {
           const auto [a, b] = ends_[l];
           if constexpr (!kAlwaysActive)
             if (!K::is_active(x[a], x[b], params_[l])) continue;
-          if constexpr (kHasBlock) {
-            const LinkBlock blk = K::block(x[a], x[b], v[a], v[b], params_[l], inv_h);
-            fi += a == i ? blk.force : -blk.force;
-            hi += blk.stiffness;
-          } else {
-            const Vec3 fa = K::force(x[a], x[b], v[a], v[b], params_[l]);
-            const LinkJacobian j =
-                K::jacobian(x[a], x[b], v[a], v[b], params_[l], JacobianMode::definite);
-            fi += a == i ? fa : -fa;
-            hi += j.dx + j.dv * inv_h;
-          }
+          const LinkBlock blk = vbd_block(l, x, v, inv_h);
+          fi += a == i ? blk.force : -blk.force;
+          hi += blk.stiffness;
         }
         f[i] += fi;
         hessian[i] += hi;
+      }
+    }
+  }
+
+  void add_link_terms(const Vec3* x, const Vec3* v, Real inv_h, Vec3* f, Mat3* hessian,
+                      Mat3* blocks) const override {
+    if constexpr (kHasJacobian) {
+      for (std::size_t l = 0; l < ends_.size(); ++l) {
+        const auto [a, b] = ends_[l];
+        if constexpr (!kAlwaysActive)
+          if (!K::is_active(x[a], x[b], params_[l])) {
+            blocks[l] = Mat3{};
+            continue;
+          }
+        const LinkBlock blk = vbd_block(l, x, v, inv_h);
+        f[a] += blk.force;
+        f[b] -= blk.force;
+        hessian[a] += blk.stiffness;
+        hessian[b] += blk.stiffness;
+        blocks[l] = blk.stiffness;
       }
     }
   }

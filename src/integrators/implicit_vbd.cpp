@@ -303,9 +303,10 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   gravity_ = norm(m.fields.gravity);
 }
 
-// g_i = m_i/h^2 (y_i - x_i) - gamma m_i v_i + links + contacts; H_i likewise.
+// g_i = m_i/h^2 (y_i - x_i) - gamma m_i v_i + links + contacts; H_i likewise. With
+// `skip_kept`, the pools the coarse correction keeps are left out (coarse_terms adds them).
 void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, const Model& m,
-                                     const Vec3* x, const Vec3* v, Real h) {
+                                     const Vec3* x, const Vec3* v, Real h, bool skip_kept) {
   const Real inv_h = Real(1) / h, inv_h2 = inv_h * inv_h;
   const Real drag = m.fields.air_drag;
   for (const std::uint32_t i : points) {
@@ -315,8 +316,9 @@ void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, cons
     touching_[i] = 0;
   }
   for (const PoolRows& r : rows_)
-    r.pool->add_point_terms(points, r.row.data(), r.slots.data(), x, v, inv_h, g_.data(),
-                            hess_.data());
+    if (!skip_kept || !coarse_.blocks_of(r.pool))
+      r.pool->add_point_terms(points, r.row.data(), r.slots.data(), x, v, inv_h, g_.data(),
+                              hess_.data());
   for (std::size_t t = 0; t < triangle_stages_; ++t) {
     const TriangleRows& r = triangles_[t];
     r.contacts->add_point_terms(points, r.row.data(), r.entries.data(), x, v, inv_h, g_.data(),
@@ -526,16 +528,29 @@ void VertexBlockDescent::extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3
   for (const std::uint32_t i : free_) prev1_[i] = x[i];
 }
 
-// g and H of every free point at (x, v), in blocks (threads when there are many points).
-void VertexBlockDescent::all_point_terms(const Model& m, const Vec3* x, const Vec3* v, Real h) {
+// g and H of every free point at (x, v) for the coarse correction, and the blocks of the links
+// it keeps: its always-active pools link by link (one evaluation per link, where a point's
+// gather makes two: the correction's gradient pass cost about a sweep), the rest point by point
+// in blocks (threads when there are many points). The link pass scatters its sums in storage
+// order on one thread, so the result does not depend on the threads.
+void VertexBlockDescent::coarse_terms(const Model& m, const Vec3* x, const Vec3* v, Real h) {
   const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
   const auto count = static_cast<std::int64_t>(free_.size());
   const std::int64_t blocks = (count + kBlock - 1) / kBlock;
 #pragma omp parallel for schedule(static) num_threads(threads_) if (parallel)
   for (std::int64_t b = 0; b < blocks; ++b) {
     const std::int64_t lo = b * kBlock, hi = std::min(count, lo + kBlock);
-    point_terms({free_.data() + lo, std::size_t(hi - lo)}, m, x, v, h);
+    point_terms({free_.data() + lo, std::size_t(hi - lo)}, m, x, v, h, true);
   }
+  // The pass adds into fixed points too: from zero, so that nothing grows step after step.
+  for (std::size_t i = 0; i < points_; ++i)
+    if (!(m.points.inv_mass[i] > 0)) {
+      g_[i] = Vec3{};
+      hess_[i] = Mat3{};
+    }
+  for (const PoolRows& r : rows_)
+    if (Mat3* kept = coarse_.blocks_of(r.pool))
+      r.pool->add_link_terms(x, v, Real(1) / h, g_.data(), hess_.data(), kept);
 }
 
 // One coarse correction (vbd_coarse.hpp): x += alpha p, the coarse matrix factorised at x (once
@@ -550,8 +565,8 @@ void VertexBlockDescent::all_point_terms(const Model& m, const Vec3* x, const Ve
 // the thinnest contact region stays (a thin box). False when no correction was taken (the coarse
 // matrix not positive definite, or a zero direction).
 bool VertexBlockDescent::coarse_step(const Model& m, Vec3* x, Vec3* v, Real h) {
-  all_point_terms(m, x, v, h);
-  if (!coarse_.prepare(x, v, h, hess_.data())) return false;
+  coarse_terms(m, x, v, h);
+  if (!coarse_.prepare(hess_.data())) return false;
   const Real alpha = coarse_.direction(g_.data(), direction_.data());
   if (!(alpha > 0)) return false;
   const Real inv_h = Real(1) / h, half_thinnest = Real(0.5) * thinnest_;

@@ -131,7 +131,7 @@ class VertexBlockDescent {
   void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
   void colour();
   void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
-                   const Vec3* v, Real h);
+                   const Vec3* v, Real h, bool skip_kept = false);
   Real sweep(const Model& m, Vec3* x, Vec3* v, Real h);
   void update_block(std::span<const std::uint32_t> points, const Model& m, Vec3* x, Vec3* v,
                     Real h);
@@ -142,7 +142,7 @@ class VertexBlockDescent {
   Real first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only);
   void stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only);
   Real margin_for(const Vec3* x) const;
-  void all_point_terms(const Model& m, const Vec3* x, const Vec3* v, Real h);
+  void coarse_terms(const Model& m, const Vec3* x, const Vec3* v, Real h);
   bool coarse_step(const Model& m, Vec3* x, Vec3* v, Real h);
   void extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3* v, Real h, Real half_thinnest);
 

@@ -53,7 +53,7 @@ constexpr Real kMaxStep = 16;
 struct CoarseCorrection::Impl {
   struct Pool {
     const LinkPoolBase* pool = nullptr;
-    std::vector<Mat3> blocks;          // [links] C_l of this step (h J_v + h^2 J_x)
+    std::vector<Mat3> blocks;          // [links] J_x + J_v / h at the correction (blocks_of)
     std::vector<std::int64_t> target;  // [links] see kNowhere
   };
   std::vector<Pool> pools;
@@ -66,7 +66,6 @@ struct CoarseCorrection::Impl {
   Sparse upper;
   PreorderedLdlt ldlt;
   bool ready = false;  // prepared this step
-  Real inv_h2 = 0;
   Eigen::VectorXd rhs, solution;
   std::vector<Vec3> p0, hp;              // [points]
   std::vector<Mat3> diag, diag_inverse;  // [points] H's diagonal blocks when prepared
@@ -264,10 +263,16 @@ void CoarseCorrection::build(const Model& m, std::span<const std::uint32_t> free
   c.diag_inverse.assign(points, Mat3{});
 }
 
-bool CoarseCorrection::prepare(const Vec3* x, const Vec3* v, Real h, const Mat3* diag) {
+Mat3* CoarseCorrection::blocks_of(const LinkPoolBase* pool) {
+  if (!impl_) return nullptr;
+  for (Impl::Pool& p : impl_->pools)
+    if (p.pool == pool) return p.blocks.data();
+  return nullptr;
+}
+
+bool CoarseCorrection::prepare(const Mat3* diag) {
   if (!impl_ || impl_->count == 0) return false;
   Impl& c = *impl_;
-  c.inv_h2 = Real(1) / (h * h);
   std::fill(c.values.begin(), c.values.end(), Mat3{});
   for (const std::uint32_t i : c.free) {
     c.values[c.aggregate[i]] += diag[i];
@@ -275,11 +280,10 @@ bool CoarseCorrection::prepare(const Vec3* x, const Vec3* v, Real h, const Mat3*
     c.diag_inverse[i] = inverse_spd(diag[i]);
   }
   for (Impl::Pool& p : c.pools) {
-    p.pool->implicit_blocks(x, v, h, p.blocks.data(), nullptr);
     for (std::size_t l = 0; l < p.blocks.size(); ++l) {
       const std::int64_t t = p.target[l];
       if (t == kNowhere) continue;
-      const Mat3 k = p.blocks[l] * c.inv_h2;
+      const Mat3& k = p.blocks[l];
       if (t >= 0)
         c.values[std::size_t(t)] += k * Real(-1);
       else
@@ -304,8 +308,8 @@ void CoarseCorrection::Impl::multiply(const Mat3* d, const Vec3* u, Vec3* out) c
       if (p.target[l] == kNowhere) continue;
       const Mat3& b = p.blocks[l];
       const auto [a, c] = ends[l];
-      out[a] -= (b * u[c]) * inv_h2;
-      out[c] -= (b * u[a]) * inv_h2;
+      out[a] -= b * u[c];
+      out[c] -= b * u[a];
     }
   }
 }

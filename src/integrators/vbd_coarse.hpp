@@ -47,9 +47,13 @@ class CoarseCorrection {
   void reset();
   std::size_t aggregates() const;
 
-  // The step's coarse matrix from the links' blocks at (x, v) and the points' diagonal blocks
-  // `diag` (the sweeps' H_i). False when it is not positive definite (no correction this step).
-  bool prepare(const Vec3* x, const Vec3* v, Real h, const Mat3* diag);
+  // Where the caller writes the blocks J_x + J_v / h of `pool`'s links (storage order) before
+  // prepare(), or null when the correction does not keep that pool (conditional, no Jacobian).
+  Mat3* blocks_of(const LinkPoolBase* pool);
+  // The coarse matrix from the kept links' blocks (blocks_of) and the points' diagonal blocks
+  // `diag` (the sweeps' H_i). False when it is not positive definite (no
+  // correction this time).
+  bool prepare(const Mat3* diag);
   // The direction p (free points; 0 elsewhere) for the gradient g = -dG/dx, with its step
   // length: x + alpha p minimises the quadratic model (the Hessian prepared) along p. Returns
   // alpha (0: none). Needs prepare() in this step; allocates nothing.
