@@ -339,6 +339,111 @@ class LinkPool final : public LinkPoolBase {
     return kHasJacobian;
   }
 
+  // Optional axial VBD terms (K::axial, e.g. SpringDamper's): add_point_terms runs them in lanes.
+  static constexpr bool kHasAxial = requires(const Params& p, Real r) {
+    K::axial(r, r, p, r);
+  };
+
+  // add_point_terms for kinds with axial terms, in lanes: the links of a run of points are
+  // gathered into arrays (the axis from the point to the link's other end, so that the force on
+  // the point is force d at either end), the kind's terms computed over the arrays in one loop
+  // the compiler vectorises (a link's square root and division, taken link by link, left most
+  // of a sweep's time waiting on them), then summed point by point in slot order: the same sums,
+  // bit for bit, as K::block link by link (tests/unit/test_link_lanes.cpp).
+  void axial_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
+                         const std::uint32_t* slots, const Vec3* x, const Vec3* v, Real inv_h,
+                         Vec3* f, Mat3* hessian) const {
+    constexpr std::size_t kLanes = 64;
+    alignas(64) Real dx[kLanes], dy[kLanes], dz[kLanes], d2[kLanes], dvd[kLanes];
+    alignas(64) Real force[kLanes], iso[kLanes], axial[kLanes];
+    Params par[kLanes];
+    std::uint32_t owner[kLanes];
+    std::size_t n = 0;
+    std::uint32_t current = ~std::uint32_t(0);
+    Vec3 fi{};
+    Mat3 hi;
+    auto commit = [&] {
+      if (current == ~std::uint32_t(0)) return;
+      f[current] += fi;
+      hessian[current] += hi;
+    };
+    auto flush = [&] {
+      axial_lanes(n, d2, dvd, par, inv_h, force, iso, axial);
+      for (std::size_t e = 0; e < n; ++e) {
+        if (owner[e] != current) {
+          commit();
+          current = owner[e];
+          fi = Vec3{};
+          hi = Mat3{};
+        }
+        const Vec3 d{dx[e], dy[e], dz[e]};
+        fi += d * force[e];
+        hi += axial_block(d, {force[e], iso[e], axial[e]});
+      }
+      n = 0;
+    };
+    for (const std::uint32_t i : points)
+      for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) {
+        const std::uint32_t l = slots[k];
+        const auto [a, b] = ends_[l];
+        if constexpr (!kAlwaysActive)
+          if (!K::is_active(x[a], x[b], params_[l])) continue;
+        const std::uint32_t j = a == i ? b : a;
+        const Vec3 d = x[j] - x[i], dv = v[j] - v[i];
+        dx[n] = d.x;
+        dy[n] = d.y;
+        dz[n] = d.z;
+        d2[n] = dot(d, d);
+        dvd[n] = dot(dv, d);
+        par[n] = params_[l];
+        owner[n] = i;
+        if (++n == kLanes) flush();
+      }
+    flush();
+    commit();
+  }
+
+  // add_link_terms in lanes (as axial_point_terms): runs of links in storage order.
+  void axial_link_terms(const Vec3* x, const Vec3* v, Real inv_h, Vec3* f, Mat3* hessian,
+                        Mat3* blocks) const {
+    constexpr std::size_t kLanes = 64;
+    alignas(64) Real d2[kLanes], dvd[kLanes], force[kLanes], iso[kLanes], axial[kLanes];
+    Vec3 d[kLanes];
+    for (std::size_t begin = 0; begin < ends_.size(); begin += kLanes) {
+      const std::size_t n = std::min(kLanes, ends_.size() - begin);
+      for (std::size_t e = 0; e < n; ++e) {
+        const auto [a, b] = ends_[begin + e];
+        d[e] = x[b] - x[a];
+        d2[e] = dot(d[e], d[e]);
+        dvd[e] = dot(v[b] - v[a], d[e]);
+      }
+      axial_lanes(n, d2, dvd, params_.data() + begin, inv_h, force, iso, axial);
+      for (std::size_t e = 0; e < n; ++e) {
+        const auto [a, b] = ends_[begin + e];
+        const Vec3 fa = d[e] * force[e];
+        const Mat3 k = axial_block(d[e], {force[e], iso[e], axial[e]});
+        f[a] += fa;
+        f[b] -= fa;
+        hessian[a] += k;
+        hessian[b] += k;
+        blocks[begin + e] = k;
+      }
+    }
+  }
+
+  // The kind's axial terms of n gathered links (the loop that vectorises: a function of its
+  // own with restrict pointers, as the vectoriser needs to see the arrays do not overlap).
+  static void axial_lanes(std::size_t n, const Real* __restrict d2, const Real* __restrict dvd,
+                          const Params* __restrict par, Real inv_h, Real* __restrict force,
+                          Real* __restrict iso, Real* __restrict axial) {
+    for (std::size_t e = 0; e < n; ++e) {
+      const AxialTerms t = K::axial(d2[e], dvd[e], par[e], inv_h);
+      force[e] = t.force;
+      iso[e] = t.iso;
+      axial[e] = t.axial;
+    }
+  }
+
   // Link l's force on a and its block J_x + J_v / h (definite mode), for VBD: the kind's fused
   // block when it has one, else its force and Jacobian.
   LinkBlock vbd_block(std::size_t l, const Vec3* x, const Vec3* v,
@@ -394,7 +499,9 @@ class LinkPool final : public LinkPoolBase {
   void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
                        const std::uint32_t* slots, const Vec3* x, const Vec3* v, Real inv_h,
                        Vec3* f, Mat3* hessian) const override {
-    if constexpr (kHasJacobian) {
+    if constexpr (kHasAxial) {
+      axial_point_terms(points, row, slots, x, v, inv_h, f, hessian);
+    } else if constexpr (kHasJacobian) {
       for (const std::uint32_t i : points) {
         Vec3 fi{};
         Mat3 hi;
@@ -415,7 +522,9 @@ class LinkPool final : public LinkPoolBase {
 
   void add_link_terms(const Vec3* x, const Vec3* v, Real inv_h, Vec3* f, Mat3* hessian,
                       Mat3* blocks) const override {
-    if constexpr (kHasJacobian) {
+    if constexpr (kHasAxial && kAlwaysActive) {
+      axial_link_terms(x, v, inv_h, f, hessian, blocks);
+    } else if constexpr (kHasJacobian) {
       for (std::size_t l = 0; l < ends_.size(); ++l) {
         const auto [a, b] = ends_[l];
         if constexpr (!kAlwaysActive)

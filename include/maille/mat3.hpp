@@ -85,6 +85,22 @@ struct LinkBlock {
   Mat3 stiffness;  // N/m
 };
 
+// A central link's terms for vertex block descent, from its axis d = x_b - x_a alone (kinds
+// that offer `axial`, e.g. SpringDamper): the force on a is force d, the block is
+// iso I + axial d d^T. LinkPool evaluates such kinds in lanes (link_pool.hpp).
+struct AxialTerms {
+  Real force;  // N/m
+  Real iso;    // N/m
+  Real axial;  // N/m^3
+};
+
+// The block iso I + axial d d^T of AxialTerms.
+inline Mat3 axial_block(const Vec3& d, const AxialTerms& a) {
+  Mat3 out = Mat3::outer(d, d) * a.axial;
+  for (int i = 0; i < 3; ++i) out.m[i][i] += a.iso;
+  return out;
+}
+
 // What the implicit solver needs from a Jacobian: the exact derivative (tests, Newton), or a
 // symmetric negative semi-definite approximation that keeps M - h df/dv - h^2 df/dx symmetric
 // positive definite for conjugate gradients: compressed springs drop their negative

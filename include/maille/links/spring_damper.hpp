@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include "maille/links/spring.hpp"
 
@@ -42,20 +43,21 @@ struct SpringDamper {
   // Vertex block descent's per-link terms in one pass (optional for a kind: without it the
   // pool calls force and jacobian): the force, and J_x + J_v / h in definite mode,
   //   k t I + (k (1 - t) + z / h) n n^T,  t = max(0, 1 - L0 / |d|),
-  // with one square root instead of three (the same values up to rounding).
+  // with one square root instead of three (the same values up to rounding). Written from the
+  // axis alone (|d|^2 and dv.d), so that the pool runs it in lanes over many links at once:
+  // n n^T = d d^T / |d|^2.
+  static AxialTerms axial(Real d2, Real dvd, const Params& p, Real inv_h) {
+    const Real inv = Real(1) / (std::sqrt(d2) + Real(1e-30));  // law::inverse_length
+    const Real stretch = 1 - p.rest_length * inv;
+    const Real t = stretch > 0 ? stretch : Real(0);
+    return {p.stiffness * stretch + p.damping * dvd * inv * inv, p.stiffness * t,
+            (p.stiffness * (1 - t) + p.damping * inv_h) * (inv * inv)};
+  }
   static LinkBlock block(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                          const Params& p, Real inv_h) {
     const Vec3 d = xb - xa;
-    const Real inv = law::inverse_length(d);
-    const Real stretch = 1 - p.rest_length * inv;
-    LinkBlock out;
-    out.force = d * (p.stiffness * stretch + p.damping * dot(vb - va, d) * inv * inv);
-    const Real t = stretch > 0 ? stretch : Real(0);
-    const Vec3 n = d * inv;
-    out.stiffness = Mat3::outer(n, n) * (p.stiffness * (1 - t) + p.damping * inv_h);
-    const Real diag = p.stiffness * t;
-    for (int i = 0; i < 3; ++i) out.stiffness.m[i][i] += diag;
-    return out;
+    const AxialTerms a = axial(dot(d, d), dot(vb - va, d), p, inv_h);
+    return {d * a.force, axial_block(d, a)};
   }
   static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {
     const Real e = norm(xb - xa) - p.rest_length;
