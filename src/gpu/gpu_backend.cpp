@@ -371,7 +371,7 @@ class GpuBackend final : public Backend {
       forces_.set("u_base", GLuint(0));
       forces_.run(points_);
     }
-    for (const auto& st : stages_) st->evaluate();  // Phase::forces stages: added into f
+    for (const auto& st : stages_) st->evaluate(t);  // Phase::forces stages: added into f
   }
 
   bool steps(const Integrator& scheme) const override {

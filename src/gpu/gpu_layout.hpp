@@ -69,10 +69,16 @@ namespace maille::gpu {
   X(32, GridLinkSets, uint, grid_link_set,                                                   \
     "6 per grid point: the parameter set of its link of family f as first end")
 
+// A geometric obstacle's buffers (gpu_obstacle.hpp), after the structured layout's: owned by
+// each obstacle's GPU version and bound before its dispatches. n_o: its colliding points.
+#define MAILLE_GPU_OBSTACLE_BUFFERS(X) \
+  X(33, ObstaclePoints, uint, ob_point, "n_o: global point id of each colliding point")
+
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
       MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_ENUM)
+          MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -82,6 +88,8 @@ inline constexpr unsigned kBufferCount = 0 MAILLE_GPU_BUFFERS(MAILLE_GPU_COUNT_B
 inline constexpr unsigned kSelfBufferCount = 0 MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kVbdBufferCount = 0 MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kGridBufferCount = 0 MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+inline constexpr unsigned kObstacleBufferCount =
+    0 MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 #undef MAILLE_GPU_COUNT_BUFFER
 static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::sc_particle) == kBufferCount &&
@@ -90,7 +98,9 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::vbd_state) == kBufferCount + kSelfBufferCount + kVbdBufferCount - 1 &&
               unsigned(Buf::grid_point) == kBufferCount + kSelfBufferCount + kVbdBufferCount &&
               unsigned(Buf::grid_link_set) ==
-                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount - 1);
+                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount - 1 &&
+              unsigned(Buf::ob_point) ==
+                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -153,6 +163,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
     MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;
