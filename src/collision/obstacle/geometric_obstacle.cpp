@@ -60,7 +60,7 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   }
 
   std::string name() const override { return obstacle_stage_name(o_); }
-  GeometricObstacleView view() const { return {&o_, set_, reach_}; }
+  GeometricObstacleView view() const { return {&o_, set_, reach_, thickness()}; }
   Phase phase() const override { return obstacle_phase(o_.method); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {

@@ -17,6 +17,8 @@ struct GeometricObstacleView {
   // The cull: points farther than this from the placement's translation touch nothing, m
   // (+inf for the plane).
   Real reach = 0;
+  // The stage's PointContacts::thickness() (the thinnest contact region, m; +inf: a plane).
+  Real thickness = 0;
 };
 GeometricObstacleView geometric_obstacle_view(const Stage& st);
 
