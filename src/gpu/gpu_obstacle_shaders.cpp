@@ -83,6 +83,12 @@ mat3 ob_inverse(ObstacleRecord r) {
 }
 vec3 ob_translation(ObstacleRecord r) { return vec3(r.tx, r.ty, r.tz); }
 bool ob_collides(uint i, uint o) { return ((vbd_ob_member[i] >> o) & 1u) != 0u; }
+// The velocity relative to the obstacle's surface (its twist) of a point at xp moving at vp.
+vec3 ob_relative_velocity(ObstacleRecord r, vec3 xp, vec3 vp) {
+  if (r.moves == 0u) return vp;
+  vec3 spin = vec3(r.sx, r.sy, r.sz), center = vec3(r.cx, r.cy, r.cz);
+  return vp - (vec3(r.lx, r.ly, r.lz) + cross(spin, xp - center));
+}
 uint ob_lag_at(uint i, uint o) { return 4u * (i * u_obstacles + o); }
 // Obstacle o's contact with point i at (xp, vp) (the CPU stage's contact()): the shared law at
 // the velocity relative to the surface; friction's F_n and normal held from the step's start
@@ -95,9 +101,7 @@ vec3 ob_contact(uint o, uint i, vec3 xp, vec3 vp, float inv_h, bool lagged, out 
   float lag_force = held ? vbd_ob_lag[l] : 0.0;
   vec3 lag_normal = held ? vec3(vbd_ob_lag[l + 1u], vbd_ob_lag[l + 2u], vbd_ob_lag[l + 3u])
                          : vec3(0.0);
-  vec3 vr = vp;
-  if (r.moves != 0u)
-    vr = vp - (vec3(r.lx, r.ly, r.lz) + cross(vec3(r.sx, r.sy, r.sz), xp - vec3(r.cx, r.cy, r.cz)));
+  vec3 vr = ob_relative_velocity(r, xp, vp);
   vec3 normal;
   float normal_force;
   return obstacle_contact_law(int(r.shape), r.top, r.tube, ob_direct(r), ob_inverse(r),
@@ -114,9 +118,7 @@ void ob_lag(uint i, vec3 xp, vec3 vp) {
     mat3 K;
     bool rubbing;
     ObstacleRecord r = vbd_obstacles[o];
-    vec3 vr = vp;
-    if (r.moves != 0u)
-      vr = vp - (vec3(r.lx, r.ly, r.lz) + cross(vec3(r.sx, r.sy, r.sz), xp - vec3(r.cx, r.cy, r.cz)));
+    vec3 vr = ob_relative_velocity(r, xp, vp);
     vec3 normal;
     float normal_force;
     obstacle_contact_law(int(r.shape), r.top, r.tube, ob_direct(r), ob_inverse(r),
