@@ -252,7 +252,7 @@ class GpuBackend final : public Backend {
              "' has no GPU version (the GPU runs leapfrog, symplectic_euler and implicit_euler "
              "with solver = \"vbd\"; the CPU runs every scheme)";
     if (steps(scheme))
-      if (std::string why = vbd_refuses(m, stages); !why.empty()) return why;
+      if (std::string why = vbd_refuses(m, stages, max_block_); !why.empty()) return why;
     for (const auto& pool : m.links.pools()) {
       if (pool->size() == 0) continue;
       if (pool->shared_law().empty())

@@ -97,7 +97,7 @@ VbdColours vbd_colours(const Model& m) {
   return out;
 }
 
-std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages) {
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block) {
   const std::string how = "implicit_euler with solver = \"vbd\" on the GPU backend";
   for (const Stage* st : stages)
     if (vbd_obstacle_count({&st, 1}) == 0)
@@ -108,6 +108,11 @@ std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages) {
   if (const std::uint32_t o = vbd_obstacle_count(stages); o > kVbdMaxObstacles)
     return std::to_string(o) + " geometric obstacles: " + how + " takes at most " +
            std::to_string(kVbdMaxObstacles) + ": run this scene with --backend cpu";
+  if (const double held = 16.0 * m.points.size() * vbd_obstacle_count(stages); held > max_block)
+    return "the geometric obstacles' held friction needs a " + std::to_string(held / (1 << 20)) +
+           " MiB storage buffer (16 bytes per point and obstacle), more than this driver's " +
+           "limit of " + std::to_string(max_block / (1 << 20)) + " MiB: run this scene with " +
+           "--backend cpu";
   for (const auto& pool : m.links.pools())
     if (pool->size() > 0 && !has_block(pool->shared_law()))
       return "link kind '" + std::string(pool->keyword()) + "' has no Jacobian block in " +

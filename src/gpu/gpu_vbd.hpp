@@ -70,8 +70,9 @@ VbdColours vbd_colours(const Model& m);
 // Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage other
 // than a geometric obstacle (self-collision, the other obstacle methods, group contacts have no
 // implicit terms on the device), more than kVbdMaxObstacles obstacles, a link kind whose shared
-// law has no <law>_block, more colours than kVbdMaxColours.
-std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages);
+// law has no <law>_block, more colours than kVbdMaxColours, obstacles whose held friction (16
+// bytes per point and obstacle) exceeds `max_block`, the driver's largest storage block (bytes).
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block);
 
 class GpuVbd {
  public:
