@@ -240,11 +240,11 @@ void main() {
 }
 
 // The CPU's stop_at_first_touch: a point moving more than half the thinnest obstacle from x_n
-// stops just inside the first obstacle it enters on the way (the guess), or, `through_only`,
-// unless it touches at its end (the result).
+// stops just inside the first obstacle it enters on the way (the guess, which the acceleration
+// then starts from: prev1 too), or, `through_only`, unless it touches at its end (the result).
 std::string vbd_first_touch_shader() {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_obstacles,
-                               Buf::vbd_ob_member, Buf::vbd_ob_lag});
+  std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev1,
+                               Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag});
   s += vbd_obstacle_functions();
   s += R"(
 uniform float u_h;  // s
@@ -261,6 +261,7 @@ void main() {
   vec3 xs = xn + d * t;
   STORE3(x, i, xs);
   STORE3(v, i, (xs - xn) * inv_h);
+  if (!u_through_only) STORE3(vbd_prev1, i, xs);
 }
 )";
   return s;
