@@ -121,7 +121,7 @@ struct NameTable<BackendKind> {
       {BackendKind::gpu, "gpu",
        "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog, "
        "symplectic Euler and implicit Euler by vertex block descent, driven points, conditional "
-       "contacts, self-collision (points)"},
+       "contacts, self-collision (points), geometric obstacles (inside the VBD solve too)"},
   }};
 };
 

@@ -67,6 +67,12 @@ struct ObstacleMotion {
   shapes::Affine at(const shapes::Affine& base, double t) const;
   // Velocity of the obstacle's material point that is at world position x at time t.
   Vec3 velocity_at(const Vec3& x, double t) const;
+  // The same field as a twist (devices evaluate it per point): velocity_at(x, t) = linear +
+  // spin x (x - center), up to rounding.
+  struct Twist {
+    Vec3 linear, spin, center;
+  };
+  Twist twist(double t) const;
   bool moves() const { return kind != Kind::none; }
 };
 

@@ -252,7 +252,7 @@ class GpuBackend final : public Backend {
              "' has no GPU version (the GPU runs leapfrog, symplectic_euler and implicit_euler "
              "with solver = \"vbd\"; the CPU runs every scheme)";
     if (steps(scheme))
-      if (std::string why = vbd_refuses(m, stages); !why.empty()) return why;
+      if (std::string why = vbd_refuses(m, stages, max_block_); !why.empty()) return why;
     for (const auto& pool : m.links.pools()) {
       if (pool->size() == 0) continue;
       if (pool->shared_law().empty())
@@ -333,6 +333,7 @@ class GpuBackend final : public Backend {
 
     // The stages' device versions (refuses() let them through), after the step's buffers.
     stages_.clear();
+    cpu_stages_.assign(stages.begin(), stages.end());
     for (const Stage* st : stages)
       if (const GpuStageEntry* entry = GpuStageRegistry::builtin().find(st->name()))
         stages_.push_back(entry->make(m, *st, GpuLimits{max_invocations_}));
@@ -371,7 +372,7 @@ class GpuBackend final : public Backend {
       forces_.set("u_base", GLuint(0));
       forces_.run(points_);
     }
-    for (const auto& st : stages_) st->evaluate();  // Phase::forces stages: added into f
+    for (const auto& st : stages_) st->evaluate(t);  // Phase::forces stages: added into f
   }
 
   bool steps(const Integrator& scheme) const override {
@@ -387,10 +388,10 @@ class GpuBackend final : public Backend {
     wind_faces(m, t);  // f_ext at the step's start
     if (!vbd_) vbd_ = std::make_unique<GpuVbd>();
     if (vbd_stale_) {
-      vbd_->load(m, vbd_memory_, kinds_);
+      vbd_->load(m, vbd_memory_, kinds_, cpu_stages_);
       vbd_stale_ = false;
     }
-    return vbd_->step(m, *scheme.implicit_settings(), h, step, wind_, measure);
+    return vbd_->step(m, *scheme.implicit_settings(), t, h, step, wind_, measure);
   }
 
  private:
@@ -506,6 +507,7 @@ class GpuBackend final : public Backend {
   double max_invocations_ = 0;
   double max_block_ = 0;  // bytes, the largest storage block this driver binds
   std::vector<std::unique_ptr<GpuStage>> stages_;  // device versions of the installed stages
+  std::vector<const Stage*> cpu_stages_;           // the installed stages (VBD's obstacles)
   // Implicit Euler by VBD: made at the first implicit step, loaded again after every load.
   std::unique_ptr<GpuVbd> vbd_;
   bool vbd_stale_ = true;

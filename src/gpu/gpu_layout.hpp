@@ -69,10 +69,24 @@ namespace maille::gpu {
   X(32, GridLinkSets, uint, grid_link_set,                                                   \
     "6 per grid point: the parameter set of its link of family f as first end")
 
+// Geometric obstacles' buffers (gpu_obstacle.hpp), after the structured layout's: ob_point owned
+// by each obstacle's GPU version and bound before its dispatch (n_o: its colliding points); the
+// others by the backend's GpuVbd (gpu_vbd_obstacles.hpp), for its solve's contact terms.
+#define MAILLE_GPU_OBSTACLE_BUFFERS(X)                                                    \
+  X(33, ObstaclePoints, uint, ob_point, "n_o: global point id of each colliding point")   \
+  X(34, VbdObstacles, ObstacleRecord, vbd_obstacles,                                      \
+    "implicit Euler by VBD: the geometric obstacles placed at t, then placed at t + h")   \
+  X(35, VbdObstacleMembers, uint, vbd_ob_member,                                          \
+    "per point: bit o set when obstacle o collides with it")                              \
+  X(36, VbdObstacleLag, float, vbd_ob_lag,                                                \
+    "4 per point and obstacle (point-major): lagged friction's normal force (N), normal") \
+  X(37, VbdTouching, uint, vbd_touch, "per point: 1 while it touches an obstacle (a sweep's)")
+
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
       MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_ENUM)
+          MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -82,6 +96,8 @@ inline constexpr unsigned kBufferCount = 0 MAILLE_GPU_BUFFERS(MAILLE_GPU_COUNT_B
 inline constexpr unsigned kSelfBufferCount = 0 MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kVbdBufferCount = 0 MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 inline constexpr unsigned kGridBufferCount = 0 MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
+inline constexpr unsigned kObstacleBufferCount =
+    0 MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_COUNT_BUFFER);
 #undef MAILLE_GPU_COUNT_BUFFER
 static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::sc_particle) == kBufferCount &&
@@ -90,7 +106,10 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::vbd_state) == kBufferCount + kSelfBufferCount + kVbdBufferCount - 1 &&
               unsigned(Buf::grid_point) == kBufferCount + kSelfBufferCount + kVbdBufferCount &&
               unsigned(Buf::grid_link_set) ==
-                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount - 1);
+                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount - 1 &&
+              unsigned(Buf::ob_point) ==
+                  kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount &&
+              unsigned(Buf::vbd_touch) == unsigned(Buf::ob_point) + kObstacleBufferCount - 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -111,6 +130,21 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
   F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) \
       F(float, origin_z) F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
 
+// A geometric obstacle placed at a time, for the device's implicit solve
+// (gpu_vbd_obstacles.hpp): the shared law's parameters (obstacle_laws.glsl), M_d and M_i
+// row-major, the translation, the surface's velocity as a twist (linear + spin x (x - center)),
+// the cull.
+#define MAILLE_GPU_OBSTACLE(F)                                                                    \
+  F(uint, shape)                                                                                  \
+  F(float, top) F(float, tube) F(float, stiffness) F(float, damping) F(float, friction)           \
+      F(float, slip) F(uint, world_normal) F(uint, moves) F(float, reach2) F(float, d00)          \
+          F(float, d01) F(float, d02) F(float, d10) F(float, d11) F(float, d12) F(float, d20)     \
+              F(float, d21) F(float, d22) F(float, i00) F(float, i01) F(float, i02) F(float, i10) \
+                  F(float, i11) F(float, i12) F(float, i20) F(float, i21) F(float, i22)           \
+                      F(float, tx) F(float, ty) F(float, tz) F(float, lx) F(float, ly)            \
+                          F(float, lz) F(float, sx) F(float, sy) F(float, sz) F(float, cx)        \
+                              F(float, cy) F(float, cz)
+
 inline constexpr std::uint32_t kEndIsB = 0x80000000u;
 
 using uint = std::uint32_t;
@@ -124,11 +158,15 @@ struct DrivenPoint {
 struct SelfGrid {
   MAILLE_GPU_SELF_GRID(MAILLE_GPU_MEMBER)
 };
+struct ObstacleRecord {
+  MAILLE_GPU_OBSTACLE(MAILLE_GPU_MEMBER)
+};
 #undef MAILLE_GPU_MEMBER
 #define MAILLE_GPU_COUNT(type, name) +1
 static_assert(sizeof(Adjacent) == 4 * (0 MAILLE_GPU_ADJACENT(MAILLE_GPU_COUNT)));
 static_assert(sizeof(DrivenPoint) == 4 * (0 MAILLE_GPU_DRIVEN(MAILLE_GPU_COUNT)));
 static_assert(sizeof(SelfGrid) == 4 * (0 MAILLE_GPU_SELF_GRID(MAILLE_GPU_COUNT)));
+static_assert(sizeof(ObstacleRecord) == 4 * (0 MAILLE_GPU_OBSTACLE(MAILLE_GPU_COUNT)));
 #undef MAILLE_GPU_COUNT
 
 // GLSL struct declarations of the records.
@@ -136,7 +174,8 @@ inline std::string glsl_records() {
 #define MAILLE_GPU_GLSL_MEMBER(type, name) " " #type " " #name ";"
   return "struct Adjacent {" MAILLE_GPU_ADJACENT(MAILLE_GPU_GLSL_MEMBER) " };\n"
          "struct DrivenPoint {" MAILLE_GPU_DRIVEN(MAILLE_GPU_GLSL_MEMBER) " };\n"
-         "struct SelfGrid {" MAILLE_GPU_SELF_GRID(MAILLE_GPU_GLSL_MEMBER) " };\n";
+         "struct SelfGrid {" MAILLE_GPU_SELF_GRID(MAILLE_GPU_GLSL_MEMBER) " };\n"
+         "struct ObstacleRecord {" MAILLE_GPU_OBSTACLE(MAILLE_GPU_GLSL_MEMBER) " };\n";
 #undef MAILLE_GPU_GLSL_MEMBER
 }
 
@@ -153,6 +192,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
     MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;

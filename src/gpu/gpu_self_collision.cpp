@@ -117,7 +117,7 @@ void GpuSelfCollision::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBufferCount + k, buffers_[k]);
 }
 
-void GpuSelfCollision::evaluate() {
+void GpuSelfCollision::evaluate(double) {
   const SelfCollisionView view = self_collision_view(*stage_);
   if (!view.enabled || particles_ == 0) return;
   bind();

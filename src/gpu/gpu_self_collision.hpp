@@ -58,7 +58,7 @@ class GpuSelfCollision final : public GpuStage {
 
   // Adds the contacts at the device's x and v into f (the step's buffers bound, f written by
   // the forces kernel). Reads the stage's live options (enabled, exclusion) every time.
-  void evaluate() override;
+  void evaluate(double t) override;
   // The grid's buffers after the last evaluate (waits for the device).
   SelfCollisionDebug debug() const;
 

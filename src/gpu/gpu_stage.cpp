@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 
+#include "gpu_obstacle.hpp"
 #include "gpu_self_collision.hpp"
 #include "maille/self_collision.hpp"
 
@@ -16,6 +17,8 @@ void GpuStageRegistry::add(GpuStageEntry e) {
 const GpuStageEntry* GpuStageRegistry::find(std::string_view stage) const {
   for (const auto& e : entries_)
     if (e.stage == stage) return &e;
+  for (const auto& e : entries_)
+    if (e.stage.ends_with(':') && stage.starts_with(e.stage)) return &e;
   return nullptr;
 }
 
@@ -25,6 +28,10 @@ const GpuStageRegistry& GpuStageRegistry::builtin() {
     r.add({std::string(kSelfCollisionStage), GpuSelfCollision::check,
            [](const Model& m, const Stage& st, const GpuLimits& limits) {
              return std::make_unique<GpuSelfCollision>(m, st, limits.max_invocations);
+           }});
+    r.add({std::string(kGpuObstacleFamily), GpuGeometricObstacle::check,
+           [](const Model&, const Stage& st, const GpuLimits&) {
+             return std::make_unique<GpuGeometricObstacle>(st);
            }});
     return r;
   }();

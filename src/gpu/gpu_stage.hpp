@@ -4,10 +4,13 @@
 //             device: an option the device version does not honour is refused by name, never
 //             ignored (empty: it runs);
 //   make      its buffers and kernels, for the model and the stage (the context is current);
-//   evaluate  (GpuStage) its dispatch, at the stage's phase: Phase::forces versions add into f
-//             after the forces kernel.
-// The backend knows no stage by name: it asks the registry for every installed stage, refuses
-// the scene for a stage with no entry (naming it), and runs the ones it made in order.
+//   evaluate  (GpuStage) its dispatch at time t, at the stage's phase: Phase::forces versions
+//             add into f after the forces kernel.
+// An entry names one stage ("self_collision") or a family of stages by the prefix of their
+// names, ending with ':' ("obstacle:" for every [[obstacle]]; its check refuses the members it
+// does not run). The backend knows no stage by name: it asks the registry for every installed
+// stage, refuses the scene for a stage with no entry (naming it), and runs the ones it made in
+// order.
 //
 // Adding a GPU stage: a GpuStage subclass and one add() line in gpu_stage.cpp.
 #pragma once
@@ -31,13 +34,13 @@ struct GpuLimits {
 class GpuStage {
  public:
   virtual ~GpuStage() = default;
-  // Runs the stage on the device state (the step's buffers bound). Reads the CPU stage's live
-  // options each time (the viewer switches them between steps).
-  virtual void evaluate() = 0;
+  // Runs the stage on the device state at time t (the step's buffers bound). Reads the CPU
+  // stage's live options each time (the viewer switches them between steps).
+  virtual void evaluate(double t) = 0;
 };
 
 struct GpuStageEntry {
-  std::string stage;  // the CPU stage's name() it runs
+  std::string stage;  // the CPU stage's name() it runs, or a family's prefix ending with ':'
   std::function<std::string(const Stage&)> check;
   std::function<std::unique_ptr<GpuStage>(const Model&, const Stage&, const GpuLimits&)> make;
 };
@@ -47,9 +50,10 @@ class GpuStageRegistry {
   // The engine's one registry rule (names.hpp: registered_twice): a second entry under a name
   // throws std::logic_error.
   void add(GpuStageEntry e);
+  // The entry for a stage's name: its own, else the family whose prefix it starts with.
   const GpuStageEntry* find(std::string_view stage) const;
   const std::vector<GpuStageEntry>& entries() const { return entries_; }
-  // The device versions the engine ships (self-collision).
+  // The device versions the engine ships (self-collision, geometric obstacles).
   static const GpuStageRegistry& builtin();
 
  private:

@@ -16,7 +16,17 @@ namespace {
 
 constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
 
-enum Pass : unsigned { begin_pass, sweep_pass, residual_pass, decide, accelerate, health, passes };
+enum Pass : unsigned {
+  begin_pass,
+  sweep_pass,
+  residual_pass,
+  decide,
+  accelerate,
+  health,
+  lag_pass,
+  first_touch,
+  passes
+};
 
 template <class T>
 void upload(GLuint buffer, const std::vector<T>& data) {
@@ -87,12 +97,22 @@ VbdColours vbd_colours(const Model& m) {
   return out;
 }
 
-std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages) {
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block) {
   const std::string how = "implicit_euler with solver = \"vbd\" on the GPU backend";
   for (const Stage* st : stages)
-    return "stage '" + st->name() + "' has no implicit terms on the GPU (" + how +
-           " runs the model's links, gravity, air drag and wind; self-collision, obstacles and "
-           "group contacts enter only the CPU's solve): run this scene with --backend cpu";
+    if (vbd_obstacle_count({&st, 1}) == 0)
+      return "stage '" + st->name() + "' has no implicit terms on the GPU (" + how +
+             " runs the model's links, gravity, air drag, wind and obstacles with method = "
+             "\"geometric\"; self-collision, the other obstacle methods and group contacts "
+             "enter only the CPU's solve): run this scene with --backend cpu";
+  if (const std::uint32_t o = vbd_obstacle_count(stages); o > kVbdMaxObstacles)
+    return std::to_string(o) + " geometric obstacles: " + how + " takes at most " +
+           std::to_string(kVbdMaxObstacles) + ": run this scene with --backend cpu";
+  if (const double held = 16.0 * m.points.size() * vbd_obstacle_count(stages); held > max_block)
+    return "the geometric obstacles' held friction needs a " + std::to_string(held / (1 << 20)) +
+           " MiB storage buffer (16 bytes per point and obstacle), more than this driver's " +
+           "limit of " + std::to_string(max_block / (1 << 20)) + " MiB: run this scene with " +
+           "--backend cpu";
   for (const auto& pool : m.links.pools())
     if (pool->size() > 0 && !has_block(pool->shared_law()))
       return "link kind '" + std::string(pool->keyword()) + "' has no Jacobian block in " +
@@ -112,6 +132,8 @@ GpuVbd::GpuVbd() {
   kernels_[decide] = Kernel("gpu vbd decide", vbd_decide_shader());
   kernels_[accelerate] = Kernel("gpu vbd accelerate", vbd_accelerate_shader());
   kernels_[health] = Kernel("gpu vbd health", vbd_health_shader());
+  kernels_[lag_pass] = Kernel("gpu vbd obstacle lag", vbd_lag_shader());
+  kernels_[first_touch] = Kernel("gpu vbd first touch", vbd_first_touch_shader());
 }
 
 GpuVbd::~GpuVbd() {
@@ -123,11 +145,13 @@ GpuVbd::~GpuVbd() {
 void GpuVbd::forget() {
   for (Kernel& k : kernels_) k.forget();
   kernels_.clear();
+  obstacles_.forget();
 }
 
 void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
-                  const std::vector<KindLaw>& kinds) {
+                  const std::vector<KindLaw>& kinds, std::span<const Stage* const> stages) {
   points_ = m.points.size();
+  obstacles_.load(m, stages);
   colours_ = vbd_colours(m);
   const std::size_t n3 = 3 * std::size_t(points_);
   for (Buf b : {Buf::vbd_xn, Buf::vbd_y, Buf::vbd_prev1, Buf::vbd_prev2})
@@ -169,11 +193,26 @@ void GpuVbd::bind() const {
     if (prev_swapped_ && (k == p1 || k == p2)) b = k == p1 ? p2 : p1;
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unsigned(Buf::vbd_xn) + k, buffers_[b]);
   }
+  obstacles_.bind();
 }
 
-DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings, Real h,
+DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings, double t, Real h,
                                 std::uint64_t step, bool wind, bool measure) {
   bind();
+  // The obstacles: placed at t for the lag (at x_n, v_n), at t + h for the solve.
+  const std::uint32_t obstacles = obstacles_.count();
+  const float thinnest = obstacles_.thinnest();
+  const bool thin = obstacles > 0 && std::isfinite(thinnest);
+  for (const Pass p : {sweep_pass, residual_pass, lag_pass, first_touch}) {
+    kernels_[p].set("u_obstacles", obstacles);
+    kernels_[p].set("u_placed", p == lag_pass ? 0u : obstacles);
+    kernels_[p].set("u_thinnest", thinnest);
+  }
+  kernels_[accelerate].set("u_thinnest", thinnest);
+  if (obstacles > 0) {
+    obstacles_.place(t, t + double(h));
+    kernels_[lag_pass].run(points_);
+  }
   const float rho = float(settings.acceleration);
   const bool accelerating = rho > 0;
   const std::uint32_t start[5] = {accelerating ? 1u : 0u, 0u,
@@ -188,6 +227,12 @@ DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings
   begin.set_flag("u_history", history_);
   begin.run(points_);
   history_ = true;
+  Kernel& touch = kernels_[first_touch];
+  touch.set("u_h", float(h));
+  if (thin) {  // the guess: stops at the first obstacle it enters
+    touch.set_flag("u_through_only", false);
+    touch.run(points_);
+  }
 
   Kernel& sweep = kernels_[sweep_pass];
   sweep.set("u_h", float(h));
@@ -214,6 +259,10 @@ DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings
     acc.run(points_);
     prev_swapped_ = !prev_swapped_;  // this sweep's x is prev1 now, the last prev1 is prev2
     bind();
+  }
+  if (thin) {  // the result: stops at the first obstacle it went through
+    touch.set_flag("u_through_only", true);
+    touch.run(points_);
   }
   kernels_[health].set("u_step", GLuint(std::min<std::uint64_t>(step, 0xfffffffeu)));
   kernels_[health].run(points_);

@@ -1,20 +1,27 @@
 // Implicit Euler by vertex block descent on the GPU: the CPU solver's formulation
-// (src/integrators/implicit_vbd.hpp) with the model's links, gravity, air drag and wind, colour
-// by colour in compute shaders. Per step (GpuBackend::implicit_step):
+// (src/integrators/implicit_vbd.hpp) with the model's links, gravity, air drag, wind and
+// geometric obstacles (their contacts inside the solve: gpu_vbd_obstacles.hpp), colour by colour
+// in compute shaders. Per step (GpuBackend::implicit_step):
+//   lag         per point, with obstacles that have friction: their normal force and normal at
+//               x_n, v_n (placed at t), held for the solve (placed at t + h)
 //   begin       per point: x_n, y = x_n + h v_n + h^2 f_ext / m (f_ext = m g + the wind's face
 //               forces at t, as the CPU takes them: explicit, at the step's start), the paper's
 //               adaptive guess x = x_n + h v_n + h^2 a~ (State memory "implicit_euler.vbd": v at
-//               the last step's start), v = (x - x_n) / h; prev1 = x
+//               the last step's start), v = (x - x_n) / h; prev1 = x; with obstacles, the
+//               guess stops at the first one it enters (first touch)
 //   sweep       per colour, one dispatch over its points: g_i = m/h^2 (y - x) - gamma m v + the
 //               links' forces, H_i = m (1/h^2 + gamma/h) I + the links' blocks (the shared laws'
-//               <law>_block: J_x + J_v / h, definite mode), gathered over the point's adjacency;
-//               x += H^-1 g, v += H^-1 g / h (v = (x - x_n) / h without the float
-//               cancellation of the difference); the sweep's largest |g| (work-group reduction,
-//               then atomicMax on its bits)
+//               <law>_block: J_x + J_v / h, definite mode), gathered over the point's adjacency,
+//               + the obstacles' forces and blocks (obstacle_laws.glsl); x += H^-1 g,
+//               v += H^-1 g / h (v = (x - x_n) / h without the float cancellation of the
+//               difference), or, for a step that starts or leaves a contact, the CPU's rules;
+//               the sweep's largest |g| (work-group reduction, then atomicMax on its bits)
 //   decide      one invocation: the CPU's fallback, on the device (no read-back per sweep): a
 //               sweep from the third on whose largest |g| rose turns the acceleration off
 //   accelerate  per point, while on: x = w (x - prev2) + prev2 (Chebyshev, w from the host's
-//               recurrence), v by the same increment over h; the previous iterates rotate
+//               recurrence), v by the same increment over h, but for points touching an
+//               obstacle and jumps over half the thinnest one; the previous iterates rotate
+//   first touch with obstacles: the result stops at the first one it went through
 //   health      per point: the non-finite flag (the backend's health buffer)
 //   residual    per point, when the step measures: the largest |g| at the result, over m g of
 //               the heaviest free point (the CPU's solver_residual)
@@ -33,6 +40,7 @@
 
 #include "../integrators/implicit_vbd.hpp"
 #include "gpu_layout.hpp"
+#include "gpu_vbd_obstacles.hpp"
 #include "kernel.hpp"
 #include "maille/backend.hpp"
 #include "maille/integrator.hpp"
@@ -59,10 +67,12 @@ struct VbdColours {
 };
 VbdColours vbd_colours(const Model& m);
 
-// Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage (none has
-// implicit terms on the device: self-collision, obstacles, group contacts), a link kind whose
-// shared law has no <law>_block, more colours than kVbdMaxColours.
-std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages);
+// Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage other
+// than a geometric obstacle (self-collision, the other obstacle methods, group contacts have no
+// implicit terms on the device), more than kVbdMaxObstacles obstacles, a link kind whose shared
+// law has no <law>_block, more colours than kVbdMaxColours, obstacles whose held friction (16
+// bytes per point and obstacle) exceeds `max_block`, the driver's largest storage block (bytes).
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block);
 
 class GpuVbd {
  public:
@@ -72,12 +82,14 @@ class GpuVbd {
   GpuVbd& operator=(const GpuVbd&) = delete;
   void forget();  // the context is gone: nothing to delete
 
-  // Colours, buffers and kernels for the model; the guess's memory from `memory` (a State's
-  // stage memory: the kVbdMemory slot, when it has one of this model's size).
-  void load(const Model& m, std::span<const StageMemory> memory, const std::vector<KindLaw>& kinds);
-  // One step from the device's x, v (the backend's buffers bound, the wind's face forces at t
-  // computed when `wind`); x, v at t + h after it.
-  DeviceImplicitStep step(const Model& m, const ImplicitSettings& settings, Real h,
+  // Colours, buffers and kernels for the model and its geometric obstacles among `stages`
+  // (vbd_refuses accepted them); the guess's memory from `memory` (a State's stage memory: the
+  // kVbdMemory slot, when it has one of this model's size).
+  void load(const Model& m, std::span<const StageMemory> memory, const std::vector<KindLaw>& kinds,
+            std::span<const Stage* const> stages);
+  // One step from t, from the device's x, v (the backend's buffers bound, the wind's face
+  // forces at t computed when `wind`); x, v at t + h after it.
+  DeviceImplicitStep step(const Model& m, const ImplicitSettings& settings, double t, Real h,
                           std::uint64_t step, bool wind, bool measure);
   // The guess's memory into s (once the device has one).
   void download_memory(State& s) const;
@@ -94,6 +106,7 @@ class GpuVbd {
   std::array<unsigned, kVbdBufferCount> buffers_{};
   std::string source_;  // the sweep's, for the model's kinds
   std::vector<Kernel> kernels_;
+  GpuVbdObstacles obstacles_;
 };
 
 // The kernels' sources (gpu_vbd_shaders.cpp).
@@ -101,6 +114,8 @@ std::string vbd_begin_shader();
 std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual);
 std::string vbd_decide_shader();
 std::string vbd_accelerate_shader();
+std::string vbd_lag_shader();
+std::string vbd_first_touch_shader();
 std::string vbd_health_shader();
 
 }  // namespace maille::gpu

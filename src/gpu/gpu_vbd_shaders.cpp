@@ -4,6 +4,7 @@
 #include <string>
 
 #include "gpu_vbd.hpp"
+#include "gpu_vbd_obstacles.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
@@ -65,13 +66,16 @@ void main() {
 }
 
 // One colour's Newton steps (or, with `residual`, the imbalance at the result over every free
-// point, moving none): g_i = m/h^2 (y - x) - gamma m v + links' forces, H_i = m (1/h^2 + gamma/h)
-// I + links' blocks.
+// point, moving none): g_i = m/h^2 (y - x) - gamma m v + links' forces + obstacles', H_i =
+// m (1/h^2 + gamma/h) I + links' blocks + obstacles'. A step that starts or leaves an obstacle's
+// contact follows the CPU's rules (gpu_vbd_obstacles.hpp).
 std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual) {
   std::string s =
       kernel_head({Buf::x, Buf::v, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
-                   Buf::link_params, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order, Buf::vbd_state});
+                   Buf::link_params, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order, Buf::vbd_state,
+                   Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag, Buf::vbd_touch});
   s += shared::link_laws;
+  s += vbd_obstacle_functions();
   s += link_force_function(kinds);
   s += link_block_function(kinds);
   s += residual ? "#define RESIDUAL 1\n" : "#define RESIDUAL 0\n";
@@ -113,6 +117,7 @@ void main() {
         H += link_block(l.kind, xi, xj, vi, vj, p, inv_h);
       }
     }
+    bool touching = ob_terms(i, xi, vi, inv_h, g, H);
 #if RESIDUAL
     merit = length(g);
 #else
@@ -122,11 +127,26 @@ void main() {
     // v = (x - x_n) / h, kept as v += dx / h: the difference of two float positions loses
     // eps |x| / h (2e-5 m/s at 3 m and 1/120 s), which the explicit wind, a function of v, then
     // amplifies; the increment keeps v's own relative precision.
+    bool touched = touching;  // the CPU's touching_[i] after the update
     if (!(any(isnan(dx)) || any(isinf(dx)))) {
       merit = dot(g, dx);
-      STORE3(x, i, xi + dx);
-      STORE3(v, i, vi + dx * inv_h);
+      vec3 tx = xi + dx, tv = vi + dx * inv_h, tg;
+      vec3 xn = LOAD3(vbd_xn, i);
+      // Same contacts, or leaving one cleanly: the whole step. Starting or (far) leaving one:
+      // the step stops just inside the surface (bisection), touching.
+      bool trial_touch = u_obstacles > 0u && ob_touches(i, tx, tv, inv_h, tg);
+      if (trial_touch == touching || (touching && ob_leaves_cleanly(i, xi, tx, xn))) {
+        STORE3(x, i, tx);
+        STORE3(v, i, tv);
+      } else {
+        vec2 change = ob_contact_change(i, xi, dx, xn, inv_h, touching);
+        vec3 xs = xi + dx * (touching ? change.x : change.y);
+        STORE3(x, i, xs);
+        STORE3(v, i, (xs - xn) * inv_h);
+        touched = true;
+      }
     }
+    vbd_touch[i] = touched ? 1u : 0u;
 #endif
   }
   // The residual: the largest |g| of the work group, then of the dispatch (non-negative floats
@@ -174,28 +194,74 @@ void main() {
   return s;
 }
 
-// Chebyshev: x = w (x - x_prev2) + x_prev2 from the second sweep on; then the sweep's x into
-// the buffer that the host names prev1 next.
+// Chebyshev: x = w (x - x_prev2) + x_prev2 from the second sweep on, except (the CPU's rules)
+// for points touching an obstacle and jumps longer than half the thinnest obstacle; then the
+// sweep's x into the buffer that the host names prev1 next.
 std::string vbd_accelerate_shader() {
-  std::string s =
-      kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2, Buf::vbd_state});
+  std::string s = kernel_head(
+      {Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2, Buf::vbd_state, Buf::vbd_touch});
   s += R"(
 uniform float u_omega;
 uniform float u_h;          // s
 uniform bool u_extrapolate; // the second sweep on
+uniform float u_thinnest;   // m: the thinnest obstacle (+inf: none, or planes only)
 void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= u_count || vbd_state[0] == 0u || inv_mass[i] == 0.0) return;
   vec3 xi = LOAD3(x, i);
-  if (u_extrapolate) {
-    // x = w (x - prev2) + prev2, as the increment (w - 1) (x - prev2) (v follows it, as in the
-    // sweep).
-    vec3 dx = (xi - LOAD3(vbd_prev2, i)) * (u_omega - 1.0);
+  // x = w (x - prev2) + prev2, as the increment (w - 1) (x - prev2) (v follows it, as in the
+  // sweep).
+  vec3 dx = (xi - LOAD3(vbd_prev2, i)) * (u_omega - 1.0);
+  float half_ = 0.5 * u_thinnest;
+  if (u_extrapolate && vbd_touch[i] == 0u && dot(dx, dx) <= half_ * half_) {
     xi += dx;
     STORE3(x, i, xi);
     STORE3(v, i, LOAD3(v, i) + dx * (1.0 / u_h));
   }
   STORE3(vbd_prev2, i, xi);
+}
+)";
+  return s;
+}
+
+// The obstacles' lagged friction at the step's start (x_n, v_n, placed at t), per point.
+std::string vbd_lag_shader() {
+  std::string s = kernel_head(
+      {Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag});
+  s += vbd_obstacle_functions();
+  s += R"(
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= u_count || inv_mass[i] == 0.0) return;
+  ob_lag(i, LOAD3(x, i), LOAD3(v, i));
+}
+)";
+  return s;
+}
+
+// The CPU's stop_at_first_touch: a point moving more than half the thinnest obstacle from x_n
+// stops just inside the first obstacle it enters on the way (the guess, which the acceleration
+// then starts from: prev1 too), or, `through_only`, unless it touches at its end (the result).
+std::string vbd_first_touch_shader() {
+  std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev1,
+                               Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag});
+  s += vbd_obstacle_functions();
+  s += R"(
+uniform float u_h;  // s
+uniform bool u_through_only;
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= u_count || inv_mass[i] == 0.0) return;
+  vec3 xn = LOAD3(vbd_xn, i), xi = LOAD3(x, i), d = xi - xn;
+  float half_ = 0.5 * u_thinnest;
+  if (dot(d, d) <= half_ * half_) return;
+  float inv_h = 1.0 / u_h;
+  float t = ob_first_touch(i, xn, xi, inv_h, u_through_only);
+  if (t >= 1.0) return;
+  vec3 xs = xn + d * t;
+  STORE3(x, i, xs);
+  STORE3(v, i, (xs - xn) * inv_h);
+  if (!u_through_only) STORE3(vbd_prev1, i, xs);
 }
 )";
   return s;

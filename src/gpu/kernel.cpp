@@ -50,6 +50,13 @@ void Kernel::set(const char* name, const float (&value)[4]) {
   glProgramUniform4f(program_, at(name), value[0], value[1], value[2], value[3]);
 }
 
+void Kernel::set(const char* name, const Mat3& value) {
+  float rows[9];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) rows[3 * i + j] = float(value.m[i][j]);
+  glProgramUniformMatrix3fv(program_, at(name), 1, GL_TRUE, rows);  // row-major: transposed
+}
+
 void Kernel::run(unsigned count, unsigned groups) {
   if (groups == 0) return;
   set("u_count", count);

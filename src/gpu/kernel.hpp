@@ -9,13 +9,14 @@
 #include <string>
 #include <string_view>
 
+#include "maille/mat3.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille::gpu {
 
 class Kernel {
  public:
-  Kernel() = default;  // no program: run() must not be called
+  Kernel() = default;                                        // no program: run() must not be called
   Kernel(std::string_view name, const std::string& source);  // compiled and linked, or throws
   Kernel(Kernel&& o) noexcept;
   Kernel& operator=(Kernel&& o) noexcept;
@@ -31,6 +32,7 @@ class Kernel {
   void set(const char* name, const Vec3& value);  // as float
   void set(const char* name, const float (&value)[3]);
   void set(const char* name, const float (&value)[4]);
+  void set(const char* name, const Mat3& value);  // a mat3, as float: the same matrix in GLSL
 
   // `count` invocations (u_count) in `groups` work groups, then a barrier that makes its
   // storage writes visible to the next kernel. Nothing when there are no groups.

@@ -18,6 +18,9 @@ std::string head(std::initializer_list<Buf> used) {
 #define real float
 #define MAILLE_SHARED
 #define MAILLE_UNUSED(x)
+#define MAILLE_OUT(T) out T
+#define MAILLE_INOUT(T) inout T
+float largest_real() { return uintBitsToFloat(0x7f7fffffu); }
 vec3 zero3() { return vec3(0.0); }
 mat3 outer3(vec3 a, vec3 b) { return outerProduct(a, b); }
 mat3 identity3() { return mat3(1.0); }

@@ -6,32 +6,21 @@
 #include "maille/geometric_point.hpp"
 #include "maille/model.hpp"
 #include "maille/profile.hpp"
+#include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
 
 namespace maille {
 
+// The shared law (include/maille/detail/obstacle_laws.glsl), which the GPU's kernels paste.
 Vec3 geometric_contact_force(const GeometricPoint& g, const shapes::Affine& place, const Vec3& x,
                              const Vec3& v, Real stiffness, Real damping, bool world_normal,
                              Real& depth, Vec3* normal) {
-  depth = 0;
-  const Vec3 c = place.to_canonical(x);  // (A) into the canonical frame through M_i
-  const shapes::Distance d = shapes::canonical(g.shape, c, g.top, g.tube);  // (B)
-  if (!d.inside()) return {};
-  const Vec3 pen_c = d.penetration();  // (C) the canonical penetration vector
-  if (normal) {
-    const Vec3 n = place.normal_to_world(d.normal);
-    *normal = n * (Real(1) / (norm(n) + Real(1e-300)));
-  }
-  if (!world_normal) {
-    // The brief's mapping: the spring-damper on the canonical penetration, back through M_d.
-    const Vec3 vc = place.vector_to_canonical(v);
-    depth = norm(place.vector_to_world(pen_c));
-    return place.vector_to_world(pen_c * stiffness - d.normal * (damping * dot(vc, d.normal)));
-  }
-  // Along the world normal, with the world depth of the canonical penetration along it.
-  const Vec3 n = place.normal_to_world(d.normal);
-  depth = std::max<Real>(dot(place.vector_to_world(pen_c), n), 0);
-  return n * (stiffness * depth - damping * dot(v, n));
+  Vec3 n;
+  const Vec3 f = law::geometric_contact_law(int(g.shape), g.top, g.tube, place.direct,
+                                            place.inverse, place.translation, x, v, stiffness,
+                                            damping, world_normal, depth, n);
+  if (normal && !(n == Vec3{})) *normal = n;  // inside (the law's normal is zero outside)
+  return f;
 }
 
 namespace {

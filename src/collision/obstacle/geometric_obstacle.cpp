@@ -6,10 +6,12 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geometric_obstacle_view.hpp"
 #include "maille/geometric_point.hpp"
 #include "maille/mat3.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/profile.hpp"
+#include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
 #include "obstacle_surface.hpp"
 
@@ -53,12 +55,12 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
     for (const Vec3& e : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
       stretch = std::max(stretch, norm(o_.place.vector_to_world(e)));
     reach_ = canonical_reach(o_) * stretch * Real(1 + 1e-9);
-    point_ = {"obstacle:" + o_.name, o_.shape, o_.top, o_.tube, o_.place};
     member_.assign(m.points.size(), 0);
     for (const std::uint32_t p : set_) member_[p] = 1;
   }
 
   std::string name() const override { return obstacle_stage_name(o_); }
+  GeometricObstacleView view() const { return {&o_, set_, reach_, thickness()}; }
   Phase phase() const override { return obstacle_phase(o_.method); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
@@ -171,12 +173,13 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   }
 
  private:
-  // Point p's contact at (x, v) with the obstacle placed at `place` (time t): the penalty and
-  // its damper (the brief's law, geometric_contact_force), then friction mu F_n against the
-  // sliding velocity relative to the surface, viscous below kObstacleSlip; F_n and the normal
-  // are the contact's own, or held from the step's start (`lagged`). `stiffness` is the block
-  // -df/dx - (1/h) df/dv for implicit solvers: (k + z/h) n n^T, and for friction
-  // (mu F_n / max(|v_t|, slip)) / h (I - n n^T), the friction's scale held (IPC's lagged form).
+  // Point p's contact at (x, v) with the obstacle placed at `place` (time t): the shared law
+  // obstacle_contact_law (include/maille/detail/obstacle_laws.glsl, the GPU's too) at the
+  // velocity relative to the surface: the penalty and its damper (the brief's law), then
+  // friction mu F_n, viscous below kObstacleSlip; F_n and the normal are the contact's own, or
+  // held from the step's start (`lagged`). `stiffness` is the block -df/dx - (1/h) df/dv for
+  // implicit solvers: (k + z/h) n n^T, and for friction (mu F_n / max(|v_t|, slip)) / h
+  // (I - n n^T), the friction's scale held (IPC's lagged form).
   struct Contact {
     Vec3 force, normal;
     Mat3 stiffness;
@@ -187,28 +190,18 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
                   const Vec3& v, Real inv_h, bool lagged) const {
     Contact c;
     const Vec3 vr = o_.motion.moves() ? v - o_.motion.velocity_at(x, t) : v;
-    c.force = geometric_contact_force(point_, place, x, vr, o_.stiffness, o_.damping,
-                                      o_.world_normal, c.depth, &c.normal);
-    if (c.depth > 0) {
-      c.stiffness = Mat3::outer(c.normal, c.normal) * (o_.stiffness + o_.damping * inv_h);
-      c.normal_force = std::max<Real>(dot(c.force, c.normal), 0);
-    }
-    if (!(o_.friction > 0)) return c;
-    const Real fn = lagged ? lag_force_[p] : c.normal_force;
-    const Vec3 n = lagged ? lag_normal_[p] : c.normal;
-    if (!(fn > 0)) return c;
-    const Vec3 vt = vr - n * dot(vr, n);
-    const Real scale = o_.friction * fn / std::max(norm(vt), kObstacleSlip);
-    c.force -= vt * scale;
-    c.stiffness += (Mat3::identity() - Mat3::outer(n, n)) * (scale * inv_h);
-    c.rubbing = true;
+    const Real held = lagged ? lag_force_[p] : 0;
+    const Vec3 held_normal = lagged ? lag_normal_[p] : Vec3{};
+    c.force = law::obstacle_contact_law(
+        int(o_.shape), o_.top, o_.tube, place.direct, place.inverse, place.translation, x, vr,
+        o_.stiffness, o_.damping, o_.world_normal, o_.friction, kObstacleSlip, inv_h, lagged, held,
+        held_normal, c.depth, c.normal, c.normal_force, c.stiffness, c.rubbing);
     return c;
   }
 
   Obstacle o_;
   std::vector<std::uint32_t> set_;
   ObstacleSurface surface_;
-  GeometricPoint point_;  // the obstacle's geometric fixed point (placed by the motion per step)
   Real reach_ = 0;
   std::array<int, 2> ids_{-1, -1};
   std::vector<std::uint8_t> member_;  // [points] 1 for the colliding points
@@ -220,6 +213,11 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
 };
 
 }  // namespace
+
+GeometricObstacleView geometric_obstacle_view(const Stage& st) {
+  const auto* g = dynamic_cast<const GeometricObstacleStage*>(&st);
+  return g ? g->view() : GeometricObstacleView{};
+}
 
 std::unique_ptr<Stage> make_geometric_obstacle_stage(const Model& m, const Obstacle& o) {
   return std::make_unique<GeometricObstacleStage>(m, o);

@@ -51,6 +51,19 @@ Vec3 ObstacleMotion::velocity_at(const Vec3& x, double t) const {
   return {};
 }
 
+ObstacleMotion::Twist ObstacleMotion::twist(double t) const {
+  switch (kind) {
+    case Kind::none:
+      return {};
+    case Kind::rotate:
+      return {{}, unit(axis) * Real(kTau * frequency), center};
+    case Kind::translate:
+    case Kind::oscillate:
+      return {velocity_at({}, t), {}, {}};
+  }
+  return {};
+}
+
 TriMesh obstacle_mesh(const Obstacle& o) {
   if (o.mesh) return *o.mesh;
   return tessellate(o.shape, o.resolution, o.top, o.tube);
