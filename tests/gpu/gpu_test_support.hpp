@@ -1,6 +1,6 @@
 // What the GPU tests share: float's rounding unit, the fixture that registers the backend, the
 // extents their float-derived bounds start from, and the "float-storage" rounding of a state
-// (the CPU run that the whole-run tests measure the GPU's drift against).
+// (the CPU run that the whole-run tests measure the GPU's drift against), and a run on a backend.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -14,6 +14,7 @@
 
 #include "maille/gpu.hpp"
 #include "maille/scene.hpp"
+#include "maille/simulator.hpp"
 #include "maille/state.hpp"
 
 namespace maille::test {
@@ -55,6 +56,23 @@ inline double max_distance(std::span<const Vec3> a, std::span<const Vec3> b) {
 inline void round_to_float(State& s) {
   for (Vec3& x : s.x()) x = {Real(float(x.x)), Real(float(x.y)), Real(float(x.z))};
   for (Vec3& v : s.v()) v = {Real(float(v.x)), Real(float(v.y)), Real(float(v.z))};
+}
+
+// `steps` steps of `scene` on `backend`, one thread (with float_storage, x and v rounded to
+// float after each step: the CPU run whose distance from the exact one is the float-storage
+// drift); every step must succeed and the energy stay finite. Returns the positions.
+inline std::vector<Vec3> run_on(const Scene& scene, const std::string& backend, std::uint64_t steps,
+                                bool float_storage = false) {
+  SimulationSettings settings = scene.settings;
+  settings.backend = backend;
+  settings.threads = 1;
+  Simulator sim(scene.model, settings);
+  for (std::uint64_t k = 0; k < steps; ++k) {
+    EXPECT_TRUE(sim.step()) << backend << " step " << k;
+    if (float_storage) round_to_float(sim.state_for_editing());
+  }
+  EXPECT_TRUE(sim.check_energy());
+  return {sim.state().x().begin(), sim.state().x().end()};
 }
 
 }  // namespace maille::test

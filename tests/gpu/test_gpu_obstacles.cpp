@@ -170,26 +170,13 @@ Scene cloth_over(const std::string& obstacle, double top = 0.25) {
   return std::move(s.value());
 }
 
-std::vector<Vec3> run(const Scene& scene, const std::string& backend, std::uint64_t steps,
-                      bool float_storage = false) {
-  SimulationSettings settings = scene.settings;
-  settings.backend = backend;
-  settings.threads = 1;
-  Simulator sim(scene.model, settings);
-  for (std::uint64_t k = 0; k < steps; ++k) {
-    EXPECT_TRUE(sim.step()) << backend << " step " << k;
-    if (float_storage) test::round_to_float(sim.state_for_editing());
-  }
-  EXPECT_TRUE(sim.check_energy());
-  return {sim.state().x().begin(), sim.state().x().end()};
-}
-
 // 0.3 s of the fall (the cloth reaches the obstacle after 0.1 s): the GPU within 4 times the
 // float-storage drift of the CPU. Returns the GPU's positions.
 std::vector<Vec3> expect_run_matches(const Scene& scene, const char* what) {
   const std::uint64_t steps = 1500;
-  const auto cpu = run(scene, "cpu", steps), rounded = run(scene, "cpu", steps, true),
-             gpu = run(scene, "gpu", steps);
+  const auto cpu = test::run_on(scene, "cpu", steps),
+             rounded = test::run_on(scene, "cpu", steps, true),
+             gpu = test::run_on(scene, "gpu", steps);
   const double drift = test::max_distance(cpu, rounded), off = test::max_distance(cpu, gpu);
   std::printf("%s, %llu steps: GPU - CPU %.3g m, float-storage drift %.3g m (ratio %.2f)\n", what,
               static_cast<unsigned long long>(steps), off, drift, off / drift);

@@ -26,29 +26,15 @@ namespace {
 
 using GpuRun = test::GpuTest;
 
-std::vector<Vec3> run(const Scene& scene, const std::string& backend, std::uint64_t steps,
-                      bool float_storage = false) {
-  SimulationSettings settings = scene.settings;
-  settings.backend = backend;
-  settings.threads = 1;
-  Simulator sim(scene.model, settings);
-  for (std::uint64_t k = 0; k < steps; ++k) {
-    EXPECT_TRUE(sim.step()) << backend << " step " << k;
-    if (float_storage) test::round_to_float(sim.state_for_editing());
-  }
-  EXPECT_TRUE(sim.check_energy());
-  return {sim.state().x().begin(), sim.state().x().end()};
-}
-
 double distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
   return test::max_distance(a, b);
 }
 
 // Runs `scene` on the CPU, the CPU with float storage and the GPU; checks the GPU's distance.
 std::vector<Vec3> expect_within_float_storage_drift(const Scene& scene, std::uint64_t steps) {
-  const auto cpu = run(scene, "cpu", steps);
-  const auto rounded = run(scene, "cpu", steps, true);
-  const auto gpu = run(scene, "gpu", steps);
+  const auto cpu = test::run_on(scene, "cpu", steps);
+  const auto rounded = test::run_on(scene, "cpu", steps, true);
+  const auto gpu = test::run_on(scene, "gpu", steps);
   const double drift = distance(cpu, rounded), off = distance(cpu, gpu);
   std::printf("%s, %llu steps: GPU - CPU %.3g m, float-storage drift %.3g m (ratio %.2f)\n",
               scene.name.c_str(), static_cast<unsigned long long>(steps), off, drift, off / drift);
