@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "../integrators/implicit_vbd.hpp"  // the contact rules' kVbdBisections, kVbdMaxSegmentSamples
 #include "gpu_layout.hpp"
 #include "maille/model.hpp"
 #include "maille/obstacle.hpp"
@@ -34,10 +35,6 @@
 namespace maille::gpu {
 
 inline constexpr std::uint32_t kVbdMaxObstacles = 32;
-// The CPU solver's halvings of a step that changes a point's contact (implicit_vbd.cpp:
-// kBisections) and its most samples along a segment (kMaxSegmentSamples).
-inline constexpr int kVbdBisections = 10;
-inline constexpr int kVbdMaxSegmentSamples = 256;
 
 // The geometric obstacles among `stages` (their GPU's VBD takes them inside the solve).
 std::uint32_t vbd_obstacle_count(std::span<const Stage* const> stages);

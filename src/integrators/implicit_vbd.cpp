@@ -44,10 +44,6 @@ namespace {
 constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
 constexpr std::int64_t kBlock = 64;            // points per thread task in a colour
 constexpr std::size_t kParallelPoints = 2048;  // fewer free points: one thread
-constexpr int kBisections = 10;  // a step across a contact's surface stops within 1/1024 of it
-// Continuous detection tests at most this many points of a segment (a point faster than this
-// many half-thicknesses a step is tested more coarsely).
-constexpr int kMaxSegmentSamples = 256;
 // The guess's largest motion times this is the contact margin (2: two points moving toward
 // each other; 1.25: room before a refresh is needed).
 constexpr Real kMarginFactor = Real(2.5);
@@ -407,7 +403,7 @@ std::pair<Real, Real> VertexBlockDescent::contact_change(std::uint32_t i, const 
                                                          const Vec3& dx, Real inv_h) {
   const std::span<const std::uint32_t> one(&i, 1);
   Real lo = 0, hi = 1;
-  for (int k = 0; k < kBisections; ++k) {
+  for (int k = 0; k < kVbdBisections; ++k) {
     const Real mid = Real(0.5) * (lo + hi);
     trial_x_[i] = x0 + dx * mid;
     trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
@@ -648,7 +644,7 @@ Real VertexBlockDescent::first_touch(std::uint32_t i, const Vec3& to, Real h, bo
   bool before = touches(0);
   if (before && dot(trial_g_[i], d) < 0) return 0;
   const Real length = norm(d);
-  const int samples = int(std::min<Real>(kMaxSegmentSamples, std::ceil(2 * length / thinnest_)));
+  const int samples = int(std::min<Real>(kVbdMaxSegmentSamples, std::ceil(2 * length / thinnest_)));
   for (int k = 1; k <= samples; ++k) {
     const Real t = Real(k) / Real(samples);
     const bool from_outside = !before;
@@ -657,7 +653,7 @@ Real VertexBlockDescent::first_touch(std::uint32_t i, const Vec3& to, Real h, bo
     // canonically, the push may point to a side face), or pushed against the motion.
     if (!before || !(from_outside || dot(trial_g_[i], d) < 0)) continue;
     Real lo = Real(k - 1) / Real(samples), hi = t;
-    for (int b = 0; b < kBisections; ++b) {
+    for (int b = 0; b < kVbdBisections; ++b) {
       const Real mid = Real(0.5) * (lo + hi);
       ((from_outside ? touches(mid) : enters(mid)) ? hi : lo) = mid;
     }
@@ -699,7 +695,7 @@ void VertexBlockDescent::stop_at_entry(State& s, Real h) {
     };
     if (touches(0) || !touches(1)) continue;
     Real lo = 0, hi = 1;
-    for (int b = 0; b < kBisections; ++b) {
+    for (int b = 0; b < kVbdBisections; ++b) {
       const Real mid = Real(0.5) * (lo + hi);
       (touches(mid) ? hi : lo) = mid;
     }

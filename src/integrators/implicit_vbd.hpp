@@ -60,6 +60,13 @@ inline constexpr Real kFallbackGrowth = 2;
 // (before the final contact rules, docs/implicit.md).
 inline constexpr int kCoarseEvery = 2;
 
+// A step across a contact's surface stops within 1/2^kVbdBisections of it (the CPU's solve and
+// the GPU's, gpu_obstacle_shaders.cpp).
+inline constexpr int kVbdBisections = 10;
+// Continuous detection tests at most this many points of a segment (a point faster than this
+// many half-thicknesses a step is tested more coarsely).
+inline constexpr int kVbdMaxSegmentSamples = 256;
+
 struct VbdResult {
   int sweeps = 0;               // sweeps run this step
   int acceleration_resets = 0;  // sweeps whose residual rose: acceleration turned off
