@@ -23,6 +23,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "maille/mesh.hpp"
@@ -129,8 +130,10 @@ TriMesh obstacle_mesh(const Obstacle& o);
 // std::invalid_argument naming the obstacle for an unknown group or when no free point is left.
 std::vector<std::uint32_t> colliding_points(const Model& m, const Obstacle& o);
 
-// The stage's name ("obstacle:NAME") and phase (facets rewrite the state after the forces:
-// Phase::response; the others add forces), said once for the scene table and the stages.
+// The stage's name (kObstacleStagePrefix + NAME) and phase (facets rewrite the state after the
+// forces: Phase::response; the others add forces), said once for the scene table, the stages,
+// the drawn surfaces and the GPU registry's family entry.
+inline constexpr std::string_view kObstacleStagePrefix = "obstacle:";
 std::string obstacle_stage_name(const Obstacle& o);
 Phase obstacle_phase(ObstacleMethod m);
 

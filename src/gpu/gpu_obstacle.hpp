@@ -28,8 +28,8 @@
 
 namespace maille::gpu {
 
-// The registry's family entry: every [[obstacle]]'s stage is named "obstacle:NAME".
-inline constexpr std::string_view kGpuObstacleFamily = "obstacle:";
+// The registry's family entry: every [[obstacle]]'s stage is named by obstacle_stage_name.
+inline constexpr std::string_view kGpuObstacleFamily = kObstacleStagePrefix;
 
 class GpuGeometricObstacle final : public GpuStage {
  public:

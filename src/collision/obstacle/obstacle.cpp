@@ -85,7 +85,7 @@ std::vector<std::uint32_t> colliding_points(const Model& m, const Obstacle& o) {
 }
 
 std::string obstacle_stage_name(const Obstacle& o) {
-  return "obstacle:" + o.name;
+  return std::string(kObstacleStagePrefix) + o.name;
 }
 
 Phase obstacle_phase(ObstacleMethod m) {

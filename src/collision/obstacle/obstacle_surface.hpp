@@ -14,7 +14,7 @@ class ObstacleSurface {
  public:
   // The mesh to draw: the obstacle's own (facets, conditional) or its shape tessellated.
   ObstacleSurface(const Obstacle& o, std::shared_ptr<const TriMesh> mesh)
-      : mesh_(std::move(mesh)), name_("obstacle:" + o.name), colour_(colour(o.method)) {}
+      : mesh_(std::move(mesh)), name_(obstacle_stage_name(o)), colour_(colour(o.method)) {}
 
   void add(const Obstacle& o, double t, std::vector<SurfaceInstance>& out) const {
     const shapes::Affine a = o.motion.at(o.place, t);
