@@ -50,7 +50,7 @@ columns = {
     "obstacles/lean.csv": "scale_x,scale_y,scale_z,mean_lean_deg,max_lean_deg",
     "large-steps/large_steps.csv":
         "scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,"
-        "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s,coarse",
+        "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s,coarse,threads",
 }
 bad = []
 tables = {}

@@ -7,21 +7,27 @@
 //   heap    a self-colliding cloth (0.8 m, 0.2 kg, 300 N/m) dropped edge-first on a plane with
 //           friction: it folds onto itself (self-collision with primitive = "triangles",
 //           radius = the spacing)
+//   drape   examples/cloth_on_sphere.toml at 64^2: a 1 m, 0.25 kg cloth (400 N/m, bending
+//           2 N/m) dropped on a ball standing on the ground, with self-collision (the
+//           example's thin layer: particle-face contacts 8 mm thick); the real-time
+//           case, on two threads, VBD only (leapfrog at its limit with self-collision is
+//           minutes), 3 s simulated: the fall, the drape and the folds settling
 //
 // Writes large_steps.csv:
 //
 //   scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,max_penetration_m,
-//   final_kinetic_J,max_residual,stable,sim_s,coarse
+//   final_kinetic_J,max_residual,stable,sim_s,coarse,threads
 //
 // solver: leapfrog (at 0.9 of the engine's stability estimate), matrix_free (Newton iterations in
 // `iterations`, 0 for the default one) or vbd (sweeps in `iterations`); max_stretch over structural
 // links and samples (every 1/240 s, or every step when longer); max_penetration from the obstacle's
 // depth gauge at the same samples; max_residual the largest solver_residual (force imbalance over m
 // g, implicit solvers); coarse: VBD's coarse correction (aggregates, or off: sweeps with the
-// Chebyshev acceleration), empty for the other solvers. Only the steps are timed, on one thread.
+// Chebyshev acceleration), empty for the other solvers. Only the steps are timed, on `threads`
+// threads (one but for the drape).
 // --quick: the sphere at 32^2, the heap at 24^2, six settings, 0.5 s simulated. The full study:
 // the sphere at 32^2, 64^2, 128^2 and the heap at 32^2, 64^2 (at 128^2 leapfrog's limit makes it
-// minutes), eleven settings, 1 s.
+// minutes), eleven settings, 1 s; then the drape at 64^2 (four settings, 3 s).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -44,6 +50,7 @@ struct Setting {
   double step = 0;     // s; 0: leapfrog's own (0.9 of the stability estimate)
   int iterations = 0;  // vbd: sweeps; matrix_free: Newton iterations (0: the default, 1)
   VbdCoarse coarse = VbdCoarse::aggregates;  // vbd: the coarse correction, or sweeps only
+  int threads = 1;
 };
 
 std::string sphere_text(int n) {
@@ -74,6 +81,26 @@ std::string heap_text(int n) {
   return t.str();
 }
 
+// The body of examples/cloth_on_sphere.toml (its ball, ground, cloth and self-collision) at
+// n x n.
+std::string drape_text(int n) {
+  std::ostringstream t;
+  t << "[fields]\ngravity = [0.0, -9.81, 0.0]\nair_drag = 0.3\n"
+    << "[[flag]]\nname = \"cloth\"\norigin = [-0.5, 0.8, -0.5]\nalong = [1.0, 0.0, 0.0]\n"
+    << "up = [0.0, 0.0, 1.0]\nwidth = 1.0\nheight = 1.0\nresolution = [" << n << ", " << n
+    << "]\nmass = 0.25\nstiffness = 400.0\nshear_stiffness = 120.0\nbending_stiffness = 2.0\n"
+    << "damping = 0.02\nfixed = \"none\"\n"
+    << "[[obstacle]]\nname = \"ball\"\nshape = \"sphere\"\nmethod = \"geometric\"\n"
+    << "position = [0.0, 0.2, 0.0]\nscale = [0.3, 0.3, 0.3]\nstiffness = 2000.0\n"
+    << "damping = 0.5\ncollides_with = [\"cloth\"]\n"
+    << "[[obstacle]]\nname = \"ground\"\nshape = \"plane\"\nmethod = \"geometric\"\n"
+    << "position = [0.0, 0.0, 0.0]\nstiffness = 2000.0\ndamping = 0.5\n"
+    << "collides_with = [\"cloth\"]\n"
+    << "[self_collision]\ngroups = [\"cloth\"]\nprimitive = \"triangles\"\nradius = 0.008\n"
+    << "topological_radius = 0\nstiffness = 400.0\ndamping = 0.05\nfriction = 0.3\n";
+  return t.str();
+}
+
 struct Outcome {
   bool stable = true;
   double wall_per_sim = 0, max_stretch = 0, max_penetration = 0, final_kinetic = 0,
@@ -85,7 +112,7 @@ Outcome run(const std::string& text, double spacing, const Setting& set, double 
                            StageRegistry::with_builtins());
   if (!scene) throw std::runtime_error("study scene: " + scene.error().to_string());
   SimulationSettings s = scene->settings;
-  s.threads = 1;
+  s.threads = set.threads;
   s.publish_every = kNeverEvery;
   s.sample_every = kNeverEvery;
   s.integrator = set.solver == "leapfrog" ? "leapfrog" : "implicit_euler";
@@ -144,33 +171,44 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
     settings.push_back({"vbd", 1.0 / 60, 10, VbdCoarse::off});
     settings.push_back({"vbd", 1.0 / 240, 10, VbdCoarse::off});
   }
+  // The real-time case: two threads at 1/60 s and at larger steps, fewer sweeps.
+  const std::vector<Setting> drape_settings = {{"vbd", 1.0 / 60, 10, VbdCoarse::aggregates, 2},
+                                               {"vbd", 1.0 / 30, 6, VbdCoarse::aggregates, 2},
+                                               {"vbd", 1.0 / 20, 6, VbdCoarse::aggregates, 2},
+                                               {"vbd", 1.0 / 20, 6, VbdCoarse::aggregates, 1}};
   struct Case {
     const char* scene;
     int n;
   };
   std::vector<Case> cases = {{"sphere", 32}, {"heap", 24}};
   if (!o.quick)
-    cases = {{"sphere", 32}, {"sphere", 64}, {"sphere", 128}, {"heap", 32}, {"heap", 64}};
-  std::printf("maille study large-steps -> %s (%.1f s simulated, one thread)\n",
+    cases = {{"sphere", 32}, {"sphere", 64}, {"sphere", 128},
+             {"heap", 32},   {"heap", 64},   {"drape", 64}};
+  std::printf("maille study large-steps -> %s (%.1f s simulated, one thread; the drape 3 s)\n",
               o.out.string().c_str(), duration);
   write("large_steps.csv", [&](std::ostream& out) {
     out << "scene,particles,solver,step_s,iterations,wall_s_per_sim_s,max_stretch,"
-           "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s,coarse\n";
+           "max_penetration_m,final_kinetic_J,max_residual,stable,sim_s,coarse,threads\n";
     for (const Case& c : cases) {
-      const bool sphere = std::string(c.scene) == "sphere";
-      const std::string text = sphere ? sphere_text(c.n) : heap_text(c.n);
-      const double spacing = (sphere ? 1.0 : 0.8) / (c.n - 1);
-      for (const Setting& set : settings) {
-        const Outcome r = run(text, spacing, set, duration);
+      const std::string scene = c.scene;
+      const bool drape = scene == "drape";
+      const std::string text = scene == "sphere" ? sphere_text(c.n)
+                               : drape           ? drape_text(c.n)
+                                                 : heap_text(c.n);
+      const double spacing = (scene == "heap" ? 0.8 : 1.0) / (c.n - 1);
+      for (const Setting& set : drape ? drape_settings : settings) {
+        const Outcome r = run(text, spacing, set, drape ? 3.0 : duration);
         const std::string coarse = set.solver == "vbd" ? std::string(to_string(set.coarse)) : "";
         out << c.scene << ',' << c.n * c.n << ',' << set.solver << ',' << r.step << ','
             << set.iterations << ',' << r.wall_per_sim << ',' << r.max_stretch << ','
             << r.max_penetration << ',' << r.final_kinetic << ',' << r.max_residual << ','
-            << r.stable << ',' << r.sim_s << ',' << coarse << '\n';
+            << r.stable << ',' << r.sim_s << ',' << coarse << ',' << set.threads << '\n';
         std::printf(
-            "  %-6s %6d %-11s %-10s h %-9.3g it %-3d %8.3f s/s stretch %6.3f pen %8.2e m%s\n",
+            "  %-6s %6d %-11s %-10s h %-9.3g it %-3d thr %d %8.3f s/s stretch %6.3f pen %8.2e "
+            "m%s\n",
             c.scene, c.n * c.n, set.solver.c_str(), coarse.c_str(), r.step, set.iterations,
-            r.wall_per_sim, r.max_stretch, r.max_penetration, r.stable ? "" : "  UNSTABLE");
+            set.threads, r.wall_per_sim, r.max_stretch, r.max_penetration,
+            r.stable ? "" : "  UNSTABLE");
       }
     }
   });

@@ -673,18 +673,27 @@ def iterations_label(r):
     return ""
 
 
+def threads_of(r):
+    """A large-steps row's thread count (rows written before the column existed: one)."""
+    return int(r.get("threads") or 1)
+
+
+def threads_label(r):
+    return f", {threads_of(r)} threads" if threads_of(r) > 1 else ""
+
+
 def large_steps(d, figures, v):
     """Implicit Euler at animation steps against leapfrog at its limit (and Bullet on the
     sphere scene when peer.csv exists): the table and wall time against stretch."""
     rows = d("large-steps", "large_steps.csv")
     bullet = [r for r in d(None, "peer.csv") if r["engine"] == "bullet"] \
         if d.has("peer.csv") else []
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
-    for ax, scene in zip(axes, ["sphere", "heap"]):
+    fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), sharey=True)
+    for ax, scene in zip(axes, ["sphere", "heap", "drape"]):
         for r in rows:
             if r["scene"] != scene or not r["stable"]:
                 continue
-            label = solver_name(r) + iterations_label(r)
+            label = solver_name(r) + iterations_label(r) + threads_label(r)
             ax.scatter(r["max_stretch"] * 100, r["wall_s_per_sim_s"],
                        color=SOLVER_COLOURS[solver_name(r)], s=10 + 20 * math.log2(
                            max(r["particles"], 1024) / 512),
@@ -705,19 +714,20 @@ def large_steps(d, figures, v):
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("largest structural stretch (%)")
-        ax.set_title({"sphere": "Cloth on a sphere", "heap": "Self-colliding heap"}[scene])
-    axes[0].set_ylabel("wall s per simulated s (one thread)")
+        ax.set_title({"sphere": "Cloth on a sphere", "heap": "Self-colliding heap",
+                      "drape": "Self-colliding drape, 64²"}[scene])
+    axes[0].set_ylabel("wall s per simulated s (one thread unless marked)")
     save(fig, figures, "large_steps.png")
     v["large_steps_table"] = table(
         ["scene", "particles", "solver", "step (s)", "sweeps / Newton its", "wall s / sim s",
          "largest stretch", "deepest penetration (mm)", "kinetic energy left (J)",
-         "largest residual (m g)", "stable"],
+         "largest residual (m g)", "stable", "threads"],
         [[r["scene"], grouped(r["particles"]), solver_name(r), g(r["step_s"]),
           str(int(r["iterations"])) if r["iterations"] else "",
           g(r["wall_s_per_sim_s"]), pct(r["max_stretch"]),
           g(r["max_penetration_m"] * 1e3), g(r["final_kinetic_J"]),
           g(r["max_residual"]) if r["solver"] != "leapfrog" else "",
-          "yes" if r["stable"] else "**no**"] for r in rows])
+          "yes" if r["stable"] else "**no**", str(threads_of(r))] for r in rows])
     # The issue's quality bar (stretch at most 10 %, penetration at most 2 mm) at 1/60 s.
     at60 = [r for r in rows if r["solver"] != "leapfrog" and abs(r["step_s"] - 1 / 60) < 1e-6]
     good = [r for r in at60 if r["stable"] and r["max_stretch"] <= 0.1
@@ -725,7 +735,17 @@ def large_steps(d, figures, v):
     v["large_steps_at_60"] = (
         f"{len(good)} of {len(at60)} implicit runs at 1/60 s keep the largest stretch within 10 % "
         f"and the deepest penetration within 2 mm")
-    v["large_steps_duration"] = g(max(r["sim_s"] for r in rows), 2)
+    v["large_steps_duration"] = g(max(r["sim_s"] for r in rows if r["scene"] != "drape"), 2)
+    # The issue's real-time case: the drape on two threads, the fastest run within the bar.
+    drape = [r for r in rows if r["scene"] == "drape" and threads_of(r) == 2 and r["stable"]
+             and r["max_stretch"] <= 0.1 and r["max_penetration_m"] <= 2e-3]
+    best = min(drape, key=lambda r: r["wall_s_per_sim_s"]) if drape else None
+    v["large_steps_real_time"] = (
+        f"the fastest drape on two threads within that bar takes {g(best['wall_s_per_sim_s'])} s "
+        f"per simulated second (h = 1/{round(1 / best['step_s'])} s, "
+        f"{int(best['iterations'])} sweeps, stretch {pct(best['max_stretch'])}): "
+        + ("real time" if best["wall_s_per_sim_s"] <= 1 else "slower than real time")
+        if best else "no drape run on two threads stays within that bar")
 
 
 def peer(d, figures, v):
