@@ -60,6 +60,10 @@ TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint
   for (std::size_t k = 0; k < set.size(); ++k) local_[set[k]] = std::int32_t(k);
   for (const auto& t : m.surface.triangles)
     if (groups_mask[t[0]] && groups_mask[t[1]] && groups_mask[t[2]]) tris_.push_back(t);
+  tracked_ = set_;
+  for (const auto& t : tris_) tracked_.insert(tracked_.end(), t.begin(), t.end());
+  std::sort(tracked_.begin(), tracked_.end());
+  tracked_.erase(std::unique(tracked_.begin(), tracked_.end()), tracked_.end());
 }
 
 // A grid over the particles' box, cells of about the longest triangle box side; triangles go
@@ -116,6 +120,18 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by) {
     each_cell(t, [&](std::size_t c) { cell_tris_[cursor_[c]++] = std::uint32_t(t); });
 }
 
+template <class F>
+void TriangleProximity::touch(std::int64_t k, std::uint32_t t, const Vec3* x, Real radius,
+                              F&& fn) const {
+  const std::uint32_t p = set_[std::size_t(k)];
+  const auto& tri = tris_[t];
+  const std::array<Real, 3> w = closest_weights(x[p], x[tri[0]], x[tri[1]], x[tri[2]]);
+  const Vec3 closest = x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2];
+  const Vec3 d = x[p] - closest;
+  const Real d2 = dot(d, d);
+  if (d2 < radius * radius && d2 != 0) fn(t, w, d, d2);
+}
+
 // Calls fn(t, w, d, d2) for every triangle t of particle k's cell closer than `radius` (d: from
 // the closest point, weights w, to the particle), that is neither the particle's own nor, by
 // `exclusion`, its neighbourhood.
@@ -131,23 +147,60 @@ void TriangleProximity::near(std::int64_t k, const Vec3* x, Real radius,
       (clampi(std::int64_t(q.z), grid_.nz) * grid_.ny + clampi(std::int64_t(q.y), grid_.ny)) *
           grid_.nx +
       clampi(std::int64_t(q.x), grid_.nx));
-  const Real r2 = radius * radius;
   for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
     const std::uint32_t t = cell_tris_[s];
     const auto& tri = tris_[t];
     if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
-    const std::array<Real, 3> w = closest_weights(x[p], x[tri[0]], x[tri[1]], x[tri[2]]);
-    const Vec3 closest = x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2];
-    const Vec3 d = x[p] - closest;
-    const Real d2 = dot(d, d);
-    if (d2 >= r2 || d2 == 0) continue;
-    bool own = false;  // the triangle is the particle's own neighbourhood
-    if (exclusion)
-      for (auto corner : tri)
-        own |= local_[corner] >= 0 &&
-               exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner]));
-    if (!own) fn(t, w, d, d2);
+    touch(k, t, x, radius, [&](std::uint32_t, const auto& w, const Vec3& d, Real d2) {
+      bool own = false;  // the triangle is the particle's own neighbourhood
+      if (exclusion)
+        for (auto corner : tri)
+          own |= local_[corner] >= 0 &&
+                 exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner]));
+      if (!own) fn(t, w, d, d2);
+    });
   }
+}
+
+bool TriangleProximity::near_holds(const Vec3* x, Real radius, Real reach,
+                                   const TopologicalExclusion* exclusion) const {
+  if (near_reach_ != reach || near_exclusion_ != exclusion) return false;
+  Real moved2 = 0;
+  for (std::size_t i = 0; i < tracked_.size(); ++i)
+    moved2 = std::max(moved2, norm2(x[tracked_[i]] - anchor_[i]));
+  // A pair's distance changed by at most the particle's move plus its corners' largest.
+  return 2 * std::sqrt(moved2) <= reach - radius;
+}
+
+bool TriangleProximity::find_near(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
+                                  int threads) {
+  bin(x, reach);
+  per_thread_near_.resize(std::size_t(std::max(threads, 1)));
+  for (auto& list : per_thread_near_) list.clear();
+  thread_full_.assign(per_thread_near_.size(), 0);
+  const std::size_t cap = max_contacts_ / per_thread_near_.size();
+  const auto n = static_cast<std::int64_t>(set_.size());
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
+  for (std::int64_t k = 0; k < n; ++k) {
+    auto& list = per_thread_near_[std::size_t(thread_id())];
+    near(k, x, reach, exclusion, [&](std::uint32_t t, const auto&, const Vec3&, Real) {
+      if (list.size() >= cap) {
+        thread_full_[std::size_t(thread_id())] = 1;
+        return;
+      }
+      list.push_back({std::uint32_t(k), t});
+    });
+  }
+  for (const std::uint8_t t : thread_full_) near_off_ = near_off_ || t != 0;
+  if (near_off_) return false;
+  collision::room_for_any_split(per_thread_near_, cap);
+  near_.clear();
+  for (const auto& list : per_thread_near_) near_.insert(near_.end(), list.begin(), list.end());
+  anchor_.resize(tracked_.size());
+  for (std::size_t i = 0; i < tracked_.size(); ++i) anchor_[i] = x[tracked_[i]];
+  near_reach_ = reach;
+  near_exclusion_ = exclusion;
+  return true;
 }
 
 void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h,
@@ -199,41 +252,49 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
                                        const TopologicalExclusion* exclusion, int threads) {
   full_ = false;
   if (tris_.empty() || set_.empty()) return 0;
-  bin(x, r.radius);
-  // Each particle against the triangles of its cell. Each thread keeps at most its share of
-  // the contacts: beyond it, the pass goes on without collecting and is refused below.
+  const Real reach = r.radius * (1 + kSkinFraction);
+  const bool listed = !near_off_ && (near_holds(x, r.radius, reach, exclusion) ||
+                                     find_near(x, reach, exclusion, threads));
+  if (!listed) bin(x, r.radius);
+  // Each particle against its listed triangles, or those of its cell. Each thread keeps at most
+  // its share of the contacts: beyond it, the pass goes on without collecting and is refused
+  // below.
   per_thread_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_) list.clear();
   thread_full_.assign(per_thread_.size(), 0);
   const std::size_t cap = max_contacts_ / per_thread_.size();
-  const auto n = static_cast<std::int64_t>(set_.size());
+  const auto n = static_cast<std::int64_t>(listed ? near_.size() : set_.size());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
-  for (std::int64_t k = 0; k < n; ++k) {
+  for (std::int64_t i = 0; i < n; ++i) {
     auto& out = per_thread_[std::size_t(thread_id())];
     if (thread_full_[std::size_t(thread_id())]) continue;
+    const std::int64_t k = listed ? std::int64_t(near_[std::size_t(i)][0]) : i;
     const std::uint32_t p = set_[std::size_t(k)];
-    near(k, x, r.radius, exclusion,
-         [&](std::uint32_t t, const std::array<Real, 3>& w, const Vec3& d, Real d2) {
-           const auto& tri = tris_[t];
-           const Real dist = std::sqrt(d2);
-           const Vec3 nrm = d / dist;
-           const Vec3 vq = v[tri[0]] * w[0] + v[tri[1]] * w[1] + v[tri[2]] * w[2];
-           const Vec3 dv = v[p] - vq;
-           const Real vn = dot(dv, nrm);
-           Vec3 force = nrm * (r.stiffness * (r.radius - dist) - r.damping * vn);
-           if (r.friction > 0) {
-             const Vec3 vt = dv - nrm * vn;
-             const Real speed = norm(vt);
-             force -= vt * (r.friction * std::abs(dot(force, nrm)) /
-                            std::max(speed, kSelfCollisionSlip));
-           }
-           const Feature fe = feature_of(tri, t, w);
-           if (out.size() >= cap) {
-             thread_full_[std::size_t(thread_id())] = 1;
-             return;
-           }
-           out.push_back({p, t, fe.kind, fe.a, fe.b, force, w});
-         });
+    auto contact = [&](std::uint32_t t, const std::array<Real, 3>& w, const Vec3& d, Real d2) {
+      const auto& tri = tris_[t];
+      const Real dist = std::sqrt(d2);
+      const Vec3 nrm = d / dist;
+      const Vec3 vq = v[tri[0]] * w[0] + v[tri[1]] * w[1] + v[tri[2]] * w[2];
+      const Vec3 dv = v[p] - vq;
+      const Real vn = dot(dv, nrm);
+      Vec3 force = nrm * (r.stiffness * (r.radius - dist) - r.damping * vn);
+      if (r.friction > 0) {
+        const Vec3 vt = dv - nrm * vn;
+        const Real speed = norm(vt);
+        force -=
+            vt * (r.friction * std::abs(dot(force, nrm)) / std::max(speed, kSelfCollisionSlip));
+      }
+      const Feature fe = feature_of(tri, t, w);
+      if (out.size() >= cap) {
+        thread_full_[std::size_t(thread_id())] = 1;
+        return;
+      }
+      out.push_back({p, t, fe.kind, fe.a, fe.b, force, w});
+    };
+    if (listed)
+      touch(k, near_[std::size_t(i)][1], x, r.radius, contact);
+    else
+      near(k, x, r.radius, exclusion, contact);
   }
   for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
   if (full_) return 0;
