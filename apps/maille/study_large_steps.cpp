@@ -5,8 +5,10 @@
 //           2000 N/m and shear of 500, dropped flat from 0.75 m onto a fixed geometric sphere
 //           of radius 0.25 m), so that its rows sit beside Bullet's in the report
 //   heap    a self-colliding cloth (0.8 m, 0.2 kg, 300 N/m) dropped edge-first on a plane with
-//           friction: it folds onto itself (self-collision with primitive = "triangles",
-//           radius = the spacing)
+//           friction: it folds onto itself (self-collision by a thin layer of particle-face
+//           contacts: primitive = "triangles", radius a third of the spacing, no topological
+//           exclusion; with radius = the spacing and the default exclusion, VBD at 1/60 s
+//           with 10 sweeps crossed 544 triangle pairs at 32^2 and stretched 29 %)
 //   drape   examples/cloth_on_sphere.toml at 64^2: a 1 m, 0.25 kg cloth (400 N/m, bending
 //           2 N/m) dropped on a ball standing on the ground, with self-collision (the
 //           example's thin layer: particle-face contacts 8 mm thick); the real-time
@@ -76,8 +78,8 @@ std::string heap_text(int n) {
     << "[[obstacle]]\nname = \"floor\"\nshape = \"plane\"\nmethod = \"geometric\"\n"
     << "position = [0.0, 0.06, 0.0]\nstiffness = 400.0\ndamping = 0.2\nfriction = 0.3\n"
     << "collides_with = [\"cloth\"]\n"
-    << "[self_collision]\ngroups = [\"cloth\"]\nradius = " << spacing
-    << "\nstiffness = 300.0\ndamping = 0.05\nprimitive = \"triangles\"\n";
+    << "[self_collision]\ngroups = [\"cloth\"]\nradius = " << spacing / 3
+    << "\ntopological_radius = 0\nstiffness = 300.0\ndamping = 0.05\nprimitive = \"triangles\"\n";
   return t.str();
 }
 

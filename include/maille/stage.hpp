@@ -33,6 +33,10 @@
 #include "maille/vec3.hpp"
 
 namespace maille {
+struct SimulationSettings;
+}
+
+namespace maille {
 
 struct Model;
 struct State;
@@ -177,10 +181,12 @@ class Stage {
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.
   virtual void surfaces(double /*t*/, std::vector<SurfaceInstance>& /*out*/) const {}
-  // Settings that make the stage's result doubtful (self-collision whose points can slip
-  // between a group's particles), one sentence each, naming the values and the fixes: apps
-  // print them (validate, info, run) and the viewer shows them, with no stage-specific code.
-  virtual std::vector<std::string> warnings() const { return {}; }
+  // Settings that make the stage's result doubtful under the simulation's settings `s`
+  // (self-collision whose points can slip between a group's particles, or whose topological
+  // exclusion large implicit steps fold through), one sentence each, naming the values and the
+  // fixes: apps print them (validate, info, run) and the viewer shows them, with no
+  // stage-specific code.
+  virtual std::vector<std::string> warnings(const SimulationSettings& /*s*/) const { return {}; }
 };
 
 // What a stage's validation found (Stage factories and scene tables share one check, run without

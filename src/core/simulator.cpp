@@ -452,7 +452,8 @@ std::vector<std::string> Simulator::stage_warnings() const {
   std::vector<std::string> out;
   for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
     for (const auto& st : *list)
-      for (const std::string& w : st.stage->warnings()) out.push_back(st.stage->name() + ": " + w);
+      for (const std::string& w : st.stage->warnings(settings_))
+        out.push_back(st.stage->name() + ": " + w);
   return out;
 }
 

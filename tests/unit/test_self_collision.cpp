@@ -13,6 +13,7 @@
 #include "collision/self/self_collision_view.hpp"
 #include "maille/builders.hpp"
 #include "maille/self_collision.hpp"
+#include "maille/simulator.hpp"
 
 namespace {
 
@@ -267,7 +268,7 @@ TEST(SelfCollision, WarnsWhenPointsCanSlipBetweenParticles) {
     SelfCollisionSettings s;
     s.radius = radius;
     s.primitive = primitive;
-    return make_self_collision_stage(m, s)->warnings();
+    return make_self_collision_stage(m, s)->warnings(SimulationSettings{});
   };
   const auto leaky = warnings(Real(0.012), Primitive::points);
   ASSERT_EQ(leaky.size(), 1u);
@@ -277,6 +278,40 @@ TEST(SelfCollision, WarnsWhenPointsCanSlipBetweenParticles) {
   EXPECT_TRUE(warnings(Real(0.0175), Primitive::points).empty());
   EXPECT_TRUE(warnings(0, Primitive::points).empty());  // the default: half the shortest link
   EXPECT_TRUE(warnings(Real(0.012), Primitive::triangles).empty());
+}
+
+// Under vertex block descent at steps above 1/240 s, a topological exclusion leaves cells free
+// to fold over their neighbours (docs/implicit.md, "Self-collision at large steps"): the stage
+// says so, with the exclusion, the step and the thin layer that fixes it; not at 1/240 s, not
+// under other solvers or schemes, not without exclusion.
+TEST(SelfCollision, WarnsWhenLargeVbdStepsCanFoldExcludedNeighbours) {
+  Model m;
+  FlagParams p;
+  p.nx = p.ny = 8;
+  p.fixed = FlagFixed::none;
+  build_flag(m, p, "cloth");
+  m.prepare();
+  auto warnings = [&](int topological_radius, const char* integrator, ImplicitSolver solver,
+                      double step) {
+    SelfCollisionSettings s;
+    s.radius = Real(0.05);
+    s.primitive = Primitive::triangles;
+    s.topological_radius = topological_radius;
+    SimulationSettings sim;
+    sim.integrator = integrator;
+    sim.implicit.solver = solver;
+    sim.step = step;
+    return make_self_collision_stage(m, s)->warnings(sim);
+  };
+  const auto folds = warnings(2, "implicit_euler", ImplicitSolver::vbd, 1.0 / 60);
+  ASSERT_EQ(folds.size(), 1u);
+  for (const char* part : {"topological_radius = 2", "solver = \"vbd\"", "h = 0.01667 s",
+                           "topological_radius = 0", "primitive = \"triangles\""})
+    EXPECT_NE(folds[0].find(part), std::string::npos) << part << " not in: " << folds[0];
+  EXPECT_TRUE(warnings(2, "implicit_euler", ImplicitSolver::vbd, 1.0 / 240).empty());
+  EXPECT_TRUE(warnings(2, "implicit_euler", ImplicitSolver::matrix_free, 1.0 / 60).empty());
+  EXPECT_TRUE(warnings(2, "leapfrog", ImplicitSolver::vbd, 1.0 / 60).empty());
+  EXPECT_TRUE(warnings(0, "implicit_euler", ImplicitSolver::vbd, 1.0 / 60).empty());
 }
 
 }  // namespace
