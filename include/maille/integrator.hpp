@@ -102,6 +102,10 @@ enum class ResponseTiming : std::uint8_t {
 
 class Stage;
 
+// The implicit scheme's registry name: the simulator, its integrator and stages that judge their
+// settings under it test for it (the other schemes' names live in their registry entries only).
+inline constexpr std::string_view kImplicitEuler = "implicit_euler";
+
 class Integrator {
  public:
   virtual ~Integrator() = default;

@@ -204,10 +204,10 @@ void Simulator::set_integrator(const std::string& name) {
 void Simulator::set_implicit(const ImplicitSettings& implicit) {
   const ImplicitSettings old = settings_.implicit;
   settings_.implicit = implicit;
-  if (settings_.integrator != "implicit_euler") return;  // taken when the scheme is chosen
+  if (settings_.integrator != kImplicitEuler) return;  // taken when the scheme is chosen
   std::unique_ptr<Integrator> previous = std::move(integrator_);
   try {
-    build_integrator("implicit_euler");
+    build_integrator(std::string(kImplicitEuler));
   } catch (...) {
     integrator_ = std::move(previous);
     settings_.implicit = old;

@@ -38,7 +38,7 @@ class ImplicitEuler final : public Integrator {
   explicit ImplicitEuler(const ImplicitSettings& settings)
       : settings_(settings), vbd_(settings, 1) {}
 
-  std::string_view name() const override { return "implicit_euler"; }
+  std::string_view name() const override { return kImplicitEuler; }
 
   std::string check(const Model& m) const override {
     for (const auto& pool : m.links.pools())

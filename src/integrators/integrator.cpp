@@ -109,7 +109,8 @@ const IntegratorRegistry& IntegratorRegistry::builtin() {
     r.add({"velocity_verlet", "kick-drift-kick, full-step velocities, 2nd order, 2 force passes",
            plain(make_velocity_verlet)});
     r.add({"rk4", "classical Runge-Kutta, 4th order, 4 force passes", plain(make_rk4)});
-    r.add({"implicit_euler", "backward Euler (Baraff-Witkin), 1st order, unconditionally stable",
+    r.add({std::string(kImplicitEuler),
+           "backward Euler (Baraff-Witkin), 1st order, unconditionally stable",
            make_implicit_euler});
     return r;
   }();

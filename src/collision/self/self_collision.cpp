@@ -112,7 +112,7 @@ std::vector<std::string> leak_warnings(const Model& m, const SelfCollisionSettin
 // layer of particle-face contacts with no exclusion crossed in none (docs/implicit.md).
 std::string fold_warning(const SimulationSettings& sim, const SelfCollisionSettings& s) {
   constexpr double kSafeStep = 1.0 / 240;
-  if (sim.integrator != "implicit_euler" || sim.implicit.solver != ImplicitSolver::vbd ||
+  if (sim.integrator != kImplicitEuler || sim.implicit.solver != ImplicitSolver::vbd ||
       s.topological_radius == 0 || sim.step <= kSafeStep * (1 + 1e-9))
     return {};
   std::ostringstream w;
