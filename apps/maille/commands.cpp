@@ -22,6 +22,7 @@
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"
+#include "maille/sweep.hpp"
 #include "maille/temporary_files.hpp"
 #include "sound.hpp"
 #ifdef MAILLE_WITH_RENDER
@@ -139,10 +140,64 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// What makes `--audio` name a file the run reads or writes otherwise (the scene, the output
+// directory, its stats.csv, checkpoint.bin or a frame), or "" when it names none: a WAV written
+// there would silently replace it.
+std::string audio_clash(const std::filesystem::path& audio, const std::filesystem::path& scene,
+                        const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(audio, ec);
+  if (ec) return {};
+  if (a == fs::weakly_canonical(scene, ec) || fs::equivalent(audio, scene, ec))
+    return "it is the scene file";
+  const fs::path dir = fs::weakly_canonical(out, ec);
+  if (a == dir) return "it is the output directory";
+  if (a.parent_path() != dir) return {};
+  const std::string name = a.filename().string();
+  if (name == "stats.csv" || name == "checkpoint.bin" || name == "stats.csv.tmp" ||
+      name == "checkpoint.bin.tmp")
+    return "the run writes its " + name + " there";
+  if (name.rfind("frame_", 0) == 0)
+    for (const auto& f : name_strings<FrameFormat>())
+      if (a.extension() == "." + f) return "the run writes its frames under that name";
+  return {};
+}
+
+}  // namespace
+
+namespace {
+
+// `maille validate SWEEP.toml`: the sweep file, its scene, every axis' key and every value, each
+// error at the sweep file's line and column.
+int validate_sweep(const std::string& path, const std::vector<std::string>& sets) {
+  if (!sets.empty()) {
+    std::cerr << path << ": error: a sweep file takes no --set (its axes are the overrides)\n";
+    return usage;
+  }
+  Result<Sweep> sweep = load_sweep(path);
+  if (!sweep) {
+    std::cerr << sweep.error().to_string() << '\n';
+    return bad_input;
+  }
+  for (auto check : {check_sweep_keys, check_sweep_values})
+    if (const auto bad = check(*sweep)) {
+      std::cerr << bad->to_string() << '\n';
+      return bad_input;
+    }
+  std::cout << path << ": ok (a sweep of " << sweep->case_count() << " cases over "
+            << sweep->scene.string() << ":";
+  for (const auto& axis : sweep->axes)
+    std::cout << ' ' << axis.key << " (" << axis.values.size() << " values)";
+  std::cout << ")\n";
+  return ok;
+}
+
 }  // namespace
 
 int validate(const std::string& path, const std::vector<std::string>& sets) {
   install_interrupt_handler();  // writes nothing: an interrupt ends it at once
+  if (is_sweep_file(path)) return validate_sweep(path, sets);
   auto scene = load_or_report(path, sets);
   if (!scene) return bad_input;
   try {
@@ -299,6 +354,20 @@ int run(const RunOptions& o) {
                 << " channels is beyond the 4 GiB a WAV file can hold\n";
       return usage;
     }
+    // The channels are held in memory until the end (the gain is set from their peaks): a
+    // recording beyond the memory budget would die of it after minutes, losing everything.
+    const double held =
+        double(planned_audio_memory_bytes(scene->audio, double(*steps) * settings.step));
+    if (held > double(limits::memory_budget_bytes())) {
+      std::cerr << "error: --audio: " << double(*steps) * settings.step << " s of "
+                << scene->audio.listeners.size() << " channels at " << scene->audio.settings.rate
+                << " Hz are held in memory until the end, about " << held / double(1 << 30)
+                << " GiB, beyond the memory budget of "
+                << double(limits::memory_budget_bytes()) / double(1 << 30)
+                << " GiB (half the physical memory): shorten the run (--duration) or listen to "
+                   "fewer points\n";
+      return usage;
+    }
   }
   // Refused before the output directory is made: nothing is left behind.
   if (o.smooth && SmoothSurface(scene->model).empty()) {
@@ -310,6 +379,14 @@ int run(const RunOptions& o) {
                                         ? std::filesystem::path(o.resume)
                                         : std::filesystem::path("out") / scene->name;
 
+  if (!o.audio.empty()) {
+    const std::string clash = audio_clash(o.audio, o.scene, out);
+    if (!clash.empty()) {
+      std::cerr << "error: --audio " << o.audio << ": " << clash
+                << "; name another file (nothing was written)\n";
+      return usage;
+    }
+  }
   // The simulator first: a set-up it refuses (a stage the GPU backend lacks, a device that
   // cannot start) leaves no output directory behind.
   std::optional<Simulator> built;
@@ -352,6 +429,8 @@ int run(const RunOptions& o) {
     StatsWriter stats(out / "stats.csv", kept);
     if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
     sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
+    // Ctrl-C inside a long implicit step abandons it: the state of the last whole step stays.
+    sim.on_stop_request([] { return g_stop.load(); });
     if (o.resume.empty() && !g_stop) sim.publish_now();  // frame 0: the initial state
     auto checkpoint = [&] {
       write_checkpoint(out / "checkpoint.bin", checkpoint_of(sim, stats.rows()));
@@ -379,6 +458,8 @@ int run(const RunOptions& o) {
         wall, particle_steps > 0 ? wall * 1e9 / particle_steps : 0.0,
         static_cast<unsigned long long>(frames.written()),
         static_cast<unsigned long long>(stats.rows()), out.string().c_str());
+    if (const std::string note = unconverged_text(sim); !note.empty())
+      std::cerr << "warning: " << note << '\n';
     if (sim.blow_up()) {
       std::cerr << "error: " << sim.blow_up()->message << '\n';
       return blow_up;

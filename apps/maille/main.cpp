@@ -41,6 +41,13 @@ CLI::Validator number_in(double lo, double hi, bool open_low = false) {
       desc.str());
 }
 
+// An output path: not empty (`--audio ""` would write nothing, `--out ""` the current folder).
+const CLI::Validator kOutputPath(
+    [](std::string& text) -> std::string {
+      return text.empty() ? "must name a file or a directory (got an empty path)" : "";
+    },
+    "PATH");
+
 const CLI::Validator kThreads = number_in(1, maille::limits::max_threads);
 const CLI::Validator kSteps = number_in(1, double(maille::limits::max_steps));
 const CLI::Validator kDuration = number_in(0, maille::limits::max_duration, true);
@@ -71,7 +78,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--duration", ro.duration, "Simulated time, s (default: the scene's)")
       ->check(kDuration)
       ->excludes(steps);
-  run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)");
+  run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)")
+      ->check(kOutputPath);
   run_cmd
       ->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
       ->check(number_in(1, maille::kNeverEvery));
@@ -84,15 +92,17 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
       ->check(kThreads);
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
-  run_cmd->add_option("--audio", ro.audio,
-                      "Write the scene's [[listen]] channels to this WAV file at [audio] rate "
-                      "(docs/sound.md)");
+  run_cmd
+      ->add_option("--audio", ro.audio,
+                   "Write the scene's [[listen]] channels to this WAV file at [audio] rate "
+                   "(docs/sound.md)")
+      ->check(kOutputPath);
   run_cmd->add_flag("--no-self-collision", ro.no_self_collision,
                     "Ignore the scene's [self_collision] table (to see what it prevents)");
   run_cmd
       ->add_option("--checkpoint-every", ro.checkpoint_every,
                    "Write the whole state to OUT/checkpoint.bin every N steps (and at the end)")
-      ->check(CLI::PositiveNumber);
+      ->check(kSteps);
   run_cmd
       ->add_option("--resume", ro.resume,
                    "Continue from DIR/checkpoint.bin (frames and stats.csv continue in DIR "
@@ -160,9 +170,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(
           {"integrators", "self-collision", "validity", "obstacles", "large-steps", "all"}))
       ->required();
-  study_cmd->add_option("--out", so.out,
-                        "Directory for the CSV files (default out/study; `all`: one "
-                        "subdirectory per study and durations.csv)");
+  study_cmd
+      ->add_option("--out", so.out,
+                   "Directory for the CSV files (default out/study; `all`: one "
+                   "subdirectory per study and durations.csv)")
+      ->check(kOutputPath);
   study_cmd->add_option("--threads", so.threads, "Threads for the cost table")->check(kThreads);
   study_cmd->add_flag("--quick", so.quick,
                       "Shorter runs (integrators: two stiffnesses in the crossover; obstacles: "
@@ -177,7 +189,8 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   sweep_cmd->add_option("--out", sw.out, "Output directory (a rerun skips the cases done there)")
-      ->required();
+      ->required()
+      ->check(kOutputPath);
   sweep_cmd
       ->add_option("--threads", sw.threads,
                    "Threads of each case (default: the scene's, else auto)")
@@ -194,7 +207,8 @@ int main(int argc, char** argv) {
       ->add_option("--out", rn.out,
                    "FILE.mp4 (video through ffmpeg), FILE.png (the last frame) or a directory "
                    "(frame_000000.png, ...)")
-      ->required();
+      ->required()
+      ->check(kOutputPath);
   render_cmd->add_option("--width", rn.width, "Image width, pixels")->check(number_in(1, 16384));
   render_cmd->add_option("--height", rn.height, "Image height, pixels")->check(number_in(1, 16384));
   render_cmd->add_option("--fps", rn.fps, "Frames per simulated second")

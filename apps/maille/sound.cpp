@@ -40,6 +40,12 @@ std::uint64_t planned_wav_bytes(const audio::AudioSpec& spec, double seconds) {
   return bytes > 1.8e19 ? ~std::uint64_t{0} : static_cast<std::uint64_t>(bytes);
 }
 
+std::uint64_t planned_audio_memory_bytes(const audio::AudioSpec& spec, double seconds) {
+  const double frames = std::floor(seconds * spec.settings.rate) + 1;
+  const double bytes = frames * double(spec.listeners.size()) * sizeof(float);
+  return bytes > 1.8e19 ? ~std::uint64_t{0} : static_cast<std::uint64_t>(bytes);
+}
+
 namespace {
 
 const char* unit_of(audio::Quantity q) {

@@ -14,6 +14,9 @@ void describe_audio(std::ostream& out, const audio::AudioSpec& spec, double step
 
 // Bytes of a WAV of `seconds` of the spec's channels: refused (usage) beyond the RIFF limit.
 std::uint64_t planned_wav_bytes(const audio::AudioSpec& spec, double seconds);
+// The bytes a recording of `seconds` holds in memory until it is written: its float samples
+// (audio::Recorder keeps every channel whole; the WAV is written block by block from them).
+std::uint64_t planned_audio_memory_bytes(const audio::AudioSpec& spec, double seconds);
 
 // Finishes the recorder, writes the WAV atomically and prints the summary line (channels, rate,
 // format, samples, gain, sampling). Throws std::runtime_error when the file cannot be written.

@@ -115,6 +115,8 @@ CaseResult simulate(const Sweep& sweep, std::uint64_t index, const std::filesyst
   StatsWriter stats(dir / "stats.csv");
   if (frames) sim.on_publish([&](const Snapshot& s) { (*frames)(s); });
   sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
+  // A second Ctrl-C (or mpirun's SIGTERM after its SIGINT) abandons a long implicit step too.
+  sim.on_stop_request([&stop] { return stop.load() >= 2; });
   sim.publish_now();  // frame 0: the initial state
   while (sim.steps_taken() < steps && stop.load() < 2 && sim.step()) {
   }

@@ -18,10 +18,10 @@ int main(int argc, char** argv) {
   std::vector<std::string> stage_options;
   app.add_option("scene", scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   app.add_option("--examples", examples, "Directory listed by the scene picker");
-  app.add_option("--width", o.width, "Window width")->check(CLI::PositiveNumber);
-  app.add_option("--height", o.height, "Window height")->check(CLI::PositiveNumber);
+  app.add_option("--width", o.width, "Window width")->check(CLI::Range(1, 16384));
+  app.add_option("--height", o.height, "Window height")->check(CLI::Range(1, 16384));
   app.add_option("--frames", o.frames, "Draw this many frames, then exit (tests)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000000));
   app.add_option("--screenshot", screenshot, "With --frames: write the last frame here (PNG)");
   app.add_flag("--paused", o.paused, "Start paused");
   app.add_option("--backend", o.backend,

@@ -35,6 +35,13 @@ class ForceEvaluator {
   virtual std::span<PointContacts* const> point_contacts() const { return {}; }
   // Point-triangle contacts that stages offer to implicit solvers, likewise.
   virtual std::span<TriangleContacts* const> triangle_contacts() const { return {}; }
+  // Whether to abandon the step now (Ctrl-C during a step that may last minutes). Solvers ask
+  // between their iterations (sweeps, CG and Newton iterations) and return at once when true;
+  // the simulator then puts the state back to the step's start (Simulator::on_stop_request).
+  virtual bool stop_requested() { return false; }
+  // Whether an evaluation was refused (a non-finite state before a stage: the simulator
+  // reports it as a blow-up); solvers then stop iterating on it.
+  virtual bool failed() const { return false; }
 };
 
 // Implicit Euler's linear (or block) solver ([simulation.implicit] solver = "...").

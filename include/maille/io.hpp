@@ -19,9 +19,23 @@
 
 namespace maille {
 
+// Where the bytes of an output named `path` go. A regular file, or a name not taken yet, is
+// replaced whole (through a temporary and a rename); a symbolic link is followed, so that the
+// file it names is replaced and the link kept; a FIFO or a character device (a player reading
+// a pipe, /dev/null, /dev/stdout) is written into directly, because a rename would replace the
+// node itself (as root, /dev/null). Anything else (a directory, a socket, a block device, a
+// dangling link) is refused: std::runtime_error naming the path and what it is.
+struct OutputTarget {
+  std::filesystem::path file;  // the file to replace or to write into
+  bool direct = false;         // written in place (FIFO, character device): no temporary
+};
+OutputTarget output_target(const std::filesystem::path& path);
+
 // A file that appears under its name only after commit(). Destroyed uncommitted, it leaves
 // nothing behind. Throws std::runtime_error (naming the path and the cause: "No space left on
-// device", "Permission denied") when it cannot open, write, flush, close or rename.
+// device", "Permission denied") when it cannot open, write, flush, close or rename. A FIFO or a
+// character device is written into directly (output_target): its reader sees the bytes as
+// they come, and an interrupted write cannot be taken back.
 class AtomicFile {
  public:
   explicit AtomicFile(std::filesystem::path path);
@@ -34,7 +48,7 @@ class AtomicFile {
   const std::filesystem::path& path() const { return path_; }
 
  private:
-  std::filesystem::path path_, tmp_;
+  std::filesystem::path path_, tmp_;  // tmp_ empty when written directly
   std::ofstream out_;
   bool committed_ = false;
 };

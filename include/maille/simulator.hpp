@@ -39,7 +39,7 @@ namespace maille {
 namespace detail {
 class ThreadChooser;  // src/core/follow_cores.hpp
 class WindRows;       // src/core/wind_rows.hpp
-}
+}  // namespace detail
 
 // A publish_every or sample_every that no run reaches: "never" (runs that publish or sample
 // explicitly, benchmarks). Also the largest cadence a scene may ask for.
@@ -91,7 +91,8 @@ class Simulator : private ForceEvaluator {
   Simulator(Model model, SimulationSettings settings);
   ~Simulator() override;
 
-  // Advances one step. Returns false (and does nothing) once a blow-up has been detected.
+  // Advances one step. Returns false (and does nothing) once a blow-up has been detected, and
+  // when a stop was requested during the step (interrupted()).
   bool step();
   bool run_steps(std::uint64_t n);  // false when stopped by a blow-up
 
@@ -99,6 +100,28 @@ class Simulator : private ForceEvaluator {
   // (rewrites forces or velocities) and the scheme evaluates forces at intermediate states.
   void add_stage(std::unique_ptr<Stage> stage);
   void on_publish(SnapshotListener listener);
+  // A stop request, polled inside long steps: between the implicit solvers' iterations (VBD
+  // sweeps, CG and Newton iterations), where one step may last minutes. When it answers true
+  // the step is abandoned: the state goes back to the step's start (positions, velocities,
+  // time, the scheme's history, the stages' memory: the state of the last whole step), step()
+  // returns false and interrupted() is true until the next step. Called on the stepping thread.
+  void on_stop_request(std::function<bool()> poll) { stop_poll_ = std::move(poll); }
+  bool interrupted() const { return interrupted_; }
+
+  // Implicit steps that ended unconverged: the nonlinear step's force imbalance (stats.csv's
+  // solver_residual, in units of the heaviest free point's weight m g) above
+  // kUnconvergedResidual for kUnconvergedSteps steps in a row or more (a single step above it
+  // is an impact). Set from the first such run of steps on, counting every step above the
+  // bound since. The run goes on (the step is stable, not accurate); programs warn.
+  static const double kUnconvergedResidual;  // simulator.cpp: why these values
+  static const int kUnconvergedSteps;
+  struct Unconverged {
+    std::uint64_t first_step = 0;  // the first step of the first run of unconverged steps
+    double first_time = 0;         // s, at its end
+    std::uint64_t steps = 0;       // steps above the bound from there on
+    double worst = 0;              // the largest residual, m g
+  };
+  const std::optional<Unconverged>& unconverged() const { return unconverged_; }
   // Energies are sampled every sample_every steps at t_n, between the force pass and the
   // integration; listeners get the sample at the end of that step, with its complete timings.
   void on_sample(std::function<void(const EnergySample&, const Profile&)> listener);
@@ -210,6 +233,8 @@ class Simulator : private ForceEvaluator {
   };
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
+  bool stop_requested() override;
+  bool failed() const override { return blow_up_.has_value(); }
   std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
   std::span<PointContacts* const> point_contacts() const override { return point_contacts_; }
   std::span<TriangleContacts* const> triangle_contacts() const override {
@@ -251,6 +276,11 @@ class Simulator : private ForceEvaluator {
   // simulator_threads.cpp: the default thread count follows the free cores.
   void follow_cores();
   void use_threads(int threads);
+  void keep_to_usable_threads();
+  bool stage_input_finite(const State& s, const Stage& next);
+  bool advance_or_stop(Real h);  // the scheme's advance, undone when a stop came during it
+  void keep_for_stop();
+  void note_convergence();
 
   Model model_;
   SimulationSettings settings_;
@@ -267,6 +297,14 @@ class Simulator : private ForceEvaluator {
   std::vector<Vec3> scratch_velocity_;
   // The step's start and the solve's result, for response stages after a solve.
   std::vector<Vec3> start_x_, start_v_, solved_x_, solved_v_;
+  // A stop request polled inside the step, and the step's start to go back to (implicit
+  // schemes, whose steps are long enough to be worth stopping).
+  std::function<bool()> stop_poll_;
+  bool interrupted_ = false;
+  State step_start_;
+  std::optional<Unconverged> unconverged_;
+  Unconverged streak_;       // the current run of steps above the bound
+  int residual_gauge_ = -1;  // the scheme's solver_residual gauge, once it has registered it
   std::vector<const LinkPoolBase*> transient_;  // stages' implicit links after the last evaluate
   std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
   std::vector<TriangleContacts*> triangle_contacts_;  // and point-triangle contacts
@@ -291,5 +329,9 @@ class Simulator : private ForceEvaluator {
   mutable bool device_ahead_ = false;  // the device has steps the host copy has not
   bool host_ahead_ = true;             // the host changed the model or the state: reload
 };
+
+// "implicit_euler (vbd) ended 12 steps unconverged, the first at step 40 (t = 0.6667 s): ..."
+// with what to change; "" when none did.
+std::string unconverged_text(const Simulator& sim);
 
 }  // namespace maille

@@ -73,6 +73,11 @@ struct State {
   PointArrays buffers;
 };
 
+// Copies every value of `from` (positions, velocities, forces, time, step, the scheme's
+// history, the stages' memory) into `to`, whose point arrays stay where they are (views of
+// them, such as Python's, stay valid). Both have the same number of points.
+void copy_values(const State& from, State& to);
+
 // A 64-bit hash of positions, velocities, time, step, scheme history and stage memory: equal
 // hashes mean bit-identical states.
 std::uint64_t state_hash(const State& s);

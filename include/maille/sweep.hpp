@@ -63,4 +63,12 @@ Result<Sweep> load_sweep(const std::filesystem::path& path);
 // fails alone (and is a row of the summary).
 std::optional<InputError> check_sweep_keys(const Sweep& sweep);
 
+// Checks every value of every axis against the scene, one override at a time (`maille validate`
+// of a sweep file: a case that would fail alone is reported at its axis' line, with the value).
+std::optional<InputError> check_sweep_values(const Sweep& sweep);
+
+// Whether a TOML file is a sweep file rather than a scene: its root names a `scene` file (a
+// string) or has `[axes]`. False for anything that does not parse.
+bool is_sweep_file(const std::filesystem::path& path);
+
 }  // namespace maille

@@ -44,6 +44,17 @@ struct BlowUpError : std::exception {
 [[noreturn]] void fail(const std::string& where, const std::string& key,
                        const std::string& message);
 
+// Arguments read with errors that name them: a wrong type raises TypeError ("<maille.X>:
+// argument 'n' must be an int (got str)"), a wrong value SceneError (file the call, key the
+// argument). Paths accept str and os.PathLike and refuse an empty path or a NUL character.
+std::string str_of(const py::handle& value, const std::string& where, const std::string& key);
+std::string path_arg(const py::handle& value, const std::string& where, const std::string& key);
+long long int_arg(const py::handle& value, const std::string& where, const std::string& key);
+double real_arg(const py::handle& value, const std::string& where, const std::string& key);
+bool bool_arg(const py::handle& value, const std::string& where, const std::string& key);
+// A scene key path as `--set` takes it (table.key, table[0].key), else SceneError.
+std::string key_arg(const py::handle& value, const std::string& where, const std::string& what);
+
 // A Python value as TOML text, for `--set`-style overrides: bool, int, float (and NumPy
 // scalars), str, sequences (lists, tuples, arrays) and dicts (inline tables).
 std::string toml_value(const py::handle& value, const std::string& key);
@@ -51,6 +62,9 @@ std::string toml_value(const py::handle& value, const std::string& key);
 std::string override_text(const std::string& key, const py::handle& value);
 // Overrides given as a dict {key: value} or as a list of "KEY=VALUE" strings.
 std::vector<std::string> overrides_from(const py::object& overrides);
+// Appends an override, dropping an earlier one of the same key (the later value wins anyway):
+// the list holds one entry per key, however many live edits were made.
+void merge_override(std::vector<std::string>& sets, std::string text);
 
 // A model built in code: the C++ model (points and links in the order they were added) and
 // the overrides of `simulation.*` and `fields.*` keys set on it (validated when set).

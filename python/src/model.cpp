@@ -3,6 +3,7 @@
 // are read from a one-table scene, so their keys, defaults and checks are the scene file's, and
 // the result is appended. `simulation.*` and `fields.*` keys are kept as overrides and read the
 // same way when a Simulation is made (fields default as in a scene file).
+#include <cctype>
 #include <cmath>
 #include <limits>
 
@@ -22,12 +23,15 @@ const LinkKindRegistry& kinds() {
 
 Vec3 vec3_arg(const py::handle& value, const std::string& where, const std::string& key) {
   std::vector<double> v;
-  try {
-    v = py::cast<std::vector<double>>(py::hasattr(value, "tolist")
-                                          ? value.attr("tolist")()
-                                          : py::reinterpret_borrow<py::object>(value));
-  } catch (const py::cast_error&) {
-    fail(where, key, "must be a sequence of 3 numbers");
+  const py::object seq = py::hasattr(value, "tolist") ? value.attr("tolist")()
+                                                      : py::reinterpret_borrow<py::object>(value);
+  if (py::isinstance<py::str>(seq) || py::isinstance<py::bytes>(seq) ||
+      !py::isinstance<py::sequence>(seq))
+    throw py::type_error(where + ": argument '" + key + "' must be a sequence of 3 numbers (got " +
+                         py::str(value.get_type().attr("__name__")).cast<std::string>() + ")");
+  for (const auto& item : seq.cast<py::sequence>()) {
+    if (v.size() > 3) break;
+    v.push_back(real_arg(item, where, key));
   }
   if (v.size() != 3)
     fail(where, key, "must have 3 components (got " + std::to_string(v.size()) + ")");
@@ -52,9 +56,10 @@ void claim_name(CodeModel& cm, const std::string& name, const std::string& where
   if (cm.model.group(name)) fail(where, "name", "duplicate name '" + name + "'");
 }
 
-std::uint32_t add_point(CodeModel& cm, PointKind kind, const py::handle& position, double mass,
-                        const py::handle& velocity, const py::object& name,
-                        const std::string& where) {
+std::uint32_t add_point(CodeModel& cm, PointKind kind, const py::handle& position,
+                        const py::handle& mass_object, const py::handle& velocity,
+                        const py::object& name, const std::string& where) {
+  const double mass = real_arg(mass_object, where, "mass");
   if (cm.model.points.size() >= limits::max_points)
     fail(where, "position", "the model already has the most points allowed (2^28)");
   const Vec3 x = vec3_arg(position, where, "position");
@@ -62,7 +67,7 @@ std::uint32_t add_point(CodeModel& cm, PointKind kind, const py::handle& positio
   const Real m = mass_arg(mass, where);
   std::string label;
   if (!name.is_none()) {
-    label = name.cast<std::string>();
+    label = str_of(name, where, "name");
     claim_name(cm, label, where);
   }
   const std::uint32_t i = cm.model.points.add(kind, m, x, v);
@@ -74,7 +79,7 @@ std::uint32_t point_arg(const CodeModel& cm, const py::handle& ref, const std::s
                         const std::string& key) {
   const std::uint32_t n = cm.model.points.size();
   if (py::isinstance<py::str>(ref)) {  // a name, or "group:index" as in scene files
-    const std::string text = ref.cast<std::string>();
+    const std::string text = str_of(ref, where, key);
     const auto colon = text.find(':');
     const Group* g = cm.model.group(text.substr(0, colon));
     if (!g) fail(where, key, "no point or group named '" + text.substr(0, colon) + "'");
@@ -94,12 +99,11 @@ std::uint32_t point_arg(const CodeModel& cm, const py::handle& ref, const std::s
            "'" + text + "': index must be in [0, " + std::to_string(g->count - 1) + "]");
     return g->first + static_cast<std::uint32_t>(i);
   }
-  long long i = -1;
-  try {
-    i = py::cast<long long>(ref);
-  } catch (const py::cast_error&) {
-    fail(where, key, "must be a point index or a point name");
-  }
+  if (py::isinstance<py::bool_>(ref) || !PyIndex_Check(ref.ptr()))
+    throw py::type_error(where + ": argument '" + key +
+                         "' must be a point index (int) or a point name (str), got " +
+                         py::str(ref.get_type().attr("__name__")).cast<std::string>());
+  const long long i = int_arg(ref, where, key);
   if (i < 0 || i >= n)
     fail(where, key,
          "point index " + std::to_string(i) + " does not exist (the model has " +
@@ -109,9 +113,10 @@ std::uint32_t point_arg(const CodeModel& cm, const py::handle& ref, const std::s
 
 // A link of any registered kind; parameters by the kind's field names, checked and defaulted
 // as the scene reader does for [[link]] tables.
-std::uint32_t add_link(CodeModel& cm, const std::string& kind, const py::handle& a_ref,
+std::uint32_t add_link(CodeModel& cm, const py::object& kind_object, const py::handle& a_ref,
                        const py::handle& b_ref, const py::kwargs& params) {
   const std::string where = "<maille.Model.add_link>";
+  const std::string kind = str_of(kind_object, where, "kind");
   if (kind == "geometric_contact")
     fail(where, "kind",
          "geometric contacts link [[geometric_point]] shapes, which a model built in code does not "
@@ -136,12 +141,7 @@ std::uint32_t add_link(CodeModel& cm, const std::string& kind, const py::handle&
   for (std::size_t k = 0; k < values.size(); ++k) {
     const ParamInfo& f = entry->fields[k];
     if (params.contains(f.name.c_str())) {
-      double v = 0;
-      try {
-        v = py::cast<double>(params[f.name.c_str()]);
-      } catch (const py::cast_error&) {
-        fail(where, f.name, "must be a number");
-      }
+      const double v = real_arg(params[f.name.c_str()], where, f.name);
       if (!std::isfinite(v)) fail(where, f.name, "must be finite (got " + std::to_string(v) + ")");
       if (f.bound == Bound::positive && !(v > 0))
         fail(where, f.name, "must be > 0 (got " + std::to_string(v) + ")");
@@ -203,6 +203,13 @@ void append(CodeModel& cm, const Model& part) {
   }
 }
 
+bool bare_key(const std::string& key) {
+  if (key.empty()) return false;
+  for (const char c : key)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-')) return false;
+  return true;
+}
+
 py::array_t<std::int64_t> indices(const Group& g) {
   py::array_t<std::int64_t> out(static_cast<py::ssize_t>(g.count));
   auto w = out.mutable_unchecked<1>();
@@ -211,15 +218,20 @@ py::array_t<std::int64_t> indices(const Group& g) {
 }
 
 // A builder table ([[flag]], [[rope]], ...) from keyword arguments, read as a one-table scene.
-py::array_t<std::int64_t> build(CodeModel& cm, const std::string& keyword, const py::object& name,
-                                const py::kwargs& params) {
+py::array_t<std::int64_t> build(CodeModel& cm, const py::object& keyword_object,
+                                const py::object& name, const py::kwargs& params) {
+  const std::string keyword = str_of(keyword_object, "<maille.Model.build>", "builder");
+  if (!bare_key(keyword))
+    fail("<maille.Model.build>", "builder", "'" + keyword + "' is not a builder");
   const std::string where = "<maille.Model." + keyword + ">";
-  const std::string label =
-      name.is_none() ? keyword + std::to_string(cm.model.groups.size()) : name.cast<std::string>();
+  const std::string label = name.is_none() ? keyword + std::to_string(cm.model.groups.size())
+                                           : str_of(name, where, "name");
   claim_name(cm, label, where);
   std::string text = "[[" + keyword + "]]\nname = " + toml_value(py::str(label), "name") + "\n";
   for (const auto& [k, v] : params) {
     const std::string key = py::str(k).cast<std::string>();
+    // A bare TOML key only: a newline or '=' in it would write other keys than the one named.
+    if (!bare_key(key)) fail(where, key, "is not a key of [[" + keyword + "]]");
     text += key + " = " + toml_value(v, keyword + "." + key) + "\n";
   }
   static const StageRegistry stages = StageRegistry::with_builtins();
@@ -227,7 +239,16 @@ py::array_t<std::int64_t> build(CodeModel& cm, const std::string& keyword, const
   if (part.model.groups.empty()) fail(where, "", "'" + keyword + "' is not a builder");
   if (double(cm.model.points.size()) + part.model.points.size() > double(limits::max_points))
     fail(where, "", "the model would have more than 2^28 points");
-  append(cm, part.model);
+  // Appended to a copy, swapped in whole: running out of memory half-way (MemoryError) leaves
+  // the model as it was, not with half a flag.
+  Model grown = cm.model;
+  std::swap(grown, cm.model);
+  try {
+    append(cm, part.model);
+  } catch (...) {
+    std::swap(grown, cm.model);
+    throw;
+  }
   return indices(cm.model.groups.back());
 }
 
@@ -250,21 +271,22 @@ Make a simulation with maille.Simulation(model, step=1e-4).)");
   cls.def(py::init<>());
   cls.def(
       "add_point",
-      [](CodeModel& cm, const py::object& position, double mass, const py::object& velocity,
-         const py::object& name) {
+      [](CodeModel& cm, const py::object& position, const py::object& mass,
+         const py::object& velocity, const py::object& name) {
         return add_point(cm, PointKind::free, position, mass, velocity, name,
                          "<maille.Model.add_point>");
       },
-      py::arg("position"), py::arg("mass") = 1.0, py::arg("velocity") = py::none(),
+      py::arg("position"), py::arg("mass") = py::float_(1.0), py::arg("velocity") = py::none(),
       py::arg("name") = py::none(),
       "Adds a free point (a mass, kg) at `position` (m) with `velocity` (m/s); returns its index.");
   cls.def(
       "add_fixed_point",
-      [](CodeModel& cm, const py::object& position, double mass, const py::object& name) {
+      [](CodeModel& cm, const py::object& position, const py::object& mass,
+         const py::object& name) {
         return add_point(cm, PointKind::fixed, position, mass, py::none(), name,
                          "<maille.Model.add_fixed_point>");
       },
-      py::arg("position"), py::arg("mass") = 1.0, py::arg("name") = py::none(),
+      py::arg("position"), py::arg("mass") = py::float_(1.0), py::arg("name") = py::none(),
       "Adds a fixed point at `position` (m); returns its index.");
   cls.def("add_link", &add_link, py::arg("kind"), py::arg("a"), py::arg("b"),
           "add_link(kind, a, b, **params): a link of a registered kind between points a and b "
@@ -279,7 +301,7 @@ Make a simulation with maille.Simulation(model, step=1e-4).)");
     const std::string k = keyword;
     cls.def(("add_" + k).c_str(),
             [k](CodeModel& cm, const py::object& name, const py::kwargs& params) {
-              return build(cm, k, name, params);
+              return build(cm, py::str(k), name, params);
             },
             py::arg("name") = py::none(),
             ("add_" + k + "(name=None, **keys): a [[" + k +
@@ -289,13 +311,14 @@ Make a simulation with maille.Simulation(model, step=1e-4).)");
   }
   cls.def(
       "set",
-      [](CodeModel& cm, const std::string& key, const py::object& value) {
+      [](CodeModel& cm, const py::object& key_object, const py::object& value) {
+        const std::string key = key_arg(key_object, "<maille.Model.set>", "key");
         if (key.rfind("fields.", 0) != 0 && key.rfind("simulation.", 0) != 0)
           fail("<maille.Model.set>", key,
                "a model built in code takes fields.* and simulation.* keys (points, links and "
                "builders are added by its methods)");
         std::vector<std::string> sets = cm.settings;
-        sets.push_back(override_text(key, value));
+        merge_override(sets, override_text(key, value));
         settings_scene(sets);  // throws SceneError naming the key
         cm.settings = std::move(sets);
       },

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "bindings.hpp"
 #include "maille/checkpoint.hpp"
@@ -36,16 +37,20 @@ class Simulation {
   // From a scene file (with overrides), or from a model built in code.
   Simulation(const py::object& source, const py::object& overrides, const py::object& threads,
              const py::object& step, const py::object& integrator) {
+    const std::string where = "<maille.Simulation>";
     std::vector<std::string> sets = overrides_from(overrides);
     // Keyword settings as overrides, validated like the scene's own keys.
-    if (!step.is_none()) sets.push_back(override_text("simulation.step", step));
-    if (!integrator.is_none()) sets.push_back(override_text("simulation.integrator", integrator));
+    if (!step.is_none())
+      merge_override(sets,
+                     override_text("simulation.step", py::float_(real_arg(step, where, "step"))));
+    if (!integrator.is_none())
+      merge_override(sets, override_text("simulation.integrator",
+                                         py::str(str_of(integrator, where, "integrator"))));
     if (!threads.is_none()) {
-      const long long n = threads.cast<long long>();
+      const long long n = int_arg(threads, where, "threads");
       if (n < 1 || n > limits::max_threads)
-        fail("<maille.Simulation>", "threads",
-             "must be in [1, 1024] (got " + std::to_string(n) + ")");
-      sets.push_back("simulation.threads=" + std::to_string(n));
+        fail(where, "threads", "must be in [1, 1024] (got " + std::to_string(n) + ")");
+      merge_override(sets, "simulation.threads=" + std::to_string(n));
     }
     Scene scene;
     if (py::isinstance<CodeModel>(source)) {
@@ -62,8 +67,7 @@ class Simulation {
       scene.model.fields = fields;
       from_code_ = true;
     } else {
-      const py::object fspath = py::module_::import("os").attr("fspath")(source);
-      source_ = fspath.cast<std::string>();
+      source_ = path_arg(source, where, "source");
       try {
         scene = value_or_throw(load_scene(source_, sets));
       } catch (const std::bad_alloc&) {
@@ -79,6 +83,12 @@ class Simulation {
       fail(from_code_ ? "<maille.Model>" : source_.string(), "", e.what());
     }
     sim_->on_sample([this](const EnergySample& e, const Profile& p) { record(e, p); });
+    sim_->on_stop_request([this] { return signal_pending(); });
+    // What `maille validate` and `maille run` print as warnings (a key the solver does not
+    // read, a stage's advice), as Python warnings.
+    for (const std::string& w : sim_->stage_warnings())
+      if (PyErr_WarnEx(PyExc_UserWarning, ("maille: " + w).c_str(), 1) != 0)
+        throw py::error_already_set();
     sim_->on_publish([this](const Snapshot& s) {
       if (capture_) captured_ = s;
     });
@@ -86,7 +96,8 @@ class Simulation {
 
   // --- stepping ------------------------------------------------------------------------------
 
-  std::uint64_t step(long long n) {
+  std::uint64_t step(const py::object& count) {
+    const long long n = int_arg(count, "<maille.Simulation.step>", "n");
     if (n < 0) fail("<maille.Simulation.step>", "n", "must be >= 0");
     Busy busy(*this);
     return advance(static_cast<std::uint64_t>(n));
@@ -98,16 +109,17 @@ class Simulation {
   std::uint64_t run(const py::object& duration, const py::object& steps, const py::object& every,
                     const py::object& callback, const py::object& self) {
     const std::string where = "<maille.Simulation.run>";
+    Busy reading(*this);  // the settings and the step count, then released for the run
     const double h = sim_->settings().step;
     std::uint64_t total = 0;
     if (!steps.is_none()) {
-      const long long s = steps.cast<long long>();
+      const long long s = int_arg(steps, where, "steps");
       if (s < 0 || double(s) > double(limits::max_steps))
         fail(where, "steps", "must be in [0, 1e12]");
       total = static_cast<std::uint64_t>(s);
     } else {
       const bool given = !duration.is_none();
-      const double d = given ? duration.cast<double>() : duration_of_scene();
+      const double d = given ? real_arg(duration, where, "duration") : duration_of_scene();
       if (!std::isfinite(d) || d < 0) fail(where, "duration", "must be a finite number >= 0");
       const double n = std::round(d / h);
       if (!(n <= double(limits::max_steps)))
@@ -115,8 +127,12 @@ class Simulation {
       const auto wanted = static_cast<std::uint64_t>(n);
       total = given ? wanted : (wanted > sim_->steps_taken() ? wanted - sim_->steps_taken() : 0);
     }
-    long long k = every.is_none() ? sim_->settings().publish_every : every.cast<long long>();
+    long long k = every.is_none() ? sim_->settings().publish_every : int_arg(every, where, "every");
     if (k < 1) fail(where, "every", "must be >= 1");
+    reading.release();
+    if (!callback.is_none() && !PyCallable_Check(callback.ptr()))
+      throw py::type_error(where + ": argument 'callback' must be callable (got " +
+                           py::str(callback.get_type().attr("__name__")).cast<std::string>() + ")");
     Busy busy(*this);
     if (callback.is_none()) return advance(total);
     std::uint64_t done = 0;
@@ -136,6 +152,7 @@ class Simulation {
   // --- views and queries ---------------------------------------------------------------------
 
   py::array_t<Real> view(int which, const py::object& self) {
+    Busy busy(*this);
     State& s = state();
     Vec3* data = which == 0 ? s.x().data() : s.v().data();
     return py::array_t<Real>({static_cast<py::ssize_t>(s.size()), py::ssize_t{3}},
@@ -162,7 +179,8 @@ class Simulation {
     return d;
   }
 
-  py::dict stats() const {
+  py::dict stats() {
+    Busy busy(*this);  // a sample being recorded by a stepping thread is not read half-written
     // Step and counters are integers in stats.csv: ints here too.
     py::dict d;
     for (std::size_t i = 0; i < stat_names_.size(); ++i) {
@@ -177,10 +195,11 @@ class Simulation {
 
   // --- live edits ----------------------------------------------------------------------------
 
-  void set(const std::string& key, const py::object& value) {
+  void set(const py::object& key_object, const py::object& value) {
+    const std::string key = key_arg(key_object, "<maille.Simulation.set>", "key");
     Busy busy(*this);
     std::vector<std::string> sets = sets_;
-    sets.push_back(override_text(key, value));
+    merge_override(sets, override_text(key, value));
     if (from_code_ && key.rfind("fields.", 0) != 0 && key.rfind("simulation.", 0) != 0)
       fail("<maille.Simulation.set>", key,
            "a simulation of a model built in code takes fields.* and simulation.* keys");
@@ -233,7 +252,8 @@ class Simulation {
 
   // --- checkpoints ---------------------------------------------------------------------------
 
-  void save_checkpoint(const std::string& path) {
+  void save_checkpoint(const py::object& path_object) {
+    const std::string path = path_arg(path_object, "<maille.Simulation.save_checkpoint>", "path");
     Busy busy(*this);
     const Checkpoint c{sim_->state(),         sim_->settings().integrator,
                        sim_->settings().step, sim_->frames_published(),
@@ -246,7 +266,8 @@ class Simulation {
     }
   }
 
-  void load_checkpoint(const std::string& path) {
+  void load_checkpoint(const py::object& path_object) {
+    const std::string path = path_arg(path_object, "<maille.Simulation.load_checkpoint>", "path");
     Busy busy(*this);
     Result<Checkpoint> r =
         read_checkpoint(path, model_fingerprint(sim_->model(), sim_->settings()));
@@ -275,9 +296,15 @@ class Simulation {
 
   // --- rendering -----------------------------------------------------------------------------
 
-  void render(const std::string& path, int width, int height, const py::object& camera, int samples,
-              bool mesh) {
+  void render(const py::object& path_object, const py::object& width_object,
+              const py::object& height_object, const py::object& camera,
+              const py::object& samples_object, const py::object& mesh_object) {
     const std::string where = "<maille.Simulation.render>";
+    const std::string path = path_arg(path_object, where, "path");
+    const long long width = int_arg(width_object, where, "width");
+    const long long height = int_arg(height_object, where, "height");
+    const long long samples = int_arg(samples_object, where, "samples");
+    const bool mesh = bool_arg(mesh_object, where, "mesh");
     if (!render_available())
       throw std::runtime_error(
           "render: this maille module was built without rendering (MAILLE_BUILD_RENDER=OFF, or "
@@ -288,12 +315,16 @@ class Simulation {
     if (std::filesystem::path(path).extension() != ".png")
       fail(where, "path", "must name a .png file (videos: `maille render`)");
     StillOptions o;
-    o.width = width;
-    o.height = height;
-    o.samples = samples;
+    o.width = int(width);
+    o.height = int(height);
+    o.samples = int(samples);
     o.mesh = mesh;
     if (!camera.is_none()) {
-      const auto c = camera.cast<std::vector<double>>();
+      std::vector<double> c;
+      if (py::isinstance<py::str>(camera) || !py::isinstance<py::sequence>(camera))
+        throw py::type_error(where + ": argument 'camera' must be a sequence (yaw, pitch[, zoom])");
+      for (const auto& item : camera.cast<py::sequence>())
+        c.push_back(real_arg(item, where, "camera"));
       if (c.size() < 2 || c.size() > 3)
         fail(where, "camera", "must be (yaw, pitch[, zoom]) in degrees");
       if (!std::isfinite(c[0]) || !(std::abs(c[1]) <= 89) ||
@@ -324,7 +355,23 @@ class Simulation {
     return sim_->integrator().velocity_time(state()) == VelocityTime::half_step ? "half_step"
                                                                                 : "synchronous";
   }
-  std::uint64_t hash() { return state_hash(state()); }
+  std::uint64_t hash() {
+    Busy busy(*this);
+    return state_hash(state());
+  }
+  // The overrides that made this simulation what it is: construction's, then live edits, one
+  // per key (the latest value).
+  std::vector<std::string> overrides() {
+    Busy busy(*this);
+    return sets_;
+  }
+  // `f(simulator)` under the same guard as the methods: another thread stepping is refused
+  // rather than read half-way.
+  template <class F>
+  auto read(F&& f) {
+    Busy busy(*this);
+    return f(static_cast<const Simulator&>(*sim_));
+  }
 
  private:
   // One thread at a time: a second thread calling in while this one steps (GIL released) is
@@ -336,6 +383,12 @@ class Simulation {
       if (held_) s_.busy_ = false;
     }
     void acquire() {
+      // A device backend's OpenGL context is current on the thread that made it, and a context
+      // is current on one thread at a time: calls from another thread are refused by name.
+      if (s_.sim_ && s_.sim_->backend() && std::this_thread::get_id() != s_.owner_)
+        throw std::runtime_error(
+            "this simulation runs on the GPU backend, whose OpenGL context belongs to the thread "
+            "that created the Simulation: call it from that thread (docs/python.md)");
       if (s_.busy_.exchange(true))
         throw std::runtime_error("the simulation is busy in another thread (or a callback)");
       held_ = true;
@@ -356,34 +409,112 @@ class Simulation {
     if (sim_->backend()) sim_->state_for_editing();
   }
 
+  // Steps with the GIL released. The GIL is taken back every 0.1 s (between steps, and inside
+  // long steps through the stop poll, signal_pending) to let Python run its signal handlers:
+  // Ctrl-C raises KeyboardInterrupt between two steps, or abandons a step in progress (the
+  // simulator puts back the state of the last whole step). The GIL is released and taken back
+  // by hand rather than by gil_scoped_release, whose destructor is noexcept: a daemon thread
+  // stepping while the interpreter exits is ended by Python inside PyEval_RestoreThread
+  // (pthread_exit, an unwinding), which a noexcept frame turns into std::terminate.
   std::uint64_t advance(std::uint64_t n) {
     std::uint64_t done = 0;
     bool fine = true;
-    {
-      py::gil_scoped_release release;
-      auto last = Clock::now();
+    check_written_state();
+    last_poll_ = Clock::now();
+    PyThreadState* released = PyEval_SaveThread();
+    try {
       while (done < n) {
+        if (_Py_IsFinalizing()) park();  // the interpreter is going: step no more
         if (!sim_->step()) {
           fine = false;
           break;
         }
         ++done;
-        if ((done & 15) == 0 && Clock::now() - last > std::chrono::milliseconds(100)) {
-          last = Clock::now();
-          py::gil_scoped_acquire acquire;
-          if (PyErr_CheckSignals() != 0) {
-            sync_for_python();
-            throw py::error_already_set();
-          }
+        if ((done & 15) == 0 && signal_pending()) {
+          fine = false;
+          break;
         }
       }
+    } catch (const std::invalid_argument& e) {
+      // A stage refusing its work (more contact pairs than the memory budget): the scene's.
+      PyEval_RestoreThread(released);
+      fail(from_code_ ? "<maille.Model>" : source_.string(), "", e.what());
+    } catch (...) {
+      PyEval_RestoreThread(released);
+      throw;
     }
+    PyEval_RestoreThread(released);
     sync_for_python();
+    if (pending_signal_) {
+      PyErr_Restore(pending_signal_->type, pending_signal_->value, pending_signal_->traceback);
+      pending_signal_.reset();
+      throw py::error_already_set();
+    }
     if (!fine) {
       if (sim_->blow_up()) throw BlowUpError(*sim_->blow_up());
       throw std::runtime_error("the simulation stopped");
     }
+    check_before_returning();
     return done;
+  }
+
+  // The stop poll (Simulator::on_stop_request), on the stepping thread without the GIL: every
+  // 0.1 s, the GIL is taken to run Python's signal handlers; an exception they raise
+  // (KeyboardInterrupt) is kept for advance() to raise and stops the step.
+  bool signal_pending() {
+    if (pending_signal_) return true;
+    const auto now = Clock::now();
+    if (now - last_poll_ < std::chrono::milliseconds(100)) return false;
+    last_poll_ = now;
+    if (_Py_IsFinalizing()) park();
+    PyGILState_STATE gil = PyGILState_Ensure();
+    if (PyErr_CheckSignals() != 0) {
+      Raised r;
+      PyErr_Fetch(&r.type, &r.value, &r.traceback);
+      pending_signal_ = r;
+    }
+    PyGILState_Release(gil);
+    return pending_signal_.has_value();
+  }
+
+  // A thread that must not come back into an interpreter that is shutting down waits here
+  // until the process ends (a daemon thread: the interpreter does not wait for it).
+  [[noreturn]] static void park() {
+    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+  }
+
+  // Values Python wrote into the views are checked before any step sees them: a NaN or an
+  // infinite position reaching a stage's grid is a BlowUp naming the point, not a crash.
+  void check_written_state() {
+    const State& s = sim_->state();
+    const auto x = s.x(), v = s.v();
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (!is_finite(x[i]) || !is_finite(v[i])) {
+        BlowUp b;
+        b.step = s.step;
+        b.time = s.time;
+        b.module = "positions";
+        b.message = "a non-finite position or velocity was written at point " + std::to_string(i) +
+                    " (step " + std::to_string(s.step) +
+                    "): the simulation does not step from it (write finite values, or reset())";
+        throw BlowUpError(b);
+      }
+  }
+
+  // Before control returns to Python: a blow-up that the simulator checks only at its
+  // sampling cadence (a device backend's state, an energy that ran away within the last
+  // steps) is raised now, not at some later call.
+  // On the CPU, explicit schemes check every step (non-finite values, and the energy when the
+  // kinetic bound rises: Simulator::check_health), so the full check is for a device backend
+  // (which the simulator checks at its sampling cadence) and the implicit schemes (one force
+  // evaluation beside a solve's many).
+  void check_before_returning() {
+    const bool worth = sim_->backend() || sim_->integrator().uses_jacobians();
+    if (worth && energy_checked_at_ != sim_->steps_taken()) {
+      energy_checked_at_ = sim_->steps_taken();
+      if (!checked_energy()) throw BlowUpError(*sim_->blow_up());
+    }
+    warn_if_unconverged();
   }
 
   // Copies `from` into the state the views see (its buffers stay where they are) and makes it
@@ -437,6 +568,32 @@ class Simulation {
     return {};
   }
 
+  // The energies' runaway check with the force array and the stages' memory put back, as
+  // energies() does: asking never changes the trajectory. False with blow_up() set.
+  bool checked_energy() {
+    State& s = state();
+    const std::vector<Vec3> f(s.f().begin(), s.f().end());
+    const std::vector<StageMemory> memory = s.stage_memory;
+    const bool fine = sim_->check_energy();
+    State& after = state();
+    std::copy(f.begin(), f.end(), after.f().begin());
+    after.stage_memory = memory;
+    return fine;
+  }
+
+  // Once per simulation, a RuntimeWarning when an implicit step ended unconverged
+  // (Simulator::unconverged: the force imbalance above its bound), naming the step and solver.
+  void warn_if_unconverged() {
+    if (warned_unconverged_ || !sim_->unconverged()) return;
+    warned_unconverged_ = true;
+    const std::string text = "maille: " + unconverged_text(*sim_);
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  }
+
+  struct Raised {
+    PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
+  };
+
   std::unique_ptr<Simulator> sim_;
   std::filesystem::path source_;  // the scene file; empty for a model built in code
   bool from_code_ = false;
@@ -451,6 +608,11 @@ class Simulation {
   bool capture_ = false;
   Snapshot captured_;
   std::atomic<bool> busy_{false};
+  std::thread::id owner_ = std::this_thread::get_id();  // the thread that made it
+  Clock::time_point last_poll_;
+  std::optional<Raised> pending_signal_;  // raised by a signal handler during a step
+  std::uint64_t energy_checked_at_ = 0;
+  bool warned_unconverged_ = false;
 };
 
 }  // namespace
@@ -469,7 +631,7 @@ simulation.integrator. Errors raise maille.SceneError (file, line, column, key).
           py::arg("source"), py::arg("overrides") = py::none(), py::kw_only(),
           py::arg("threads") = py::none(), py::arg("step") = py::none(),
           py::arg("integrator") = py::none());
-  cls.def("step", &Simulation::step, py::arg("n") = 1,
+  cls.def("step", &Simulation::step, py::arg("n") = py::int_(1),
           "Advances n steps (GIL released). Raises maille.BlowUp on a numerical blow-up. Returns "
           "the steps taken.");
   cls.def(
@@ -492,45 +654,73 @@ simulation.integrator. Errors raise maille.SceneError (file, line, column, key).
       "(n, 3) float64 view of the velocities (m/s): the engine's memory, writable. Under "
       "leapfrog they are the staggered v(t - h/2) once stepping started (velocity_time).");
   cls.def_property_readonly(
-      "time", [](Simulation& s) { return s.sim().time(); }, "s");
-  cls.def_property_readonly("steps", [](Simulation& s) { return s.sim().steps_taken(); });
+      "time", [](Simulation& s) { return s.read([](const Simulator& m) { return m.time(); }); },
+      "s");
+  cls.def_property_readonly("steps", [](Simulation& s) {
+    return s.read([](const Simulator& m) { return m.steps_taken(); });
+  });
   cls.def_property_readonly(
-      "step_size", [](Simulation& s) { return s.sim().settings().step; }, "h, s");
-  cls.def_property_readonly("point_count",
-                            [](Simulation& s) { return s.sim().model().points.size(); });
-  cls.def_property_readonly("link_count",
-                            [](Simulation& s) { return s.sim().model().links.total(); });
-  cls.def_property_readonly("integrator",
-                            [](Simulation& s) { return s.sim().settings().integrator; });
-  cls.def_property_readonly("threads", [](Simulation& s) { return s.sim().threads(); });
+      "step_size",
+      [](Simulation& s) { return s.read([](const Simulator& m) { return m.settings().step; }); },
+      "h, s");
+  cls.def_property_readonly("point_count", [](Simulation& s) {
+    return s.read([](const Simulator& m) { return m.model().points.size(); });
+  });
+  cls.def_property_readonly("link_count", [](Simulation& s) {
+    return s.read([](const Simulator& m) { return m.model().links.total(); });
+  });
+  cls.def_property_readonly("integrator", [](Simulation& s) {
+    return s.read([](const Simulator& m) { return m.settings().integrator; });
+  });
+  cls.def_property_readonly("threads", [](Simulation& s) {
+    return s.read([](const Simulator& m) { return m.threads(); });
+  });
   cls.def_property_readonly("name", &Simulation::name);
-  cls.def_property_readonly("duration", &Simulation::duration_of_scene,
-                            "the scene's duration (s), what run() without arguments reaches");
   cls.def_property_readonly(
-      "velocity_time", &Simulation::velocity_time,
+      "duration",
+      [](Simulation& s) { return s.read([&](const Simulator&) { return s.duration_of_scene(); }); },
+      "the scene's duration (s), what run() without arguments reaches");
+  cls.def_property_readonly(
+      "overrides", &Simulation::overrides,
+      "the overrides applied, as \"KEY=VALUE\" strings: construction's, then live edits, one "
+      "per key (its latest value)");
+  cls.def_property_readonly(
+      "velocity_time",
+      [](Simulation& s) { return s.read([&](const Simulator&) { return s.velocity_time(); }); },
       "'synchronous' (v at the time of x) or 'half_step' (leapfrog's v(t - h/2))");
   cls.def_property_readonly(
-      "stable_step", [](Simulation& s) { return s.sim().stability().max_step; },
+      "stable_step",
+      [](Simulation& s) {
+        return s.read([](const Simulator& m) { return m.stability().max_step; });
+      },
       "the scheme's stability estimate for this model (s)");
   cls.def_property_readonly(
-      "groups", [](Simulation& s) { return model_groups(s.sim().model()); },
+      "groups",
+      [](Simulation& s) {
+        return s.read([](const Simulator& m) { return model_groups(m.model()); });
+      },
       "dict: group name -> NumPy index array of its points");
   cls.def_property_readonly(
       "masses",
       [](Simulation& s) {
-        const auto& m = s.sim().model().points.mass;
-        py::array_t<Real> out(static_cast<py::ssize_t>(m.size()));
-        std::copy(m.begin(), m.end(), out.mutable_data());
-        return out;
+        return s.read([](const Simulator& sim) {
+          const auto& m = sim.model().points.mass;
+          py::array_t<Real> out(static_cast<py::ssize_t>(m.size()));
+          std::copy(m.begin(), m.end(), out.mutable_data());
+          return out;
+        });
       },
       "masses (kg), a copy");
   cls.def_property_readonly(
       "fixed",
       [](Simulation& s) {
-        const auto& k = s.sim().model().points.kind;
-        py::array_t<bool> out(static_cast<py::ssize_t>(k.size()));
-        for (std::size_t i = 0; i < k.size(); ++i) out.mutable_data()[i] = k[i] != PointKind::free;
-        return out;
+        return s.read([](const Simulator& sim) {
+          const auto& k = sim.model().points.kind;
+          py::array_t<bool> out(static_cast<py::ssize_t>(k.size()));
+          for (std::size_t i = 0; i < k.size(); ++i)
+            out.mutable_data()[i] = k[i] != PointKind::free;
+          return out;
+        });
       },
       "True for fixed and driven points, a copy");
   cls.def("energies", &Simulation::energies,
@@ -547,15 +737,17 @@ simulation.integrator. Errors raise maille.SceneError (file, line, column, key).
   cls.def("state_hash", &Simulation::hash,
           "64-bit hash of positions, velocities, time, step, the scheme's history and the stages' "
           "memory: equal hashes, bit-identical states");
-  cls.def("render", &Simulation::render, py::arg("path"), py::kw_only(), py::arg("width") = 1280,
-          py::arg("height") = 720, py::arg("camera") = py::none(), py::arg("samples") = 4,
-          py::arg("mesh") = false,
+  cls.def("render", &Simulation::render, py::arg("path"), py::kw_only(),
+          py::arg("width") = py::int_(1280), py::arg("height") = py::int_(720),
+          py::arg("camera") = py::none(), py::arg("samples") = py::int_(4),
+          py::arg("mesh") = py::bool_(false),
           "A PNG of the current state, headless, framed like `maille render`'s last frame; "
           "camera=(yaw, pitch[, zoom]) in degrees.");
   cls.def("__repr__", [](Simulation& s) {
-    return "<maille.Simulation '" + s.name() +
-           "': " + std::to_string(s.sim().model().points.size()) +
-           " points, t = " + std::to_string(s.sim().time()) + " s>";
+    return s.read([&](const Simulator& m) {
+      return "<maille.Simulation '" + s.name() + "': " + std::to_string(m.model().points.size()) +
+             " points, t = " + std::to_string(m.time()) + " s>";
+    });
   });
 }
 

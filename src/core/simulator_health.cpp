@@ -15,7 +15,7 @@ namespace maille {
 // re-run piece by piece on the same state to name the piece (a link kind, the fields or a
 // plugged-in stage) that produced it, before anything is integrated.
 void Simulator::check_forces(State& s) {
-  if (all_finite(s.f())) return;
+  if (blow_up_ || all_finite(s.f())) return;
   const std::string module = blame_forces(s);
   fail(module, "non-finite force from " + module);
 }
@@ -38,6 +38,40 @@ std::string Simulator::blame_forces(State& s) {
     if (!all_finite(s.f())) return st.stage->name();
   }
   return "field_forces";
+}
+
+// Before a stage sees the state: its searches hash positions into grids, where a NaN or an
+// infinity makes an index out of range. A non-finite value (written by a user between steps,
+// read from a checkpoint, or an iterate of an implicit solve) is reported with the point and the
+// stage it was about to reach, and no stage runs on it.
+//
+// Positions farther than kFarthest from the origin are refused the same way: finite, but a
+// grid's cell index computed from them overflows (no scene places a point beyond 1e6 m,
+// limits.hpp; only a blow-up or a value written by hand gets there).
+bool Simulator::stage_input_finite(const State& s, const Stage& next) {
+  constexpr Real kFarthest = Real(1e12);  // m
+  if (blow_up_) return false;
+  const auto x = s.x(), v = s.v();
+  const Real* p = &x.data()->x;
+  const std::size_t n3 = 3 * x.size();
+  Real far = 0;
+#pragma omp simd reduction(max : far)
+  for (std::size_t i = 0; i < n3; ++i) far = std::max(far, std::abs(p[i]));
+  if (far <= kFarthest && all_finite(x) && all_finite(v)) return true;
+  std::size_t at = 0;
+  auto sane = [&](std::size_t i) {
+    return is_finite(x[i]) && is_finite(v[i]) && std::abs(x[i].x) <= kFarthest &&
+           std::abs(x[i].y) <= kFarthest && std::abs(x[i].z) <= kFarthest;
+  };
+  while (at < x.size() && sane(at)) ++at;
+  if (at == x.size()) return true;
+  std::ostringstream why;
+  why << (at < x.size() && is_finite(x[at]) && is_finite(v[at]) ? "position beyond 1e12 m"
+                                                                : "non-finite position or velocity")
+      << " at point " << at << " (" << to_string(model_.points.kind[at]) << ") before stage '"
+      << next.name() << "'";
+  fail(next.name(), why.str());
+  return false;
 }
 
 // Every step, one pass: NaN or infinity in x or v, and twice the kinetic energy of free points

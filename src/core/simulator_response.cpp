@@ -35,6 +35,7 @@ void Simulator::keep_step_start() {
 
 void Simulator::respond_to_solved_motion() {
   if (response_stages_.empty()) return;
+  if (!stage_input_finite(state_, *response_stages_.front().stage)) return;
   const std::size_t n = state_.size();
   const Real h = static_cast<Real>(settings_.step);
   const auto x = state_.x(), v = state_.v(), f = state_.f();

@@ -7,6 +7,7 @@
 
 #include "follow_cores.hpp"
 #include "maille/simulator.hpp"
+#include "maille/threads.hpp"
 
 namespace maille {
 
@@ -42,8 +43,17 @@ void Simulator::follow_cores() {
 // Every pass reads threads_ when it starts (stages through StageContext::threads); the scheme
 // hands it on to its solvers.
 void Simulator::use_threads(int threads) {
-  threads_ = threads;
-  integrator_->set_threads(threads);
+  threads_ = usable_threads(threads);
+  note_teams(threads_);
+  integrator_->set_threads(threads_);
+}
+
+// In a child forked after teams ran (threads.hpp), one thread from now on: a team would wait
+// for ever for threads that stayed in the parent.
+void Simulator::keep_to_usable_threads() {
+  if (!forked_after_teams()) return;
+  follows_cores_ = false;
+  if (threads_ > 1) use_threads(1);
 }
 
 }  // namespace maille

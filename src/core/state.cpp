@@ -37,6 +37,16 @@ Vec3* PointArrays::base(int which) const {
 
 State::State(std::size_t points) : buffers(points, 3) {}
 
+void copy_values(const State& from, State& to) {
+  std::memcpy(to.x().data(), from.x().data(), from.size() * sizeof(Vec3));
+  std::memcpy(to.v().data(), from.v().data(), from.size() * sizeof(Vec3));
+  std::memcpy(to.f().data(), from.f().data(), from.size() * sizeof(Vec3));
+  to.time = from.time;
+  to.step = from.step;
+  to.history = from.history;
+  to.stage_memory = from.stage_memory;  // element by element: capacity kept
+}
+
 std::vector<double>& State::memory(const std::string& stage) {
   for (auto& m : stage_memory)
     if (m.stage == stage) return m.values;

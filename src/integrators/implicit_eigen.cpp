@@ -56,13 +56,18 @@ class EigenSystem final : public ImplicitSystem {
     filter();
   }
 
+  // Eigen's CG runs to its end: `stop` is asked before it starts only.
   SolveResult solve(std::vector<Vec3>& rhs, std::vector<Vec3>& dv, Real tolerance,
-                    int max_iterations) override {
+                    int max_iterations, ForceEvaluator* stop) override {
     for (std::size_t i = 0; i < rhs.size(); ++i)
       if (!free_[i]) rhs[i] = Vec3{};
     const Eigen::Map<const Vector> b(&rhs.data()->x, Eigen::Index(3 * rhs.size()));
     Eigen::Map<Vector> x(&dv.data()->x, Eigen::Index(3 * dv.size()));
     SolveResult r;
+    if (stop && stop->stop_requested()) {
+      r.stopped = true;
+      return r;
+    }
     if (b.norm() == 0) {
       x.setZero();
       return r;

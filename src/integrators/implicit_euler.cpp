@@ -77,12 +77,15 @@ class ImplicitEuler final : public Integrator {
         vbd_refreshes_ = profile.counter("vbd_candidate_refreshes");
       }
       const VbdResult r = vbd_.solve(m, s, h);
+      if (r.stopped) return;  // the simulator puts the step's start back
       profile.set_count(solver_iterations_, std::uint64_t(r.sweeps));
       profile.set_count(vbd_colours_, std::uint64_t(r.colours));
       profile.set_count(vbd_resets_, std::uint64_t(r.acceleration_resets));
       profile.set_count(vbd_refreshes_, std::uint64_t(r.candidate_refreshes));
     } else {
-      profile.set_count(solver_iterations_, advance_cg(m, s, h, forces, profile));
+      const std::uint64_t iterations = advance_cg(m, s, h, forces, profile);
+      if (forces.stop_requested()) return;  // stopped inside: the step's start comes back
+      profile.set_count(solver_iterations_, iterations);
     }
     profile.set_gauge(solver_residual_, vbd_.residual(m, s, h));
   }
@@ -110,25 +113,35 @@ class ImplicitEuler final : public Integrator {
     std::uint64_t iterations = 0;
     double residual = 0;
     for (int k = 0; k < settings_.newton_iterations; ++k) {
+      if (k > 0 && forces.stop_requested()) return iterations;
       if (k > 0) {  // forces at the current guess: x_n + h v_k, v_k
         for (std::size_t i = 0; i < n; ++i)
           if (m.points.inv_mass[i] > 0) x[i] = x0_[i] + v[i] * h;
         s.time += h;
         forces.evaluate(s);
         s.time -= h;
+        if (forces.failed()) return iterations;  // a stage refused the iterate (not finite)
       }
       build_rhs(m, s, h, k == 0);
       system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.transient_links(),
                          forces.point_contacts(), forces.triangle_contacts());
-      const auto r = system_->solve(rhs_, dv_, settings_.tolerance, settings_.max_iterations);
+      const auto r =
+          system_->solve(rhs_, dv_, settings_.tolerance, settings_.max_iterations, &forces);
       iterations += static_cast<std::uint64_t>(r.iterations);
+      if (r.stopped) return iterations;
       residual = r.relative_residual;
       for (std::size_t i = 0; i < n; ++i) v[i] += dv_[i];
       if (k + 1 < settings_.newton_iterations && newton_converged(m, s)) break;
     }
     // Positions from the new velocities; fixed points stay (their velocity is a drive's).
-    for (std::size_t i = 0; i < n; ++i)
+    bool finite = true;
+    for (std::size_t i = 0; i < n; ++i) {
       x[i] = m.points.inv_mass[i] > 0 ? x0_[i] + v[i] * h : x0_[i];
+      finite = finite && is_finite(v[i]);
+    }
+    // A solve that diverged (or a stage that refused a non-finite iterate) goes no further:
+    // the contact passes below search grids, and the simulator's health check names the point.
+    if (!finite || forces.failed()) return iterations;
     // Obstacles: a point the linearised step carried into a contact it did not touch at x_n,
     // or through a thin one, stops where it entered it (continuous detection, as in VBD).
     vbd_.stop_at_entry(s, h);

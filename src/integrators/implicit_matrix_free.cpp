@@ -130,9 +130,10 @@ class MatrixFreeSystem final : public ImplicitSystem {
     }
   }
 
-  SolveResult solve(std::vector<Vec3>& b, std::vector<Vec3>& dv, Real tolerance,
-                    int max_iterations) override {
+  SolveResult solve(std::vector<Vec3>& b, std::vector<Vec3>& dv, Real tolerance, int max_iterations,
+                    ForceEvaluator* stop) override {
     SolveResult result;
+    bool stopping = false;  // shared: every thread leaves the loop at the same iteration
     const auto n = static_cast<std::int64_t>(b.size());
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
@@ -149,8 +150,19 @@ class MatrixFreeSystem final : public ImplicitSystem {
       double r_norm = b_norm;
       int it = 0;
       while (b_norm > 0 && it < max_iterations && r_norm > tolerance * b_norm) {
+        if (stop && it % kStopEvery == kStopEvery - 1) {
+#pragma omp master
+          stopping = stop->stop_requested();  // on the calling thread (Python's signals)
+#pragma omp barrier
+          if (stopping) break;
+        }
         apply(p_, q_);
-        const double alpha = rz / dot(p_, q_);
+        // Breakdown (p.Ap not positive: the search direction has vanished to round-off, with a
+        // tolerance below what doubles resolve): the last iterate stands. Every thread reads
+        // the same sum, so every thread leaves here.
+        const double pq = dot(p_, q_);
+        if (!(pq > 0) || !(rz > 0)) break;
+        const double alpha = rz / pq;
 #pragma omp for schedule(static)
         for (std::int64_t i = 0; i < n; ++i) {
           dv[i] += p_[i] * Real(alpha);
@@ -169,6 +181,7 @@ class MatrixFreeSystem final : public ImplicitSystem {
       {
         result.iterations = it;
         result.relative_residual = b_norm > 0 ? r_norm / b_norm : 0;
+        result.stopped = stopping;
       }
     }
     return result;

@@ -18,6 +18,7 @@ namespace maille {
 struct SolveResult {
   int iterations = 0;
   double relative_residual = 0;  // |b - A dv| / |b| at exit (0 when b = 0)
+  bool stopped = false;          // a stop was requested (ImplicitSystem::solve)
 };
 
 class ImplicitSystem {
@@ -32,8 +33,11 @@ class ImplicitSystem {
                          std::span<PointContacts* const> contacts,
                          std::span<TriangleContacts* const> triangles) = 0;
   // Solves A dv = rhs (rhs is filtered in place; dv is overwritten, starting from zero).
+  // `stop`, when given, is asked every kStopEvery iterations; the solve ends when it answers
+  // true (SolveResult::stopped), dv unfinished.
   virtual SolveResult solve(std::vector<Vec3>& rhs, std::vector<Vec3>& dv, Real tolerance,
-                            int max_iterations) = 0;
+                            int max_iterations, ForceEvaluator* stop = nullptr) = 0;
+  static constexpr int kStopEvery = 32;
   // The product A u (filtered), for tests comparing the two solvers.
   virtual void multiply(const std::vector<Vec3>& u, std::vector<Vec3>& out) = 0;
   // Between solves (Integrator::set_threads).

@@ -235,6 +235,7 @@ void VertexBlockDescent::colour() {
 
 void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_next,
                                ForceEvaluator& forces) {
+  forces_ = &forces;
   const std::size_t n = s.size();
   if (n != points_) {
     points_ = n;
@@ -480,6 +481,10 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   if (accelerate)
     for (const std::uint32_t i : free_) prev1_[i] = x[i];  // x^(0): the k = 2 update needs it
   for (int k = 1; k <= settings_.iterations; ++k) {
+    if (k > 1 && forces_ && forces_->stop_requested()) {
+      result.stopped = true;  // the simulator puts the step's start back
+      return result;
+    }
     const Real merit = sweep(m, x, v, h);
     ++result.sweeps;
     if (accelerate && k >= 3 && merit > kFallbackGrowth * last_merit) {

@@ -73,6 +73,7 @@ struct VbdResult {
   int colours = 0;              // colours of the point graph (links and this step's contacts)
   int candidate_refreshes = 0;  // contact candidates found again because points moved far
   int coarse_corrections = 0;   // coarse corrections taken (vbd_coarse.hpp)
+  bool stopped = false;         // a stop was requested between two sweeps: x, v are unfinished
 };
 
 // The implicit Euler step as a minimisation (Chen, Macklin et al., "Vertex Block Descent",
@@ -117,6 +118,7 @@ class VertexBlockDescent {
   void set_threads(int threads) { threads_ = threads; }
 
  private:
+  ForceEvaluator* forces_ = nullptr;  // from begin(): asked for stops between sweeps
   struct PoolRows {
     const LinkPoolBase* pool = nullptr;
     std::vector<std::uint32_t> row;    // [points + 1] offsets into slots

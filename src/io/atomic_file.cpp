@@ -48,9 +48,49 @@ std::string cause(int err) {
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::filesystem::path path)
-    : path_(std::move(path)), tmp_(path_.string() + ".tmp") {
+OutputTarget output_target(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status link = fs::symlink_status(path, ec);
+  if (ec || !fs::exists(link)) return {path, false};  // a new file (or one open() will refuse)
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) {
+    if (fs::is_symlink(link))
+      throw std::runtime_error("cannot write " + path.string() +
+                               ": it is a symbolic link to nothing (name its target instead)");
+    return {path, false};
+  }
+  fs::path file = path;
+  if (fs::is_symlink(link)) {
+    file = fs::canonical(path, ec);
+    if (ec) throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
+  }
+  switch (st.type()) {
+    case fs::file_type::regular:
+      return {file, false};
+    case fs::file_type::fifo:
+    case fs::file_type::character:
+      return {file, true};
+    case fs::file_type::directory:
+      throw std::runtime_error("cannot write " + path.string() + ": it is a directory");
+    default:
+      throw std::runtime_error("cannot write " + path.string() +
+                               ": it is neither a regular file, a FIFO nor a character device");
+  }
+}
+
+AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)) {
+  const OutputTarget target = output_target(path_);
   errno = 0;
+  if (target.direct) {
+    committed_ = false;
+    out_.open(target.file, std::ios::binary | std::ios::out);
+    if (!out_) throw std::runtime_error("cannot write " + path_.string() + ": " + cause(errno));
+    out_.precision(9);
+    return;
+  }
+  path_ = target.file;
+  tmp_ = path_.string() + ".tmp";
   list_temporary(tmp_.string());
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) {
@@ -61,6 +101,7 @@ AtomicFile::AtomicFile(std::filesystem::path path)
 }
 
 AtomicFile::~AtomicFile() {
+  if (tmp_.empty()) return;  // written directly: nothing to take back
   unlist_temporary(tmp_.string());
   if (committed_) return;
   out_.close();
@@ -85,9 +126,13 @@ void AtomicFile::commit() {
   if (good && out_.fail()) good = false, err = errno;
   if (!good) {
     std::error_code ignored;
-    std::filesystem::remove(tmp_, ignored);
+    if (!tmp_.empty()) std::filesystem::remove(tmp_, ignored);
     committed_ = true;  // nothing left to clean up
     throw std::runtime_error("cannot write " + path_.string() + ": " + cause(err));
+  }
+  if (tmp_.empty()) {  // a FIFO or a device: written in place
+    committed_ = true;
+    return;
   }
   std::error_code ec;
   std::filesystem::rename(tmp_, path_, ec);

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "maille/io.hpp"
+
 extern char** environ;
 
 namespace maille::render {
@@ -57,13 +59,24 @@ class PngStill final : public FrameSink {
   Image last_;
 };
 
+// The file an MP4 replaces: a symbolic link is followed (the link kept). MP4 seeks back to
+// write its index, so a FIFO or a device, which output_target would write into, is refused
+// rather than renamed over.
+std::filesystem::path video_file(const std::filesystem::path& file) {
+  const OutputTarget target = output_target(file);
+  if (target.direct)
+    throw std::runtime_error("cannot write " + file.string() +
+                             ": an MP4 video needs a regular file (this is a FIFO or a device)");
+  return target.file;
+}
+
 // ffmpeg reads raw RGB frames on its standard input. It is started with posix_spawn (no shell,
 // so file names need no quoting); a broken pipe (ffmpeg died) turns into an error on write
 // instead of killing the process with SIGPIPE.
 class FfmpegVideo final : public FrameSink {
  public:
   FfmpegVideo(std::filesystem::path file, int width, int height, double fps)
-      : file_(std::move(file)), tmp_(file_.string() + ".tmp"), width_(width), height_(height) {
+      : file_(video_file(file)), tmp_(file_.string() + ".tmp"), width_(width), height_(height) {
     if (width % 2 || height % 2)
       throw std::runtime_error("MP4 needs an even width and height (got " + std::to_string(width) +
                                "x" + std::to_string(height) + ")");

@@ -9,6 +9,8 @@
 #include <system_error>
 #include <vector>
 
+#include "maille/io.hpp"
+
 namespace maille::render {
 
 void write_png(const Image& image, const std::filesystem::path& path) {
@@ -28,28 +30,9 @@ void write_png(const Image& image, const std::filesystem::path& path) {
   if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, image.rgb.data(),
                               image.width * 3))
     throw std::runtime_error("cannot encode " + path.string() + " as PNG");
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  auto fail = [&](int err) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("cannot write " + path.string() + ": " +
-                             (err ? std::strerror(err) : "write error"));
-  };
-  errno = 0;
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) fail(errno);
-  const std::size_t written = std::fwrite(png.data(), 1, png.size(), f);
-  int err = written == png.size() ? 0 : (errno ? errno : EIO);
-  if (std::fflush(f) != 0 && !err) err = errno ? errno : EIO;
-  if (std::fclose(f) != 0 && !err) err = errno ? errno : EIO;
-  if (err) fail(err);
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
-  }
+  AtomicFile file(path);  // whole or not at all; a FIFO or a device written directly
+  file.stream().write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+  file.commit();
 }
 
 }  // namespace maille::render

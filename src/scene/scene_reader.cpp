@@ -460,9 +460,10 @@ Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
     scene.model.scene_digest = scene_digest(root);
     return scene;
   } catch (const toml::parse_error& e) {
-    return InputError{source_name, static_cast<int>(e.source().begin.line),
-                      static_cast<int>(e.source().begin.column), "",
-                      "TOML syntax: " + std::string(e.description())};
+    return InputError{
+        source_name, static_cast<int>(e.source().begin.line),
+        static_cast<int>(e.source().begin.column), "",
+        toml_syntax_message(text, static_cast<int>(e.source().begin.line), e.description())};
   } catch (const SceneFailure& f) {
     return f.error;
   }

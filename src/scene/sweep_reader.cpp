@@ -91,6 +91,8 @@ Sweep read(const toml::table& root, const std::filesystem::path& path) {
       const auto* text = v.as_string();
       if (!text || text->get().empty())
         fail(file, v.source(), key, "must be the path of a scene file (relative to this file)");
+      if (text->get().find('\0') != std::string::npos)
+        fail(file, v.source(), key, "the path contains a NUL character");
       const std::filesystem::path scene(text->get());
       s.scene = scene.is_absolute() ? scene : (path.parent_path() / scene).lexically_normal();
       s.scene_line = static_cast<int>(k.source().begin.line);
@@ -214,9 +216,9 @@ Result<Sweep> load_sweep(const std::filesystem::path& path) {
     const toml::table root = toml::parse(std::string_view(body), std::string_view(file));
     return read(root, path);
   } catch (const toml::parse_error& e) {
-    return InputError{file, static_cast<int>(e.source().begin.line),
-                      static_cast<int>(e.source().begin.column), "",
-                      "TOML syntax: " + std::string(e.description())};
+    return InputError{
+        file, static_cast<int>(e.source().begin.line), static_cast<int>(e.source().begin.column),
+        "", toml_syntax_message(body, static_cast<int>(e.source().begin.line), e.description())};
   } catch (const SweepFailure& f) {
     return f.error;
   }
@@ -248,6 +250,41 @@ std::optional<InputError> check_sweep_keys(const Sweep& sweep) {
     }
   }
   return std::nullopt;
+}
+
+std::optional<InputError> check_sweep_values(const Sweep& sweep) {
+  const std::string file = sweep.source.string();
+  for (const auto& axis : sweep.axes)
+    for (std::size_t k = 0; k < axis.values.size(); ++k) {
+      const std::vector<std::string> set{axis.key + "=" + axis.values[k]};
+      Result<Scene> probe = load_scene(sweep.scene, set);
+      if (probe) continue;
+      std::string why = probe.error().message;
+      if (const auto at = why.find(" (in --set "); at != std::string::npos) why.resize(at);
+      return InputError{file, axis.line, axis.column, "axes.\"" + axis.key + "\"",
+                        "value " + axis.labels[k] + " (value " + std::to_string(k + 1) + " of " +
+                            std::to_string(axis.values.size()) + ") is refused by the scene " +
+                            sweep.scene.string() + ": " + why};
+    }
+  return std::nullopt;
+}
+
+bool is_sweep_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec) ||
+      std::filesystem::file_size(path, ec) > limits::max_scene_file_bytes)
+    return false;
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string body = text.str();
+  if (find_toml_hazard(body)) return false;
+  try {
+    const toml::table root = toml::parse(std::string_view(body), std::string_view(path.string()));
+    return root.contains("axes") || (root.contains("scene") && root["scene"].is_string());
+  } catch (const toml::parse_error&) {
+    return false;
+  }
 }
 
 }  // namespace maille

@@ -110,4 +110,49 @@ std::optional<TomlHazard> find_toml_hazard(std::string_view text) {
   return std::nullopt;
 }
 
+std::string toml_syntax_message(std::string_view text, int line, std::string_view description) {
+  const std::string plain = "TOML syntax: " + std::string(description);
+  if (description.find("cannot redefine existing") == std::string_view::npos || line < 1)
+    return plain;
+  std::size_t start = 0;
+  for (int l = 1; l < line; ++l) {
+    start = text.find('\n', start);
+    if (start == std::string_view::npos) return plain;
+    ++start;
+  }
+  std::string_view source = text.substr(start, text.find('\n', start) - start);
+  const auto trim = [](std::string_view v) {
+    while (!v.empty() && (v.front() == ' ' || v.front() == '\t')) v.remove_prefix(1);
+    while (!v.empty() && (v.back() == ' ' || v.back() == '\t' || v.back() == '\r'))
+      v.remove_suffix(1);
+    return v;
+  };
+  source = trim(source);
+  // A table header ([a.b], [[a]]) names itself; a key-value pair, what precedes its '='
+  // (outside quotes: a quoted key may hold one).
+  std::string_view key = source;
+  if (!source.starts_with('[')) {
+    char quote = 0;
+    std::size_t eq = std::string_view::npos;
+    for (std::size_t i = 0; i < source.size() && eq == std::string_view::npos; ++i) {
+      const char c = source[i];
+      if (quote) {
+        if (c == '\\' && quote == '"')
+          ++i;
+        else if (c == quote)
+          quote = 0;
+      } else if (c == '"' || c == '\'') {
+        quote = c;
+      } else if (c == '=') {
+        eq = i;
+      }
+    }
+    if (eq == std::string_view::npos) return plain;
+    key = trim(source.substr(0, eq));
+  }
+  if (key.empty()) return plain;
+  return "TOML syntax: " + std::string(key) +
+         " is defined twice (a key or a table may be given once in its table)";
+}
+
 }  // namespace maille

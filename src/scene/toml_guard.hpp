@@ -6,6 +6,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace maille {
@@ -19,5 +20,10 @@ struct TomlHazard {
 // strings and comments is invalid TOML anyway; the only valid TOML it refuses is a non-ASCII
 // character right after a line-ending backslash in a """multi-line""" string.
 std::optional<TomlHazard> find_toml_hazard(std::string_view text);
+
+// "TOML syntax: " and toml++'s description of a parse error at `line` (1-based) of `text`, with
+// one of toml++ 3.3's messages mended: a key defined twice is echoed garbled ("cannot redefine
+// existing integer '"a a b" '" for "a b"), so the key is taken from the source line instead.
+std::string toml_syntax_message(std::string_view text, int line, std::string_view description);
 
 }  // namespace maille

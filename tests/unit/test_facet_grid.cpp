@@ -123,8 +123,10 @@ TEST(FacetGrid, EveryFacetMeetingABoxIsACandidateInATriangleSoup) {
 // large triangles took 284 s to validate). The build now visits the cells near a facet's plane,
 // column by column, within a budget of visits that coarsens the grid when needed: here 40,000
 // small and 200 large facets must build within 3 s (the old build was not timed on this mesh),
-// and every point of a large facet still finds it among its candidates.
-TEST(FacetGrid, AFewLargeFacetsAmongManySmallOnesBuildQuickly) {
+// and every point of a large facet still finds it among its candidates. The work is bounded,
+// not timed (a timed test fails on a busy machine): cells and (cell, facet) tests within the
+// budgets, the entries within the tests; bench_step's BM_FacetGridBuild times it.
+TEST(FacetGrid, AFewLargeFacetsAmongManySmallOnesBuildWithinTheirBudget) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<Real> at(-1, 1), tiny(-0.002, 0.002);
   TriMesh m;
@@ -139,12 +141,14 @@ TEST(FacetGrid, AFewLargeFacetsAmongManySmallOnesBuildQuickly) {
   }
   for (int t = 0; t < 200; ++t)  // tilted triangles across the whole box
     add({at(rng), -1, -1}, {1, at(rng), 1}, {-1, 1, at(rng)});
-  const auto t0 = std::chrono::steady_clock::now();
   const FacetGrid grid(m);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(seconds, 3.0) << "the facet grid took " << seconds << " s to build";
-  RecordProperty("build_seconds", std::to_string(seconds));
+  const std::size_t facets = grid.facets().size();
+  EXPECT_LE(double(grid.cell_count()), FacetGrid::cell_budget(facets));
+  EXPECT_LE(grid.build_visits(), FacetGrid::visit_budget(facets));
+  EXPECT_LE(double(grid.entry_count()), grid.build_visits());
+  // The budget is what makes it small: 40,200 facets, at most about 7 million tests, against
+  // the billions of cells of the large facets' boxes at the small ones' cell size.
+  EXPECT_LT(grid.build_visits(), 8e6);
   // The large facets are found wherever they are: points on them, in one-cell boxes.
   std::vector<std::uint32_t> scratch;
   int missed = 0;

@@ -152,12 +152,12 @@ FacetGrid::FacetGrid(const TriMesh& unsorted) : closed_(unsorted.closed()) {
   // Two budgets: the cells, and the (cell, facet) visits of the build below, so that a few
   // large facets among many small ones (which set a fine cell) cannot make the build test
   // billions of cells (a 24 MB OBJ of 200,000 small and 1,000 large triangles took 284 s).
-  const double budget = std::min(256.0 * double(facets_.size()) + 4096, double(1u << 24));
-  const double visit_budget = 64.0 * double(facets_.size()) + double(1u << 22);
+  const double budget = cell_budget(facets_.size());
+  const double visits = visit_budget(facets_.size());
   for (;;) {
     for (int d = 0; d < 3; ++d)
       dims_[d] = std::max(1, static_cast<int>(std::ceil((hi_[d] - lo_[d]) / cell_)));
-    if (double(dims_[0]) * dims_[1] * dims_[2] <= budget && planned_visits() <= visit_budget) break;
+    if (double(dims_[0]) * dims_[1] * dims_[2] <= budget && planned_visits() <= visits) break;
     cell_ *= Real(1.26);  // about 2x fewer cells per round
   }
   inv_cell_ = 1 / cell_;

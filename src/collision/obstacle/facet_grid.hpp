@@ -135,6 +135,18 @@ class FacetGrid {
            p.z <= hi_.z;
   }
 
+  // The build's work, bounded by two budgets (facet_grid.cpp): cells in the grid, and the
+  // (cell, facet) tests of the build. Tests check the bounds instead of timing the build.
+  std::uint64_t cell_count() const { return starts_.empty() ? 0 : starts_.size() - 1; }
+  double build_visits() const { return planned_visits(); }
+  std::size_t entry_count() const { return entries_.size(); }
+  static double cell_budget(std::size_t facets) {
+    return std::min(256.0 * double(facets) + 4096, double(1u << 24));
+  }
+  static double visit_budget(std::size_t facets) {
+    return 64.0 * double(facets) + double(1u << 22);
+  }
+
  private:
   std::uint64_t cell_index(int i, int j, int k) const {
     return (std::uint64_t(k) * dims_[1] + std::uint64_t(j)) * dims_[0] + std::uint64_t(i);
