@@ -42,9 +42,8 @@ void print_summary(const PlayEngine& e, std::size_t period, double latency) {
       "maille: played %llu frames (%.3f s at %d Hz), xruns %llu, CPU per period: mean %.1f %%, "
       "largest %.1f %%, p99 %.1f %% of the %zu-frame period (%.3f ms), latency %.2f ms\n",
       static_cast<unsigned long long>(frames), frames / e.rate, e.rate,
-      static_cast<unsigned long long>(e.xruns.load()),
-      e.periods ? 100 * e.cpu_sum / double(e.periods) : 0.0, 100 * e.cpu_max,
-      100 * e.cpu_percentile(0.99), period, 1e3 * double(period) / e.rate, 1e3 * latency);
+      static_cast<unsigned long long>(e.xruns.load()), 100 * e.cpu.mean(), 100 * e.cpu.max,
+      100 * e.cpu.percentile(0.99), period, 1e3 * double(period) / e.rate, 1e3 * latency);
 }
 
 int benchmark(Instrument& in, const PlayOptions& o) {
@@ -60,11 +59,11 @@ int benchmark(Instrument& in, const PlayOptions& o) {
   std::printf(
       "maille: benchmark %s: %llu periods of %zu frames at %d Hz (%.3f ms), %d thread%s: CPU "
       "time per period (CLOCK_THREAD_CPUTIME_ID) mean %.1f %%, p99 %.1f %%, largest %.1f %% of "
-      "the period; %s\n",
-      o.scene.c_str(), static_cast<unsigned long long>(e.periods), period, o.rate,
+      "the period; wall time mean %.1f %%, p99 %.1f %%; %s\n",
+      o.scene.c_str(), static_cast<unsigned long long>(e.cpu.count), period, o.rate,
       1e3 * double(period) / o.rate, in.sim->threads(), in.sim->threads() == 1 ? "" : "s",
-      100 * e.cpu_sum / double(std::max<std::uint64_t>(e.periods, 1)), 100 * e.cpu_percentile(0.99),
-      100 * e.cpu_max, e.source.blown_up() ? "the model BLEW UP" : "no blow-up");
+      100 * e.cpu.mean(), 100 * e.cpu.percentile(0.99), 100 * e.cpu.max, 100 * e.wall.mean(),
+      100 * e.wall.percentile(0.99), e.source.blown_up() ? "the model BLEW UP" : "no blow-up");
   return e.source.blown_up() ? blow_up : ok;
 }
 

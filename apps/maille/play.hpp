@@ -47,16 +47,22 @@ struct PlayEngine {
   std::atomic<std::uint64_t> frames_played{0};
   std::atomic<std::uint64_t> xruns{0};
   std::atomic<bool> finished{false};  // frame_limit reached, or the model blew up
-  // CPU time of each period over the period's duration: the largest and the sum, and a
-  // histogram (0.5 % bins up to 4 periods) for the 99th percentile.
-  double cpu_max = 0, cpu_sum = 0;
-  std::uint64_t periods = 0;
-  static constexpr int kBins = 800;
-  std::vector<std::uint32_t> cpu_bins = std::vector<std::uint32_t>(kBins + 1, 0);
-  double cpu_percentile(double p) const;
+  // Each period's computing time over the period's duration: the CPU time of the callback's
+  // thread (CLOCK_THREAD_CPUTIME_ID: time the thread was not running does not count) and the
+  // wall time (which, with --threads > 1, also covers the other threads' share).
+  struct Fractions {
+    double max = 0, sum = 0;
+    std::uint64_t count = 0;
+    static constexpr int kBins = 800;  // 0.5 % of a period each, up to 4 periods
+    std::vector<std::uint32_t> bins = std::vector<std::uint32_t>(kBins + 1, 0);
+    void add(double fraction);
+    double mean() const { return count ? sum / double(count) : 0.0; }
+    double percentile(double p) const;  // the upper edge of the bin where p is reached
+  };
+  Fractions cpu, wall;
 
  private:
-  void account(double cpu_seconds, std::size_t frames);
+  void account(double cpu_seconds, double wall_seconds, std::size_t frames);
 };
 
 // The device side. open_*() return nullptr and say why in `why` when they cannot start.

@@ -11,9 +11,9 @@ namespace maille::app {
 
 namespace {
 
-double thread_cpu_seconds() {
+double seconds(clockid_t clock) {
   timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  clock_gettime(clock, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
@@ -30,7 +30,7 @@ PlayEngine::PlayEngine(audio::LiveSource& s, int r, std::size_t max_frames, std:
 }
 
 void PlayEngine::process_interleaved(float* out, std::size_t frames) {
-  const double t0 = thread_cpu_seconds();
+  const double t0 = seconds(CLOCK_THREAD_CPUTIME_ID), w0 = seconds(CLOCK_MONOTONIC);
   audio::ControlEvent e;
   while (midi_events.pop(e)) source.control(e);
   while (osc_events.pop(e)) source.control(e);
@@ -47,7 +47,7 @@ void PlayEngine::process_interleaved(float* out, std::size_t frames) {
   frames_played.store(done + live, std::memory_order_relaxed);
   if ((frame_limit && done + live >= frame_limit) || source.blown_up())
     finished.store(true, std::memory_order_release);
-  account(thread_cpu_seconds() - t0, frames);
+  account(seconds(CLOCK_THREAD_CPUTIME_ID) - t0, seconds(CLOCK_MONOTONIC) - w0, frames);
 }
 
 void PlayEngine::process(float* const* out, std::size_t frames) {
@@ -61,23 +61,29 @@ void PlayEngine::process(float* const* out, std::size_t frames) {
   }
 }
 
-void PlayEngine::account(double cpu, std::size_t frames) {
-  const double fraction = cpu * rate / double(frames);
-  cpu_max = std::max(cpu_max, fraction);
-  cpu_sum += fraction;
-  ++periods;
-  ++cpu_bins[static_cast<std::size_t>(std::clamp(fraction * 200.0, 0.0, double(kBins)))];
+void PlayEngine::account(double cpu_seconds, double wall_seconds, std::size_t frames) {
+  const double period = double(frames) / rate;
+  cpu.add(cpu_seconds / period);
+  wall.add(wall_seconds / period);
 }
 
-// The upper edge of the bin where the cumulative count reaches p (0.5 % of a period wide).
-double PlayEngine::cpu_percentile(double p) const {
-  const double want = p * double(periods);
+void PlayEngine::Fractions::add(double fraction) {
+  max = std::max(max, fraction);
+  sum += fraction;
+  ++count;
+  ++bins[static_cast<std::size_t>(std::clamp(fraction * 200.0, 0.0, double(kBins)))];
+}
+
+// The upper edge of the bin (0.5 % of a period) where p of the periods are reached, at most
+// the largest.
+double PlayEngine::Fractions::percentile(double p) const {
+  const double want = p * double(count);
   double seen = 0;
   for (int b = 0; b <= kBins; ++b) {
-    seen += cpu_bins[b];
-    if (seen >= want && seen > 0) return (b + 1) / 200.0;
+    seen += bins[b];
+    if (seen >= want && seen > 0) return std::min((b + 1) / 200.0, max);
   }
-  return cpu_max;
+  return max;
 }
 
 Recording::Recording(PlayEngine& engine) : engine_(engine) {

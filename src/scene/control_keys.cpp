@@ -18,15 +18,37 @@ namespace {
 
 constexpr std::size_t kCurvedRows = 33;  // rows when the model is not linear in the key
 
-bool same_structure(const Model& a, const Model& b) {
-  if (a.points.size() != b.points.size() || a.drives.size() != b.drives.size()) return false;
+// Why `b` (the scene read with the key at some value) cannot be reached from `a` (the playing
+// model) by changing slots (empty: it can): its structure differs, or values that are not slots
+// (initial positions and velocities, faces, drive paths' shapes, stages).
+std::string unplayable_change(const Model& a, const Model& b) {
+  const char* structure =
+      "changes the model's structure (its points, links, faces, drives or stages)";
+  if (a.points.size() != b.points.size() || a.drives.size() != b.drives.size() ||
+      a.surface.triangles.size() != b.surface.triangles.size() ||
+      a.stages.size() != b.stages.size())
+    return structure;
   const auto pa = a.links.pools(), pb = b.links.pools();
-  if (pa.size() != pb.size()) return false;
-  for (std::size_t p = 0; p < pa.size(); ++p)
-    if (pa[p]->keyword() != pb[p]->keyword() || pa[p]->size() != pb[p]->size()) return false;
-  for (std::uint32_t i = 0; i < a.points.size(); ++i)
-    if (a.points.kind[i] != b.points.kind[i]) return false;
-  return true;
+  if (pa.size() != pb.size()) return structure;
+  for (std::size_t p = 0; p < pa.size(); ++p) {
+    if (pa[p]->keyword() != pb[p]->keyword() || pa[p]->size() != pb[p]->size()) return structure;
+    for (std::uint32_t id = 0; id < pa[p]->size(); ++id)
+      if (pa[p]->ends(id).a != pb[p]->ends(id).a || pa[p]->ends(id).b != pb[p]->ends(id).b)
+        return structure;
+  }
+  for (std::uint32_t i = 0; i < a.points.size(); ++i) {
+    if (a.points.kind[i] != b.points.kind[i]) return structure;
+    if (a.points.initial_position[i] != b.points.initial_position[i] ||
+        a.points.initial_velocity[i] != b.points.initial_velocity[i])
+      return "changes the points' initial positions or velocities";
+  }
+  for (std::size_t d = 0; d < a.drives.size(); ++d) {
+    const DrivePath &x = a.drives[d].path, &y = b.drives[d].path;
+    if (a.drives[d].point != b.drives[d].point || x.kind != y.kind || x.origin != y.origin ||
+        x.axis != y.axis || x.center != y.center || x.length != y.length || x.keys != y.keys)
+      return "changes a drive's path other than its frequency, phase, radius or amplitude";
+  }
+  return {};
 }
 
 std::string number(double v) {
@@ -54,10 +76,9 @@ Result<audio::ParameterTable> build_parameter_table(const std::filesystem::path&
       return control_error(c, "'" + c.key + "' = " + number(value) + " (in range [" +
                                   number(c.low) + ", " + number(c.high) +
                                   "]) is refused: " + s.error().to_string());
-    if (!same_structure(s.value().model, playing))
-      return control_error(c, "'" + c.key +
-                                  "' changes the model's structure (its points, links or "
-                                  "drives): it cannot change while the model plays");
+    if (const std::string why = unplayable_change(playing, s.value().model); !why.empty())
+      return control_error(c,
+                           "'" + c.key + "' " + why + ": it cannot change while the model plays");
     return std::move(s.value().model);
   };
   const std::vector<audio::ParameterSlot> all = audio::parameter_slots(playing);
@@ -81,8 +102,9 @@ Result<audio::ParameterTable> build_parameter_table(const std::filesystem::path&
   }
   if (moved.empty())
     return control_error(c, "'" + c.key +
-                                "' changes nothing a playing model holds (link parameters, "
-                                "fields, masses, drives): it cannot be played live");
+                                "' changes nothing that can change while the model plays (link "
+                                "parameters, fields, free points' masses, drives' frequency, "
+                                "phase, radius and amplitude)");
   audio::ParameterTable t;
   for (const std::size_t k : moved) t.slots.push_back(all[k]);
   const std::size_t rows = linear ? 2 : kCurvedRows;
