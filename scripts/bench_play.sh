@@ -28,6 +28,6 @@ for r in "${rings[@]}"; do
     big=$(grep -o 'largest [0-9.]* %' <<<"$line" | tr -dc 0-9.)
     wmean=$(grep -o 'wall time mean [0-9.]* %' <<<"$line" | tr -dc 0-9.)
     wp99=$(grep -o 'wall time mean [0-9.]* %, p99 [0-9.]* %' <<<"$line" | sed 's/.*p99//' | tr -dc 0-9.)
-    echo "$r,$points,$t,$(python3 -c "print(*(x / 100 for x in ($mean, $p99, $big, $wmean, $wp99)), sep=',')")"
+    echo "$r,$points,$t,$(python3 -c "print(*(f'{x / 100:.3f}' for x in ($mean, $p99, $big, $wmean, $wp99)), sep=',')")"
   done
 done

@@ -54,27 +54,30 @@ case "$case_name" in
     # The plucked string at one step per sample of 48 kHz, a fixed gain, float32: what run
     # writes and what play sends are the same floats.
     sets=(--set simulation.step=2.0833333333333333e-05 --set audio.rate=48000
-          --set audio.gain=0.2 --set audio.format=float32)
+          --set audio.gain=0.1 --set audio.format=float32)
     scene="$examples/sound_plucked_string.toml"
-    "$maille" run "$scene" "${sets[@]}" --duration 3 --no-frames --audio "$out/run.wav" \
+    # The reference is longer than anything the player can send before it is stopped, so that
+    # every recorded frame has its counterpart (the recording starts when freewheel does).
+    "$maille" run "$scene" "${sets[@]}" --duration 6 --no-frames --audio "$out/run.wav" \
       --out "$out/run" > /dev/null
-    "$maille" play "$scene" "${sets[@]}" --driver jack --duration 3 --record "$out/sent.wav" \
+    "$maille" play "$scene" "${sets[@]}" --driver jack --duration 6 --record "$out/sent.wav" \
       > "$out/play.stdout" 2> "$out/play.stderr" &
     player_pid=$!
     "$rec" --from maille --channels 2 --frames 96000 --out "$out/recorded.wav"
+    kill -INT "$player_pid"
     wait "$player_pid"
     player_pid=""
     cat "$out/play.stdout"
     grep -q "xruns" "$out/play.stdout" || { echo "FAIL: no summary"; exit 1; }
-    "$match" "$out/run.wav" "$out/recorded.wav" 48000
-    "$match" "$out/run.wav" "$out/sent.wav" 140000   # --record: every sample sent
+    "$match" "$out/run.wav" "$out/recorded.wav" 96000
+    "$match" "$out/run.wav" "$out/sent.wav" 96000   # --record: every sample sent
     ;;
   midi)
     # A small drum (rings = 8) at rest; note 60 velocity 100 at recorded frame 4800 (0.1 s),
     # CC 74 = 100 at frame 48000 (1 s). JACK MIDI through RtMidi's JACK API.
     scene="$examples/play_drum.toml"
     "$maille" play "$scene" --set membrane[0].rings=8 --set listen[0].point=skin:70 --set control[0].excite.point=skin:40 --set audio.osc_port=$((20000 + $$ % 20000)) --driver jack \
-      --duration 4 > "$out/play.stdout" 2> "$out/play.stderr" &
+      --duration 30 > "$out/play.stdout" 2> "$out/play.stderr" &
     player_pid=$!
     "$rec" --from maille --channels 1 --frames 120000 --out "$out/recorded.wav" \
       --midi-to "maille-midi:maille drum" --note 4800:60:100 --cc 48000:74:100 | tee "$out/rec.txt"

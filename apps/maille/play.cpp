@@ -1,6 +1,7 @@
 // `maille play SCENE`: the scene's [[listen]] channels to an audio device in real time, until
 // Ctrl-C or --duration; its [[control]] tables from MIDI and OSC; --record; --benchmark (the CPU
 // time per period with no device). docs/sound.md, "Playing live".
+#include <pthread.h>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -20,8 +21,24 @@ namespace maille::app {
 namespace {
 
 std::atomic<bool> g_stop_play{false};
-extern "C" void on_play_signal(int) {
-  g_stop_play = true;
+
+// Ctrl-C and SIGTERM are blocked before any thread starts (JACK's, RtMidi's, the OSC server's:
+// they inherit the mask, so a signal never interrupts one of them in a system call) and taken
+// by the main thread alone, which waits for them (stopped_by_signal) while the model plays.
+sigset_t stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
+
+// Waits up to `ms` milliseconds for Ctrl-C or SIGTERM; true when one came.
+bool stopped_by_signal(int ms) {
+  const sigset_t set = stop_signals();
+  timespec t{0, long(ms) * 1000000L};
+  if (sigtimedwait(&set, nullptr, &t) > 0) g_stop_play = true;
+  return g_stop_play;
 }
 
 // What the audio callback plays, made once the device's rate and period are known.
@@ -53,7 +70,7 @@ int benchmark(Instrument& in, const PlayOptions& o) {
   std::vector<std::vector<float>> out(in.source->channels(), std::vector<float>(period));
   std::vector<float*> ptr;
   for (auto& c : out) ptr.push_back(c.data());
-  for (std::uint64_t p = 0; p < periods && !g_stop_play; ++p)
+  for (std::uint64_t p = 0; p < periods && !(p % 1024 == 0 && stopped_by_signal(0)); ++p)
     in.engine->process(ptr.data(), period);
   const PlayEngine& e = *in.engine;
   std::printf(
@@ -70,8 +87,8 @@ int benchmark(Instrument& in, const PlayOptions& o) {
 }  // namespace
 
 int play(const PlayOptions& o) {
-  std::signal(SIGINT, on_play_signal);
-  std::signal(SIGTERM, on_play_signal);
+  const sigset_t blocked = stop_signals();
+  pthread_sigmask(SIG_BLOCK, &blocked, nullptr);
   Result<Scene> loaded = load_scene(o.scene, o.sets);
   if (!loaded) {
     std::cerr << loaded.error().to_string() << '\n';
@@ -186,8 +203,8 @@ int play(const PlayOptions& o) {
                       : ("33 rows (blend error " + std::to_string(tables[c].max_blend_error) + ")")
                             .c_str());
   std::fflush(stdout);
-  while (!g_stop_play && !engine.finished.load(std::memory_order_acquire))
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  while (!stopped_by_signal(10) && !engine.finished.load(std::memory_order_acquire)) {
+  }
   const double latency = output->latency_seconds();
   output->stop();
   inputs.clear();

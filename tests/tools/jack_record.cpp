@@ -11,6 +11,7 @@
 #include <jack/midiport.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -75,6 +76,19 @@ bool wait_for(jack_client_t* c, const std::string& port, double seconds) {
   return false;
 }
 
+// The player's ports exist from their registration, before its client is active, and JACK
+// refuses to connect an inactive client's ports: tried again until it accepts (or 30 s).
+bool connect(jack_client_t* c, const std::string& from, const std::string& to) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::chrono::steady_clock::now() < end) {
+    const int r = jack_connect(c, from.c_str(), to.c_str());
+    if (r == 0 || r == EEXIST) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  std::fprintf(stderr, "jack_record: cannot connect %s to %s\n", from.c_str(), to.c_str());
+  return false;
+}
+
 Event parse_event(const char* s, unsigned char status) {
   unsigned long long frame = 0;
   unsigned a = 0, b = 0;
@@ -134,14 +148,14 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "jack_record: no port %s after 30 s\n", port.c_str());
       return 1;
     }
-    jack_connect(r.client, port.c_str(), jack_port_name(r.in[c]));
+    if (!connect(r.client, port, jack_port_name(r.in[c]))) return 1;
   }
   if (r.midi) {
     if (!wait_for(r.client, midi_to, 30)) {
       std::fprintf(stderr, "jack_record: no MIDI port %s after 30 s\n", midi_to.c_str());
       return 1;
     }
-    jack_connect(r.client, jack_port_name(r.midi), midi_to.c_str());
+    if (!connect(r.client, jack_port_name(r.midi), midi_to)) return 1;
   }
   jack_set_freewheel(r.client, 1);
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
