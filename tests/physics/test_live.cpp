@@ -11,6 +11,7 @@
 #include "maille/live.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
+#include "maille/spectrum.hpp"
 
 namespace maille {
 namespace {
@@ -128,6 +129,43 @@ TEST(Live, StrikeStartsAtTheNextSample) {
   double peak = 0;
   for (const float y : out) peak = std::max(peak, double(std::abs(y)));
   EXPECT_GT(peak, 1e-4);
+}
+
+// The playable bowed string: silent with the bow at rest; the speed control (CC 2) at 0.4 of
+// its range (0.2 m/s, sound_bowed_string's bow speed) makes it sound at the string's
+// fundamental (219.9 Hz plucked; a bowed string plays a little flat: 217.9 Hz offline), and
+// the bow brought back to rest lets it fall silent.
+TEST(Live, BowSpeedControlStartsAndStopsTheBowing) {
+  const std::string bowed = std::string(MAILLE_SOURCE_DIR) + "/examples/play_bowed_string.toml";
+  Scene s = scene_of(bowed, {});
+  std::vector<audio::ParameterTable> tables(s.audio.controls.size());
+  for (std::size_t c = 0; c < tables.size(); ++c) {
+    Result<audio::ParameterTable> t =
+        build_parameter_table(bowed, {}, s.model, s.settings, s.audio.controls[c]);
+    ASSERT_TRUE(t.ok()) << t.error().to_string();
+    tables[c] = t.value();
+  }
+  Simulator sim(s.model, live_settings(s));
+  audio::LiveSource src(sim, s.audio, 48000, tables, 64);
+  std::vector<float> out(48000);
+  src.render(out.data(), 4800);
+  for (std::size_t i = 0; i < 4800; ++i) ASSERT_EQ(out[i], 0.0f);  // the bow at rest
+  src.control({0, 0.4f, 0.4f});                                    // 0.2 m/s
+  src.render(out.data(), out.size());                              // 1 s of bowing
+  const std::span<const float> late(out.data() + 24000, 24000);
+  double rms = 0;
+  for (const float y : late) rms += double(y) * y;
+  rms = std::sqrt(rms / double(late.size()));
+  EXPECT_GT(rms, 0.01);
+  const double f = spectrum::dominant(late, 48000, 150, 300).frequency;
+  EXPECT_NEAR(f, 219.9, 0.03 * 219.9) << "the bowed fundamental";
+  src.control({0, 0.0f, 0.0f});  // the bow stops: its friction now damps the string
+  src.render(out.data(), out.size());
+  double after = 0;
+  for (std::size_t i = 38400; i < 48000; ++i) after += double(out[i]) * out[i];
+  after = std::sqrt(after / 9600.0);
+  EXPECT_LT(after, 0.1 * rms) << "still sounding 0.8 s after the bow stopped";
+  EXPECT_FALSE(src.blown_up());
 }
 
 // The friction link's hair velocity u (the playable bow's speed): a bow at rest whose hair moves
