@@ -158,10 +158,20 @@ int main(int argc, char** argv) {
     if (!connect(r.client, jack_port_name(r.midi), midi_to)) return 1;
   }
   jack_set_freewheel(r.client, 1);
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (r.got.load() < r.want && std::chrono::steady_clock::now() < end) {
+  // Until FRAMES, or the player's ports are gone, or nothing came for 20 s (the graph stalled:
+  // said, and a failure, rather than a silent short recording).
+  auto last = std::chrono::steady_clock::now();
+  std::uint64_t seen = 0;
+  bool stalled = false;
+  while (r.got.load() < r.want) {
     if (!jack_port_by_name(r.client, (from + ":out_1").c_str())) break;  // the player ended
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const auto now = std::chrono::steady_clock::now();
+    if (r.got.load() != seen) seen = r.got.load(), last = now;
+    if (now - last > std::chrono::seconds(20)) {
+      stalled = true;
+      break;
+    }
   }
   jack_set_freewheel(r.client, 0);
   const jack_nframes_t period = jack_get_buffer_size(r.client);
@@ -176,5 +186,8 @@ int main(int argc, char** argv) {
   for (const Event& e : r.events)
     std::printf("midi at frame %llu%s\n", static_cast<unsigned long long>(e.frame),
                 e.sent ? "" : " (NOT SENT)");
-  return got > 0 ? 0 : 1;
+  if (stalled)
+    std::fprintf(stderr, "jack_record: the graph stalled in freewheel after %llu frames\n",
+                 static_cast<unsigned long long>(got));
+  return got > 0 && !stalled ? 0 : 1;
 }
