@@ -108,11 +108,6 @@ std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec& spec, PlayEngine
 std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec& spec, PlayEngine& engine,
                                        std::string& why);
 
-// How a MIDI message maps onto the controls (pure, tested): pushes one event per matching
-// control into `out` (at most out_size); returns how many.
-std::size_t midi_events(const audio::AudioSpec& spec, const unsigned char* msg, std::size_t size,
-                        audio::ControlEvent* out, std::size_t out_size);
-
 // --record: drains the engine's ring from its own thread into memory, written as a float32 WAV
 // at the end (exactly the samples sent).
 class Recording {

@@ -51,7 +51,7 @@ class MidiInput final : public ControlInput {
   static void message(double, std::vector<unsigned char>* msg, void* self) {
     auto* me = static_cast<MidiInput*>(self);
     audio::ControlEvent events[16];
-    const std::size_t n = midi_events(me->spec_, msg->data(), msg->size(), events, 16);
+    const std::size_t n = audio::midi_events(me->spec_, msg->data(), msg->size(), events, 16);
     for (std::size_t i = 0; i < n; ++i) me->engine_.midi_events.push(events[i]);
   }
 

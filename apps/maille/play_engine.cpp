@@ -124,31 +124,6 @@ std::vector<std::vector<float>> Recording::finish() {
   return out;
 }
 
-std::size_t midi_events(const audio::AudioSpec& spec, const unsigned char* msg, std::size_t size,
-                        audio::ControlEvent* out, std::size_t out_size) {
-  if (size < 2) return 0;
-  const int status = msg[0] & 0xF0, channel = (msg[0] & 0x0F) + 1;
-  std::size_t count = 0;
-  for (std::size_t c = 0; c < spec.controls.size() && count < out_size; ++c) {
-    const audio::Control& ctl = spec.controls[c];
-    if (ctl.midi_channel && ctl.midi_channel != channel) continue;
-    audio::ControlEvent e{static_cast<std::uint32_t>(c), 0, 0};
-    if (ctl.midi == audio::MidiSource::cc && status == 0xB0 && size >= 3 &&
-        msg[1] == ctl.midi_number) {
-      e.value = e.strength = float(msg[2]) / 127.0f;
-    } else if (ctl.midi == audio::MidiSource::note && status == 0x90 && size >= 3 && msg[2] > 0) {
-      e.value = float(msg[1]) / 127.0f;     // the note's number places the key
-      e.strength = float(msg[2]) / 127.0f;  // its velocity scales the excitation
-    } else if (ctl.midi == audio::MidiSource::pitchbend && status == 0xE0 && size >= 3) {
-      e.value = e.strength = float(msg[1] | (msg[2] << 7)) / 16383.0f;
-    } else {
-      continue;
-    }
-    out[count++] = e;
-  }
-  return count;
-}
-
 std::unique_ptr<AudioOutput> open_output(const OutputRequest& r, const EngineFactory& make_engine,
                                          std::vector<std::string>& tried) {
   const std::vector<std::string> order = r.driver.empty()

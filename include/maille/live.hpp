@@ -38,6 +38,13 @@ struct ControlEvent {
   float strength = 0;
 };
 
+// How one MIDI message maps onto spec's controls: one event per control it reaches (its source
+// and channel), at most out_size, into out; returns how many. Note-on with velocity > 0 (the
+// number places a key, the velocity / 127 is the strength), control change (value / 127), pitch
+// bend (14 bits / 16383, 8192 the middle); everything else is ignored. No allocation.
+std::size_t midi_events(const AudioSpec& spec, const unsigned char* msg, std::size_t size,
+                        ControlEvent* out, std::size_t out_size);
+
 // One producer, one consumer, fixed capacity (a power of two), lock-free.
 template <class T, std::size_t N>
 class SpscRing {

@@ -252,4 +252,28 @@ double LiveSource::control_value(std::size_t c) const {
   return ctl.low + (ctl.high - ctl.low) * impl_->glides.at(c).current;
 }
 
+std::size_t midi_events(const AudioSpec& spec, const unsigned char* msg, std::size_t size,
+                        ControlEvent* out, std::size_t out_size) {
+  if (size < 2) return 0;
+  const int status = msg[0] & 0xF0, channel = (msg[0] & 0x0F) + 1;
+  std::size_t count = 0;
+  for (std::size_t c = 0; c < spec.controls.size() && count < out_size; ++c) {
+    const Control& ctl = spec.controls[c];
+    if (ctl.midi_channel && ctl.midi_channel != channel) continue;
+    ControlEvent e{static_cast<std::uint32_t>(c), 0, 0};
+    if (ctl.midi == MidiSource::cc && status == 0xB0 && size >= 3 && msg[1] == ctl.midi_number) {
+      e.value = e.strength = float(msg[2]) / 127.0f;
+    } else if (ctl.midi == MidiSource::note && status == 0x90 && size >= 3 && msg[2] > 0) {
+      e.value = float(msg[1]) / 127.0f;     // the note's number places the key
+      e.strength = float(msg[2]) / 127.0f;  // its velocity scales the excitation
+    } else if (ctl.midi == MidiSource::pitchbend && status == 0xE0 && size >= 3) {
+      e.value = e.strength = float(msg[1] | (msg[2] << 7)) / 16383.0f;
+    } else {
+      continue;
+    }
+    out[count++] = e;
+  }
+  return count;
+}
+
 }  // namespace maille::audio

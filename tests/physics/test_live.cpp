@@ -168,6 +168,48 @@ TEST(Live, BowSpeedControlStartsAndStopsTheBowing) {
   EXPECT_FALSE(src.blown_up());
 }
 
+// MIDI messages onto controls: a CC reaches its controller's controls on their channel (or
+// any), a note-on places the key by its number and strikes by its velocity (a note-off or a
+// note-on at velocity 0 does nothing), the pitch bend's 14 bits span [0, 1] with 8192 in the
+// middle.
+TEST(Live, MidiMessagesReachTheirControls) {
+  audio::AudioSpec spec;
+  spec.controls.resize(4);
+  spec.controls[0].midi = audio::MidiSource::cc;
+  spec.controls[0].midi_number = 74;
+  spec.controls[1].midi = audio::MidiSource::cc;
+  spec.controls[1].midi_number = 74;
+  spec.controls[1].midi_channel = 2;
+  spec.controls[2].midi = audio::MidiSource::note;
+  spec.controls[3].midi = audio::MidiSource::pitchbend;
+  audio::ControlEvent e[8];
+  const unsigned char cc_ch1[] = {0xB0, 74, 127}, cc_ch2[] = {0xB1, 74, 0},
+                      cc_other[] = {0xB0, 1, 5};
+  ASSERT_EQ(audio::midi_events(spec, cc_ch1, 3, e, 8), 1u);  // channel 2's control not on 1
+  EXPECT_EQ(e[0].control, 0u);
+  EXPECT_EQ(e[0].value, 1.0f);
+  ASSERT_EQ(audio::midi_events(spec, cc_ch2, 3, e, 8), 2u);  // any channel, and channel 2
+  EXPECT_EQ(e[1].control, 1u);
+  EXPECT_EQ(e[1].value, 0.0f);
+  EXPECT_EQ(audio::midi_events(spec, cc_other, 3, e, 8), 0u);
+  const unsigned char note[] = {0x95, 60, 100}, silent[] = {0x90, 60, 0}, off[] = {0x80, 60, 64};
+  ASSERT_EQ(audio::midi_events(spec, note, 3, e, 8), 1u);
+  EXPECT_EQ(e[0].control, 2u);
+  EXPECT_EQ(e[0].value, 60.0f / 127.0f);
+  EXPECT_EQ(e[0].strength, 100.0f / 127.0f);
+  EXPECT_EQ(audio::midi_events(spec, silent, 3, e, 8), 0u);
+  EXPECT_EQ(audio::midi_events(spec, off, 3, e, 8), 0u);
+  const unsigned char low[] = {0xE0, 0, 0}, middle[] = {0xE0, 0, 64}, high[] = {0xE0, 127, 127};
+  ASSERT_EQ(audio::midi_events(spec, low, 3, e, 8), 1u);
+  EXPECT_EQ(e[0].value, 0.0f);
+  ASSERT_EQ(audio::midi_events(spec, middle, 3, e, 8), 1u);
+  EXPECT_NEAR(e[0].value, 0.5, 1e-4);
+  ASSERT_EQ(audio::midi_events(spec, high, 3, e, 8), 1u);
+  EXPECT_EQ(e[0].value, 1.0f);
+  EXPECT_EQ(audio::midi_events(spec, cc_ch2, 3, e, 1), 1u);  // at most out_size
+  EXPECT_EQ(audio::midi_events(spec, cc_ch1, 1, e, 8), 0u);  // a truncated message
+}
+
 // The friction link's hair velocity u (the playable bow's speed): a bow at rest whose hair moves
 // at u rubs exactly as a bow point moving at u (w = v_b - (v_a + u)); u = 0 is the old law.
 TEST(Live, FrictionHairVelocityIsTheBowsSpeed) {
