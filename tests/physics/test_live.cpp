@@ -59,6 +59,31 @@ TEST(Live, RendersExactlyWhatTheRecorderHears) {
           << "channel " << c << " frame " << f;
 }
 
+// A device rate the step does not divide: the LiveSource resamples (windowed sinc) exactly as
+// the Recorder does for a WAV at that rate (the string at 1/44100 s, played at 48 kHz).
+TEST(Live, ResamplesLikeTheRecorder) {
+  const std::vector<std::string> sets{"audio.rate=48000"};
+  Scene a = scene_of(kString, sets), b = scene_of(kString, sets);
+  Simulator offline(a.model, live_settings(a));
+  audio::Recorder rec(a.audio, a.settings.step);
+  ASSERT_FALSE(rec.plan().exact);
+  rec.attach(offline);
+  offline.run_steps(44100 / 10);
+  rec.finish();
+  Simulator live(b.model, live_settings(b));
+  audio::AudioSpec spec = b.audio;
+  spec.settings.gain = 1;
+  audio::LiveSource src(live, spec, 48000, {}, 64);
+  ASSERT_FALSE(src.plan().exact);
+  const std::size_t frames = 4096;  // the Recorder's last samples use a truncated kernel
+  ASSERT_GT(rec.channels()[0].size(), frames);
+  std::vector<float> out(frames * 2);
+  for (std::size_t f = 0; f < frames; f += 64) src.render(out.data() + f * 2, 64);
+  for (std::size_t c = 0; c < 2; ++c)
+    for (std::size_t f = 0; f < frames; ++f)
+      ASSERT_EQ(out[f * 2 + c], rec.channels()[c][f]) << "channel " << c << " frame " << f;
+}
+
 TEST(Live, LinearKeyIsTabulatedInTwoRowsAndStartsAtTheScenesValue) {
   Scene s = scene_of(kDrum, kSmall);
   const audio::Control& c = s.audio.controls[1];
