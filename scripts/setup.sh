@@ -19,6 +19,11 @@ packages=(
   # The Python module (python/: pybind11 over NumPy views, tested with pytest) and sweeps across
   # machines (`maille sweep` under mpirun: Open MPI, built in when present).
   pybind11-dev python3-dev python3-numpy python3-pytest libopenmpi-dev openmpi-bin
+  # Live sound (`maille play`, docs/sound.md): RtAudio (JACK, ALSA, PulseAudio), JACK directly
+  # (libjack-jackd2-dev), RtMidi and liblo for the controls; built in when present. jackd2 is the
+  # server the tests start with its dummy driver (no sound card); without recommends (it would
+  # pull a Qt desktop), its real-time question preseeded below so the install never prompts.
+  jackd2 libjack-jackd2-dev librtaudio-dev librtmidi-dev liblo-dev
   "$@"
 )
 
@@ -38,4 +43,6 @@ fi
 echo "setup: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
+# jackd2 asks whether to enable real-time scheduling for the audio group: answered no up front.
+echo "jackd2 jackd/tweak_rt_limits boolean false" | "${sudo_cmd[@]}" debconf-set-selections
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

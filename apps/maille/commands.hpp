@@ -85,4 +85,19 @@ struct RenderCommandOptions {
 };
 int render(const RenderCommandOptions& o);
 
+// `maille play`: live sound (play.cpp, docs/sound.md "Playing live").
+struct PlayOptions {
+  std::string scene;
+  std::string driver;  // jack | alsa | pulse; empty: the first that opens
+  std::string device;  // empty: the default
+  int rate = 48000;
+  std::size_t buffer = 64;
+  std::optional<double> duration;  // s of audio; none: until Ctrl-C
+  std::vector<std::string> sets;
+  std::optional<int> threads;  // default 1
+  std::string record;          // --record FILE.wav: the samples sent, float32
+  bool benchmark = false;      // no device: CPU time per period over --duration (default 5 s)
+};
+int play(const PlayOptions& o);
+
 }  // namespace maille::app

@@ -117,6 +117,27 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--set", ro.sets, set_help);
   run_cmd->add_option("--backend", ro.backend, backend_help);
   run_cmd->add_option("--gpu-device", ro.gpu_device, gpu_device_help)->check(kDevice);
+  PlayOptions po;
+  auto* play_cmd = app.add_subcommand(
+      "play", "Play a scene's [[listen]] channels live, controlled by MIDI and OSC ([[control]])");
+  play_cmd->add_option("scene", po.scene, "Scene file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  play_cmd->add_option("--driver", po.driver, "Audio driver (default: the first that opens)")
+      ->check(CLI::IsMember({"jack", "alsa", "pulse"}));
+  play_cmd->add_option("--device", po.device,
+                       "Device: a JACK port prefix, an ALSA / PulseAudio device name (part of it)");
+  play_cmd->add_option("--rate", po.rate, "Sample rate, Hz (JACK: the server's)")
+      ->check(CLI::Range(1000, 384000));
+  play_cmd->add_option("--buffer", po.buffer, "Frames per period (JACK: the server's)")
+      ->check(CLI::Range(16, 8192));
+  play_cmd->add_option("--duration", po.duration, "Seconds of sound, then stop (default: Ctrl-C)")
+      ->check(kDuration);
+  play_cmd->add_option("--set", po.sets, set_help);
+  play_cmd->add_option("--threads", po.threads, "Threads of the step (default 1)")->check(kThreads);
+  play_cmd->add_option("--record", po.record, "Also write the samples sent to this WAV (float32)");
+  play_cmd->add_flag("--benchmark", po.benchmark,
+                     "No device: the step's CPU time per period over --duration (default 5 s)");
   auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");
   validate_cmd->add_option("scene", scene, "Scene file (TOML)")->required();
   validate_cmd->add_option("--set", sets, set_help);
@@ -247,6 +268,7 @@ int main(int argc, char** argv) {
     return code == 0 ? ok : usage;
   }
   if (*run_cmd) return run(ro);
+  if (*play_cmd) return play(po);
   if (*validate_cmd) return validate(scene, sets);
   if (*info_cmd) {
     if (info_keys) return describe_keys();

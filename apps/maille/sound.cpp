@@ -31,6 +31,24 @@ void describe_audio(std::ostream& out, const audio::AudioSpec& spec, double step
   else
     out << "auto (peak at 0.99 of full scale)";
   out << "; " << audio::plan_sampling(step, s.rate, s.resampler).describe() << '\n';
+  for (std::size_t c = 0; c < spec.controls.size(); ++c) {  // `maille play`'s controls
+    const audio::Control& k = spec.controls[c];
+    out << "control      " << c << ":";
+    if (k.midi == audio::MidiSource::cc) out << " MIDI cc:" << k.midi_number;
+    if (k.midi == audio::MidiSource::note) out << " MIDI note";
+    if (k.midi == audio::MidiSource::pitchbend) out << " MIDI pitchbend";
+    if (k.midi_channel) out << " (channel " << k.midi_channel << ")";
+    if (!k.osc.empty()) out << " OSC " << k.osc;
+    if (!k.key.empty()) out << " -> " << k.key << " in [" << k.low << ", " << k.high << "]";
+    if (k.excite)
+      out << " -> " << (k.excite->quantity == audio::Quantity::position ? "pluck " : "strike ")
+          << k.excite->label << " by " << k.excite->amount
+          << (k.excite->quantity == audio::Quantity::position ? " m" : " m/s");
+    out << '\n';
+  }
+  if (!spec.controls.empty())
+    out << "audio        play: MIDI port '" << s.midi_port << "'"
+        << (s.osc_port ? ", OSC on " + s.osc_host + ":" + std::to_string(s.osc_port) : "") << '\n';
 }
 
 std::uint64_t planned_wav_bytes(const audio::AudioSpec& spec, double seconds) {

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -91,11 +92,49 @@ struct AudioSettings {
   double gain = 0;
   // Used when the step is not 1 / (K rate) for a whole K (docs/sound.md, "Resampling").
   Resampler resampler = Resampler::sinc;
+  // `maille play` (docs/sound.md, "Playing live"): the UDP port of the OSC server (0: none), the
+  // address it listens on, and the name of the virtual MIDI input port the program creates.
+  int osc_port = 0;
+  std::string osc_host = "127.0.0.1";
+  std::string midi_port = "maille";
+};
+
+// What a [[control]] listens to on MIDI.
+enum class MidiSource : std::uint8_t { none, cc, note, pitchbend };
+
+// An excitation a control gives (`excite = { point, quantity, axis, amount }`): every point
+// named gains amount x s along the axis, s in [0, 1] the gesture's strength (a note's velocity
+// / 127, an OSC float). velocity: m/s (a strike: an impulse of m x that); position: m (a pluck).
+struct Excitation {
+  std::string label;                   // the point or group as the scene named it
+  std::vector<std::uint32_t> points;   // global indices
+  Quantity quantity = Quantity::velocity;  // velocity or position
+  Vec3 axis{0, 1, 0};                  // unit vector
+  double amount = 1;
+};
+
+// One [[control]] table: a MIDI and/or OSC source mapped onto a scene key (a live parameter
+// edit, smoothed) or an excitation.
+struct Control {
+  MidiSource midi = MidiSource::none;
+  int midi_number = 0;   // the controller of "cc:N", 0..127
+  int midi_channel = 0;  // 1..16; 0: any
+  std::string osc;       // an OSC address ("/maille/wind"); empty: none
+  std::string key;       // a --set key (empty for an excitation)
+  double low = 0, high = 1;  // range: MIDI 0..127 and OSC [0, 1] map onto [low, high]
+  double smooth = 0.02;      // s: a parameter glides to a new value over this time
+  std::optional<Excitation> excite;
+  // Where the table's key is (its `key`, else its first line), for errors found when playing
+  // starts (a key that cannot change live).
+  std::string file;
+  int line = 0, column = 0;
+  std::string name;  // "control[i]"
 };
 
 struct AudioSpec {
   std::vector<Listener> listeners;  // [[listen]] tables in file order: channel 0, 1, ...
   AudioSettings settings;           // [audio] (defaults when the table is absent)
+  std::vector<Control> controls;    // [[control]] tables in file order (`maille play`)
 };
 
 // How steps of h seconds become samples at `rate`.
@@ -123,6 +162,7 @@ class StreamResampler {
   StreamResampler(double in_step, int out_rate, Resampler kind);
   void push(double x);
   void finish();
+  void reserve_input(std::size_t n) { in_.reserve(n); }  // no allocation while playing
   std::vector<float>& out() { return out_; }
 
  private:

@@ -46,6 +46,9 @@ class LinkPoolBase {
   virtual void add_generic(LinkEnds ends, std::span<const Real> params) = 0;
   virtual Real param(std::size_t id, std::size_t field) const = 0;
   virtual void scale_param(std::size_t field, Real factor) = 0;  // live tuning, between steps
+  // One link's parameter, between steps (`maille play`'s controls); call parameters_changed()
+  // after a batch of them. No allocation.
+  virtual void set_param(std::size_t id, std::size_t field, Real value) = 0;
   // Orders and groups links so that no two groups running together share a point (after
   // building, and again after any structural edit: Simulator::edit_model does it): they run in
   // parallel without atomics, and the sum order per point is fixed (determinism). A pool that
@@ -196,6 +199,10 @@ class LinkPool final : public LinkPoolBase {
 
   void scale_param(std::size_t field, Real factor) override {
     for (auto& p : params_) p.*(K::fields[field].member) *= factor;
+  }
+
+  void set_param(std::size_t id, std::size_t field, Real value) override {
+    params_for_editing(id).*(K::fields[field].member) = value;
   }
 
   // Stores the grid links first, in the structured kernel's order (detail/structured_grid.hpp),

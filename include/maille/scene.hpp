@@ -43,4 +43,18 @@ Result<Scene> parse_scene(std::string_view text, const std::string& source_name,
                           const LinkKindRegistry& kinds, const StageRegistry& stages,
                           std::span<const std::string> overrides = {});
 
+namespace audio {
+struct ParameterTable;  // live.hpp
+}
+// A parameter [[control]] made playable (`maille play`, src/scene/control_keys.cpp): the scene
+// at `path` (with `overrides`) read again with the control's key at values across its range,
+// each through the reader's validation; refused, with the control's line and column, when the
+// key changes the model's structure or nothing it holds, or when an end of the range needs a
+// smaller step than settings.step. `playing`: the model as read (before a simulator has it).
+Result<audio::ParameterTable> build_parameter_table(const std::filesystem::path& path,
+                                                    std::span<const std::string> overrides,
+                                                    const Model& playing,
+                                                    const SimulationSettings& settings,
+                                                    const audio::Control& control);
+
 }  // namespace maille

@@ -174,6 +174,16 @@ class Simulator : private ForceEvaluator {
   // edited model (check_model: ends, faces, drives, groups, masses, link parameters) and refuse
   // with std::invalid_argument, leaving model and state exactly as they were.
   void edit_model(const std::function<void(Model&)>& edit);
+  // Parameter values written in place at audio rate (`maille play`'s controls, live.hpp): only
+  // values validated beforehand (audio::ParameterTable: every row is a model read from the
+  // scene and checked), so nothing is copied, checked or re-estimated here; nothing allocated.
+  template <class Edit>
+  void tune_parameters(Edit&& edit) {
+    sync_host();
+    host_ahead_ = true;
+    edit(model_);
+    model_.links.parameters_changed();
+  }
   void edit_parameters(const std::function<void(Model&)>& edit);
   // Replaces the whole state (a checkpoint, a copy from another simulator of the same model).
   // Throws std::invalid_argument when its size does not match the model.

@@ -13,6 +13,7 @@
 
 #include "maille/audio.hpp"
 #include "maille/simulator.hpp"
+#include "listen_value.hpp"
 
 namespace maille::audio {
 
@@ -61,24 +62,8 @@ struct Recorder::Tap {
     ++heard;
     const bool keep = !plan.exact || ctx.step % plan.steps_per_sample == 0;
     if (!keep) return;
-    const bool half = ctx.velocity == VelocityTime::half_step;
     for (std::size_t c = 0; c < spec.listeners.size(); ++c) {
-      const Listener& l = spec.listeners[c];
-      double value = 0;
-      switch (l.quantity) {
-        case Quantity::position:
-          value = dot(s.x()[l.point] - origin[c], l.axis);
-          break;
-        case Quantity::velocity: {
-          Vec3 v = s.v()[l.point];
-          if (half) v += s.f()[l.point] * (m.points.inv_mass[l.point] * Real(0.5 * ctx.h));
-          value = dot(v, l.axis);
-          break;
-        }
-        case Quantity::force:
-          value = dot(s.f()[l.point], l.axis);
-          break;
-      }
+      const double value = listened_value(spec.listeners[c], origin[c], m, s, ctx);
       if (plan.exact)
         exact[c].push_back(static_cast<float>(value));
       else

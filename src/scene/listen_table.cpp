@@ -7,8 +7,6 @@
 
 namespace maille {
 
-namespace {
-
 // The point a listener names, checked like a link's ends.
 std::uint32_t listened_point(TomlCursor& t, const Model& m, std::string& label) {
   const bool by_point = t.has("point"), by_group = t.has("group") || t.has("index");
@@ -62,6 +60,8 @@ std::uint32_t listened_point(TomlCursor& t, const Model& m, std::string& label) 
   return g->first + static_cast<std::uint32_t>(i);
 }
 
+namespace {
+
 audio::Listener listener(TomlCursor& t, const Model& m) {
   audio::Listener l;
   l.point = listened_point(t, m, l.label);
@@ -90,10 +90,18 @@ audio::AudioSpec read_audio_tables(TomlCursor& top, const Model& m) {
       s.gain = 0;
     }
     s.resampler = t->choice("resampler", s.resampler);
+    s.osc_port = static_cast<int>(t->integer("osc_port", 0, 1024, 65535));
+    s.osc_host = t->text("osc_host", s.osc_host, {});
+    if (s.osc_host.empty()) t->fail("osc_host", "must not be empty (an address: \"127.0.0.1\")");
+    s.midi_port = t->text("midi_port", s.midi_port, {});
+    if (s.midi_port.empty()) t->fail("midi_port", "must not be empty (a port name)");
     if (spec.listeners.empty())
       t->fail("", "an [audio] table needs at least one [[listen]] table (its channels)");
     t->finish();
   }
+  spec.controls = read_control_tables(top, m);
+  if (!spec.controls.empty() && spec.listeners.empty())
+    top.fail("control", "[[control]] tables play a model's [[listen]] channels: add one");
   if (spec.listeners.size() > 64)
     top.fail("listen", "at most 64 [[listen]] tables (channels), got " +
                            std::to_string(spec.listeners.size()));

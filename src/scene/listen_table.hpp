@@ -9,6 +9,14 @@ namespace maille {
 
 // Reads every [[listen]] table and the [audio] table of `top`; errors carry file, line,
 // column and key like every other table's. [audio] without a [[listen]] is an error.
+// [[control]] tables too (control_table.cpp).
 audio::AudioSpec read_audio_tables(TomlCursor& top, const Model& m);
+
+// The point table `t` names by `point` ("name", "group:index", an index) or `group` + `index`;
+// its label as written.
+std::uint32_t listened_point(TomlCursor& t, const Model& m, std::string& label);
+
+// Every [[control]] table of `top` (control_table.cpp).
+std::vector<audio::Control> read_control_tables(TomlCursor& top, const Model& m);
 
 }  // namespace maille

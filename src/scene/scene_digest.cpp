@@ -7,7 +7,7 @@ namespace maille {
 
 namespace {
 
-constexpr std::string_view kOutputTables[] = {"scene", "audio", "listen"};
+constexpr std::string_view kOutputTables[] = {"scene", "audio", "listen", "control"};
 constexpr std::string_view kOutputSimulationKeys[] = {
     "duration",       "output_every", "sample_every", "threads",
     "runaway_factor", "gpu_device",   "integrator",   "step"};

@@ -12,6 +12,7 @@
 #include <new>
 
 #include "maille/builders.hpp"
+#include "maille/live.hpp"
 #include "maille/scene.hpp"
 #include "test_support.hpp"
 
@@ -349,6 +350,42 @@ TEST(Allocation, NoneWhenTheThreadsFallToOneWithContacts) {
     SimulationSettings s = test::settings(2e-5, "leapfrog");  // the sheets' springs: h < 6.6e-5 s
     EXPECT_EQ(allocations_two_threads_then_one(std::move(scene->model), s, 10, 10), 0) << what;
   }
+}
+
+// `maille play`'s audio path: the callback's work (LiveSource::control and render: control
+// glides rewriting every link's stiffness, strikes, K steps per sample, the channels read)
+// allocates nothing once the first block has run. The lock-free rings are checked to be so at
+// compile time (live.hpp).
+TEST(Allocation, NoneInTheLiveAudioPath) {
+  const std::string drum = std::string(MAILLE_SOURCE_DIR) + "/examples/play_drum.toml";
+  const std::vector<std::string> sets{"membrane[0].rings=6", "listen[0].point=skin:45",
+                                     "control[0].excite.point=skin:35"};
+  auto scene = load_scene(drum, sets);
+  ASSERT_TRUE(scene) << scene.error().to_string();
+  std::vector<audio::ParameterTable> tables(scene->audio.controls.size());
+  auto t = build_parameter_table(drum, sets, scene->model, scene->settings,
+                                 scene->audio.controls[1]);
+  ASSERT_TRUE(t) << t.error().to_string();
+  tables[1] = t.value();
+  SimulationSettings s = scene->settings;
+  s.threads = 1;
+  s.publish_every = kNeverEvery;
+  s.sample_every = kNeverEvery;
+  Simulator sim(scene->model, s);
+  audio::LiveSource src(sim, scene->audio, 48000, tables, 64);
+  std::vector<float> out(64);
+  src.control({0, 0, 1.0f});
+  src.render(out.data(), 64);  // the first block sizes the step's scratch buffers
+  g_allocations = 0;
+  g_counting = true;
+  for (int block = 0; block < 200; ++block) {
+    if (block % 10 == 0) src.control({1, float(block % 30) / 30.0f, 0});  // glides
+    if (block % 25 == 0) src.control({0, 0, 0.5f});                        // strikes
+    src.render(out.data(), 64);
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_FALSE(src.blown_up());
 }
 
 }  // namespace
