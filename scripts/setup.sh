@@ -1,8 +1,21 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Maille needs to build and test.
 # Idempotent and quiet: does nothing when every package is already present.
-# Usage: scripts/setup.sh [EXTRA_PACKAGE...]   (other scripts add theirs, e.g. fuzz.sh: clang)
+# Usage: scripts/setup.sh [web] [EXTRA_PACKAGE...]   (other scripts add theirs, e.g. fuzz.sh: clang)
+#   web  the browser build (scripts/web.sh): emscripten, Chromium for the headless page test and
+#        Node.js with npm (the test's driver, playwright-core, comes from web/package-lock.json).
 set -euo pipefail
+
+extra=()
+for a in "$@"; do
+  if [ "$a" = web ]; then
+    extra+=(emscripten chromium nodejs)
+    # npm is its own Debian package; a Node.js from elsewhere (NodeSource) already carries it.
+    command -v npm >/dev/null || extra+=(npm)
+  else
+    extra+=("$a")
+  fi
+done
 
 packages=(
   g++ cmake ninja-build pkg-config
@@ -19,7 +32,7 @@ packages=(
   # The Python module (python/: pybind11 over NumPy views, tested with pytest) and sweeps across
   # machines (`maille sweep` under mpirun: Open MPI, built in when present).
   pybind11-dev python3-dev python3-numpy python3-pytest libopenmpi-dev openmpi-bin
-  "$@"
+  "${extra[@]}"
 )
 
 missing=()
