@@ -3,8 +3,8 @@
 # compiled from the same source lists as natively; what the browser lacks is replaced here:
 #   OpenMP     none: one thread. An empty OpenMP::OpenMP_CXX whose include directory holds the
 #              OpenMP specification's stub routines (web/shim/omp.h); `#pragma omp` is ignored.
-#   toml++     header-only from Debian's headers (its CMake and pkg-config files force the
-#              compiled library), the implementation compiled once in web/toml_implementation.cpp.
+#   toml++     from Debian's headers alone (its CMake and pkg-config files force the compiled
+#              library): src/scene/toml_cursor.cpp compiles its implementation, as natively.
 #   Eigen      its headers, as a system directory.
 #   libc++ 13  lacks floating-point to_chars / from_chars and bit_cast: web/shim/std_compat.hpp,
 #              force-included, adds them (the native build never sees it).
