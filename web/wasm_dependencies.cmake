@@ -42,6 +42,15 @@ set_target_properties(Eigen3::Eigen PROPERTIES
 # WebAssembly SIMD (128-bit vectors: what -march gives natively), C++ exceptions (scene errors
 # are exceptions inside the reader), and the C++20 library pieces libc++ 13 lacks
 # (web/shim/std_compat.hpp: floating-point to_chars / from_chars, bit_cast).
-add_compile_options(-msimd128 -fexceptions
+# Exceptions: WebAssembly's own (-fwasm-exceptions: no cost until one is thrown; Chromium 95,
+# Firefox 100, Safari 15.2) or Emscripten's emulation in JavaScript (-fexceptions: every call
+# that may throw from a frame with something to unwind goes through JavaScript).
+option(MAILLE_WASM_EXCEPTIONS "WebAssembly exceptions (-fwasm-exceptions) instead of -fexceptions" ON)
+if(MAILLE_WASM_EXCEPTIONS)
+  set(maille_eh -fwasm-exceptions)
+else()
+  set(maille_eh -fexceptions)
+endif()
+add_compile_options(-msimd128 ${maille_eh}
   "SHELL:-include ${PROJECT_SOURCE_DIR}/web/shim/std_compat.hpp")
-add_link_options(-fexceptions)
+add_link_options(${maille_eh})

@@ -72,9 +72,9 @@ function started(text, source, reframe = true) {
   $('scene-title').textContent = `${info.name}: ${info.description}`;
   for (const b of $('examples').children) b.classList.toggle('current', b.dataset.name === info.name);
   renderer.setTopology(engine.topology());
-  if (reframe) renderer.camera.frame(engine.positions(), renderer.styles);
   renderer.solidBuffers.clear();
   solids = engine.solids();
+  if (reframe) renderer.camera.frame(engine.positions(), renderer.styles, solids);
   history = [];
   $('blowup').hidden = true;
   $('sound').disabled = info.listeners.length === 0;
@@ -185,7 +185,7 @@ function sample() {
   $('counters').textContent =
     `t=${s.time.toFixed(3)} s  step ${s.step}  ${s.msPerStep.toFixed(3)} ms/step  ` +
     `${f.fps.toFixed(0)} fps  ${f.msPerFrame.toFixed(1)} ms/frame  ` +
-    `x${(f.stepsPerFrame * s.h * 60).toFixed(2)} real time`;
+    (playing ? `x${(f.stepsPerFrame * s.h * f.fps).toFixed(2)} real time` : 'paused');
   plot();
 }
 

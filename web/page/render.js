@@ -101,16 +101,30 @@ export class OrbitCamera {
   constructor() { this.target = [0, 0, 0]; this.distance = 3; this.azimuth = 0.6; this.elevation = 0.35; }
   // Looks at the bounding box of the cloth's points (style 0: on a surface) when there is a
   // cloth, else of every point: a flag, not its pole, fills the view.
-  frame(positions, styles) {
+  // Obstacles no larger than a few times that box are added to it (a ball under a cloth, not
+  // the ground plane).
+  frame(positions, styles, solids = []) {
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
     const cloth = styles && styles.some((s) => s === 0);
     for (let i = 0; i < positions.length; i += 3) {
       if (cloth && styles[i / 3] !== 0) continue;
       for (let k = 0; k < 3; ++k) { lo[k] = Math.min(lo[k], positions[i + k]); hi[k] = Math.max(hi[k], positions[i + k]); }
     }
+    const size = Math.max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 0.1);
+    for (const solid of solids) {
+      const v = solid.vertices, m = solid.placement;
+      const slo = [Infinity, Infinity, Infinity], shi = [-Infinity, -Infinity, -Infinity];
+      for (let i = 0; i < v.length; i += 6)
+        for (let r = 0; r < 3; ++r) {
+          const w = m[3 * r] * v[i] + m[3 * r + 1] * v[i + 1] + m[3 * r + 2] * v[i + 2] + m[9 + r];
+          slo[r] = Math.min(slo[r], w); shi[r] = Math.max(shi[r], w);
+        }
+      if (Math.max(shi[0] - slo[0], shi[1] - slo[1], shi[2] - slo[2]) > 3 * size) continue;
+      for (let k = 0; k < 3; ++k) { lo[k] = Math.min(lo[k], slo[k]); hi[k] = Math.max(hi[k], shi[k]); }
+    }
     if (!(lo[0] <= hi[0])) return;
     this.target = [0, 1, 2].map((k) => (lo[k] + hi[k]) / 2);
-    this.distance = Math.max(0.5, 1.25 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
+    this.distance = Math.max(0.5, 1.0 * Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
   }
   eye() {
     const c = Math.cos(this.elevation);
@@ -175,7 +189,7 @@ export class Renderer {
     if (this.triangleCount > 0) {
       gl.bindBuffer(gl.ARRAY_BUFFER, this.nrm); gl.bufferData(gl.ARRAY_BUFFER, normals, gl.DYNAMIC_DRAW);
       gl.enableVertexAttribArray(1); gl.vertexAttribPointer(1, 3, gl.FLOAT, false, 0, 0);
-      gl.uniform4f(s.u.front, 0.88, 0.45, 0.2, 1); gl.uniform4f(s.u.back, 0.55, 0.3, 0.5, 1);
+      gl.uniform4f(s.u.front, 0.88, 0.45, 0.2, 1); gl.uniform4f(s.u.back, 0.72, 0.33, 0.16, 1);
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.tri);
       gl.drawElements(gl.TRIANGLES, this.triangleCount, gl.UNSIGNED_INT, 0);
       gl.disableVertexAttribArray(1);
@@ -196,8 +210,12 @@ export class Renderer {
     gl.disableVertexAttribArray(2);
     // Obstacles last, translucent, without writing depth.
     gl.useProgram(s.prog);
+    // Pushed back a little in depth: a cloth resting on an obstacle lies within millimetres of
+    // its surface, and would otherwise show the solid through it in specks.
     gl.enable(gl.BLEND); gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA); gl.depthMask(false);
+    gl.enable(gl.POLYGON_OFFSET_FILL); gl.polygonOffset(4, 16);
     for (const solid of solids) this.drawSolid(solid);
+    gl.disable(gl.POLYGON_OFFSET_FILL);
     gl.depthMask(true); gl.disable(gl.BLEND);
   }
   drawSolid(solid) {

@@ -12,7 +12,7 @@ export const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '
 const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm',
   '.css': 'text/css', '.png': 'image/png', '.toml': 'text/plain' };
 
-export async function serve(site = path.join(root, 'build/web')) {
+export async function serve(site = process.env.MAILLE_WEB_SITE || path.join(root, 'build/web')) {
   if (!fs.existsSync(path.join(site, 'maille.wasm'))) {
     console.error(`${site}/maille.wasm is missing: run scripts/web.sh first`);
     process.exit(2);
