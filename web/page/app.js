@@ -18,6 +18,7 @@ let history = [];            // stats samples for the plot
 let frameTimes = [];         // ms of work (steps + drawing) per frame, the last 120 frames
 let frameStamps = [];        // rAF timestamps, the last 120
 let stepMs = 0, drawMs = 0;
+let timing = { h: 1e-3, msPerStep: 0 };  // engine.timing(): cheap, unlike stats() (energies)
 let dragging = null;         // {point, pointerId}
 let orbiting = null;
 let audio = null;            // {context, node}
@@ -68,6 +69,7 @@ function loadText(text, source = '/examples/scene.toml') {
 
 function started(text, source, reframe = true) {
   const info = engine.sceneInfo();
+  timing = engine.timing();
   current = { name: info.name, text, source };
   $('scene-title').textContent = `${info.name}: ${info.description}`;
   for (const b of $('examples').children) b.classList.toggle('current', b.dataset.name === info.name);
@@ -80,7 +82,8 @@ function started(text, source, reframe = true) {
   $('sound').disabled = info.listeners.length === 0;
   $('sound').title = info.listeners.length ? `hear ${info.listeners.join(', ')}` : 'the scene has no [[listen]]';
   makeSliders();
-  status(`${engine.stats().points} points, ${engine.stats().links} links, ${engine.stats().integrator}`);
+  const s = engine.stats();
+  status(`${s.points} points, ${s.links} links, ${s.integrator}`);
 }
 
 function showError(e) {
@@ -140,7 +143,7 @@ const fmt = (x) => Math.abs(x) >= 1e4 || (Math.abs(x) < 1e-3 && x !== 0) ? x.toE
 
 // ---- the frame loop ----------------------------------------------------------------------
 function stepsPerFrame() {
-  const h = engine.stats().h || 1e-3;
+  const h = timing.h || 1e-3;
   const realTime = Math.max(1, Math.round(1 / 60 / h));
   // Never more than ~12 ms of stepping per frame: slower than real time rather than frozen.
   const budget = stepMs > 0 ? Math.max(1, Math.floor(12 / stepMs)) : 1;
@@ -153,7 +156,8 @@ function frame(stamp) {
   if (playing && current) {
     const n = stepsPerFrame();
     const done = engine.step(n);
-    if (done > 0) stepMs = engine.stats().msPerStep;
+    timing = engine.timing();
+    if (done > 0) stepMs = timing.msPerStep;
     if (done < n) blewUp();
   }
   const t1 = performance.now();
@@ -166,7 +170,7 @@ function frame(stamp) {
   drawMs = t2 - t1;
   frameTimes.push(t2 - t0); if (frameTimes.length > 120) frameTimes.shift();
   frameStamps.push(stamp); if (frameStamps.length > 120) frameStamps.shift();
-  if (--statsCountdown <= 0 && current) { statsCountdown = 6; sample(); }
+  if (--statsCountdown <= 0 && current) { statsCountdown = 10; sample(); }
   requestAnimationFrame(frame);
 }
 
@@ -371,6 +375,10 @@ window.maille = {
     return { cloth: n, total: d.length / 4 };
   },
   text: () => current ? current.text : '',
+  // The listened channels since the last call (the frame loop takes them each frame): {channels,
+  // stepRate, samples (interleaved Float32Array)}; and the sound's AudioContext state.
+  listened: () => engine.listened(),
+  sound: () => audio ? audio.context.state : 'off',
   compress, decompress,
 };
 

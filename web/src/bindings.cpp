@@ -85,6 +85,15 @@ val stats(Playground& p) {
   return o;
 }
 
+// What the frame loop reads every frame, without the force pass stats() makes for the energies.
+val timing(Playground& p) {
+  val o = val::object();
+  o.set("h", p.loaded() ? p.simulator().settings().step : 0.0);
+  o.set("msPerStep", p.last_step_ms());
+  o.set("blownUp", p.loaded() && p.simulator().blow_up().has_value());
+  return o;
+}
+
 val topology(Playground& p) {
   const render::RenderTopology& t = p.topology();
   val o = val::object();
@@ -170,6 +179,7 @@ EMSCRIPTEN_BINDINGS(maille) {
       .function("positions", &positions)
       .function("stateHash", &state_hash)
       .function("stats", &stats)
+      .function("timing", &timing)
       .function("topology", &topology)
       .function("normals", &normals)
       .function("solids", &solids)

@@ -200,6 +200,26 @@ try {
     check(!s.unknown.ok, 'set: a key that does not exist is refused', s.unknown.error?.text);
   }
 
+  // 6b. Sound: the listened points' values per step, and the AudioWorklet started by the button.
+  {
+    await open('?scene=sound_plucked_string&paused');
+    const l = await page.evaluate(() => {
+      maille.listened();
+      maille.step(1000);
+      const r = maille.listened();
+      let peak = 0;
+      for (const x of r.samples) peak = Math.max(peak, Math.abs(x));
+      return { channels: r.channels, n: r.samples.length, stepRate: r.stepRate, peak,
+               button: !document.getElementById('sound').disabled };
+    });
+    check(l.channels >= 1 && l.n === 1000 * l.channels && l.peak > 0 && l.button,
+      'a [[listen]] scene gives one value per step and channel', `${l.channels} channel(s), ${l.n} values at ${l.stepRate} Hz, peak ${l.peak.toExponential(2)}`);
+    await page.click('#sound');
+    await page.waitForTimeout(500);
+    const state = await page.evaluate(() => maille.sound());
+    check(state === 'running' || state === 'suspended', 'the Sound button starts the AudioWorklet', state);
+  }
+
   // 7. A frame drawn: the cloth in the middle of the canvas.
   {
     await open('?scene=flag_in_wind&paused');
