@@ -64,8 +64,9 @@ TEST(WebReference, native_hashes_of_the_browser_test) {
     if (record) {
       line = r.id + " " + r.example + " " + std::to_string(r.steps) + " " + hash;
     } else {
-      EXPECT_EQ(hash, r.hash) << r.id << ": the native run changed; record the new hash with "
-                              << "MAILLE_UPDATE_GOLDEN=1 ctest --test-dir build/dev -R web_reference";
+      EXPECT_EQ(hash, r.hash)
+          << r.id << ": the native run changed; record the new hash with "
+          << "MAILLE_UPDATE_GOLDEN=1 ctest --test-dir build/dev -R web_reference";
     }
   }
   if (record) {

@@ -38,10 +38,13 @@ val set(Playground& p, const std::string& key, const std::string& value) {
   return load_result(p.set(key, value));
 }
 
-double step(Playground& p, double n) { return double(p.step(std::uint64_t(n))); }
+double step(Playground& p, double n) {
+  return double(p.step(std::uint64_t(n)));
+}
 
 val positions(Playground& p) {
-  if (!p.loaded()) return val(emscripten::typed_memory_view(std::size_t(0), static_cast<const double*>(nullptr)));
+  if (!p.loaded())
+    return val(emscripten::typed_memory_view(std::size_t(0), static_cast<const double*>(nullptr)));
   const auto x = p.simulator().state().x();
   static_assert(sizeof(Vec3) == 3 * sizeof(Real));
   return val(emscripten::typed_memory_view(3 * x.size(), &x.data()->x));
@@ -102,7 +105,8 @@ val topology(Playground& p) {
   o.set("linkOnSurface",
         val(emscripten::typed_memory_view(t.link_on_surface.size(), t.link_on_surface.data())));
   o.set("linkRest", val(emscripten::typed_memory_view(t.link_rest.size(), t.link_rest.data())));
-  o.set("pointStyle", val(emscripten::typed_memory_view(t.point_style.size(), t.point_style.data())));
+  o.set("pointStyle",
+        val(emscripten::typed_memory_view(t.point_style.size(), t.point_style.data())));
   o.set("pointRadius", t.point_radius);
   return o;
 }
@@ -137,7 +141,8 @@ val listened(Playground& p) {
   val o = val::object();
   o.set("channels", p.loaded() ? p.scene().audio.listeners.size() : 0);
   o.set("stepRate", p.loaded() ? 1.0 / p.simulator().settings().step : 0.0);
-  o.set("samples", val::global("Float32Array").new_(val(emscripten::typed_memory_view(samples.size(), samples.data()))));
+  o.set("samples", val::global("Float32Array")
+                       .new_(val(emscripten::typed_memory_view(samples.size(), samples.data()))));
   return o;
 }
 

@@ -28,7 +28,8 @@ const StageRegistry& stages() {
 // Every number the text writes, by its `--set` path: tables by name, arrays of tables by index.
 void collect_keys(const toml::table& t, const std::string& prefix, std::vector<DeclaredKey>& out) {
   for (const auto& [k, node] : t) {
-    const std::string path = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+    const std::string path =
+        prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
     if (const auto* sub = node.as_table()) {
       collect_keys(*sub, path, out);
     } else if (const auto* arr = node.as_array()) {
@@ -204,23 +205,35 @@ void Playground::grab(std::uint32_t point, const Vec3& target) {
   drag_->grab(viewer::default_drag(sim_->model(), sim_->settings().step, point, target));
 }
 
-void Playground::move_to(const Vec3& target) { drag_->move_to(target); }
-void Playground::release() { drag_->release(); }
+void Playground::move_to(const Vec3& target) {
+  drag_->move_to(target);
+}
+void Playground::release() {
+  drag_->release();
+}
 
 void Playground::record_listened() {
   const State& s = sim_->state();
   for (const audio::Listener& l : scene_->audio.listeners) {
     double value = 0;
     switch (l.quantity) {
-      case audio::Quantity::position: value = dot(s.x()[l.point] - initial_[l.point], l.axis); break;
-      case audio::Quantity::velocity: value = dot(s.v()[l.point], l.axis); break;
-      case audio::Quantity::force: value = dot(s.f()[l.point], l.axis); break;
+      case audio::Quantity::position:
+        value = dot(s.x()[l.point] - initial_[l.point], l.axis);
+        break;
+      case audio::Quantity::velocity:
+        value = dot(s.v()[l.point], l.axis);
+        break;
+      case audio::Quantity::force:
+        value = dot(s.f()[l.point], l.axis);
+        break;
     }
     listened_.push_back(float(value));
   }
   // At most ten seconds of steps wait for the page (a page that does not listen).
-  const std::size_t limit = std::size_t(10.0 / sim_->settings().step) * scene_->audio.listeners.size();
-  if (listened_.size() > limit) listened_.erase(listened_.begin(), listened_.end() - std::ptrdiff_t(limit));
+  const std::size_t limit =
+      std::size_t(10.0 / sim_->settings().step) * scene_->audio.listeners.size();
+  if (listened_.size() > limit)
+    listened_.erase(listened_.begin(), listened_.end() - std::ptrdiff_t(limit));
 }
 
 std::vector<float> Playground::take_listened() {
@@ -240,7 +253,8 @@ std::vector<DeclaredKey> Playground::declared_keys() const {
   for (const std::string& o : overrides_) {
     const auto eq = o.find('=');
     for (DeclaredKey& k : out)
-      if (o.compare(0, eq, k.key) == 0 && eq == k.key.size()) k.value = std::strtod(o.c_str() + eq + 1, nullptr);
+      if (o.compare(0, eq, k.key) == 0 && eq == k.key.size())
+        k.value = std::strtod(o.c_str() + eq + 1, nullptr);
   }
   return out;
 }

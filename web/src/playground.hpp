@@ -36,7 +36,7 @@ struct DeclaredKey {
 // A solid to draw (an obstacle): its mesh's vertices once, its placement every frame.
 struct Solid {
   std::string name;
-  std::vector<float> vertices;  // render::solid_vertices: 6 floats per vertex
+  std::vector<float> vertices;        // render::solid_vertices: 6 floats per vertex
   std::array<float, 12> placement{};  // direct (3x3, row-major), then translation
   std::array<float, 4> colour{};
 };
@@ -94,7 +94,7 @@ class Playground {
   std::vector<float> normals_;
   std::vector<Solid> solids_;
   std::vector<SurfaceInstance> surfaces_;  // the last snapshot's
-  std::vector<Vec3> initial_;  // listened positions are displacements from here
+  std::vector<Vec3> initial_;              // listened positions are displacements from here
   std::vector<float> listened_;
   double last_step_ms_ = 0;
 };
