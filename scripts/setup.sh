@@ -1,8 +1,21 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages Maille needs to build and test.
 # Idempotent and quiet: does nothing when every package is already present.
-# Usage: scripts/setup.sh [EXTRA_PACKAGE...]   (other scripts add theirs, e.g. fuzz.sh: clang)
+# Usage: scripts/setup.sh [web] [EXTRA_PACKAGE...]   (other scripts add theirs, e.g. fuzz.sh: clang)
+#   web  the browser build (scripts/web.sh): emscripten, Chromium for the headless page test and
+#        Node.js with npm (the test's driver, playwright-core, comes from web/package-lock.json).
 set -euo pipefail
+
+extra=()
+for a in "$@"; do
+  if [ "$a" = web ]; then
+    extra+=(emscripten chromium nodejs)
+    # npm is its own Debian package; a Node.js from elsewhere (NodeSource) already carries it.
+    command -v npm >/dev/null || extra+=(npm)
+  else
+    extra+=("$a")
+  fi
+done
 
 packages=(
   g++ cmake ninja-build pkg-config
@@ -24,7 +37,7 @@ packages=(
   # server the tests start with its dummy driver (no sound card); without recommends (it would
   # pull a Qt desktop), its real-time question preseeded below so the install never prompts.
   jackd2 libjack-jackd2-dev librtaudio-dev librtmidi-dev liblo-dev
-  "$@"
+  "${extra[@]}"
 )
 
 missing=()

@@ -19,7 +19,11 @@ namespace maille::detail {
 namespace {
 
 long this_thread_id() {
+#ifdef SYS_gettid
   return long(::syscall(SYS_gettid));
+#else
+  return 0;  // no thread ids where there are no threads (the WebAssembly build)
+#endif
 }
 
 // Whether thread `tid` of this process is runnable (state R in /proc/self/task/TID/stat: the

@@ -1,0 +1,399 @@
+// The playground: the engine (maille.js / maille.wasm, built by scripts/web.sh) stepped in the
+// page's frames, drawn by WebGL2 (render.js), with the examples, the scene text, the sliders,
+// the stats plot and the sound. window.maille is the page's automation interface (docs/web.md).
+import { Renderer } from './render.js';
+
+const $ = (id) => document.getElementById(id);
+const params = new URLSearchParams(location.search);
+
+const Module = await createMaille();
+const engine = new Module.Playground();
+const renderer = new Renderer($('canvas'));
+
+// ---- state of the page -------------------------------------------------------------------
+let playing = params.get('paused') === null;
+let current = null;          // {name, text, source}: the scene running now
+let solids = [];
+let history = [];            // stats samples for the plot
+let frameTimes = [];         // ms of work (steps + drawing) per frame, the last 120 frames
+let frameStamps = [];        // rAF timestamps, the last 120
+let stepMs = 0, drawMs = 0;
+let timing = { h: 1e-3, msPerStep: 0 };  // engine.timing(): cheap, unlike stats() (energies)
+let dragging = null;         // {point, pointerId}
+let orbiting = null;
+let audio = null;            // {context, node}
+
+// ---- examples ----------------------------------------------------------------------------
+const examples = Module.FS.readdir('/examples')
+  .filter((f) => f.endsWith('.toml')).map((f) => f.slice(0, -5)).sort();
+const exampleText = (name) => Module.FS.readFile(`/examples/${name}.toml`, { encoding: 'utf8' });
+const refusals = new Map();  // example name -> why the browser build refuses it
+
+function listExamples() {
+  const nav = $('examples');
+  nav.textContent = '';
+  for (const name of examples) {
+    const b = document.createElement('button');
+    b.dataset.name = name;
+    const img = document.createElement('img');
+    img.src = `gallery/${name}.png`; img.alt = ''; img.loading = 'lazy';
+    img.onerror = () => img.remove();
+    const desc = (exampleText(name).match(/^description\s*=\s*"(.*)"/m) || [])[1] || '';
+    b.title = desc;
+    b.append(img, document.createTextNode(name));
+    b.onclick = () => openExample(name);
+    nav.append(b);
+  }
+}
+
+function openExample(name) {
+  const r = loadText(exampleText(name), `/examples/${name}.toml`);
+  if (!r.ok) refusals.set(name, r.error.message);
+  const u = new URL(location.href);
+  u.searchParams.set('scene', name); u.hash = '';
+  history_replace(u);
+  return r;
+}
+
+function history_replace(u) { try { window.history.replaceState(null, '', u); } catch (e) { /* file: */ } }
+
+// ---- loading -----------------------------------------------------------------------------
+// A broken text shows its error and the scene running before goes on.
+function loadText(text, source = '/examples/scene.toml') {
+  const r = engine.load(text, source);
+  showError(r.ok ? null : r.error);
+  $('text').value = text; gutter();
+  if (r.ok) started(text, source);
+  return r;
+}
+
+function started(text, source, reframe = true) {
+  const info = engine.sceneInfo();
+  timing = engine.timing();
+  current = { name: info.name, text, source };
+  $('scene-title').textContent = `${info.name}: ${info.description}`;
+  for (const b of $('examples').children) b.classList.toggle('current', b.dataset.name === info.name);
+  renderer.setTopology(engine.topology());
+  renderer.solidBuffers.clear();
+  solids = engine.solids();
+  if (reframe) renderer.camera.frame(engine.positions(), renderer.styles, solids);
+  history = [];
+  $('blowup').hidden = true;
+  $('sound').disabled = info.listeners.length === 0;
+  $('sound').title = info.listeners.length ? `hear ${info.listeners.join(', ')}` : 'the scene has no [[listen]]';
+  makeSliders();
+  const s = engine.stats();
+  status(`${s.points} points, ${s.links} links, ${s.integrator}`);
+}
+
+function showError(e) {
+  $('error').textContent = e ? e.text : '';
+  errorLine = e && e.line > 0 ? e.line : 0;
+  gutter();
+  if (e && e.line > 0) {  // put the caret at the error
+    const lines = $('text').value.split('\n');
+    let at = 0;
+    for (let i = 0; i < e.line - 1 && i < lines.length; ++i) at += lines[i].length + 1;
+    at += Math.max(0, e.column - 1);
+    $('text').setSelectionRange(at, at);
+  }
+}
+
+let errorLine = 0;
+function gutter() {
+  const n = $('text').value.split('\n').length;
+  const g = $('gutter');
+  g.textContent = '';
+  for (let i = 1; i <= n; ++i) {
+    const s = document.createElement('span');
+    s.textContent = `${i}\n`;
+    if (i === errorLine) s.className = 'bad';
+    g.append(s);
+  }
+  g.scrollTop = $('text').scrollTop;
+}
+
+function status(s) { $('status').textContent = s; }
+
+// ---- sliders: the numbers the scene text writes, each moved as `--set KEY=VALUE` ------------
+const structural = /(^scene\.|duration|output_every|sample_every|publish_every|resolution|seed|\.count$|segments|^audio\.)/;
+function makeSliders() {
+  const box = $('sliders');
+  box.textContent = '';
+  for (const k of engine.declaredKeys()) {
+    if (k.integer || structural.test(k.key)) continue;
+    const v = k.value;
+    const label = document.createElement('label'); label.textContent = k.key; label.title = k.key;
+    const input = document.createElement('input'); input.type = 'range';
+    const out = document.createElement('output'); out.textContent = fmt(v);
+    // Positive values on a log scale from v/10 to 10 v; others linearly around them.
+    const log = v > 0;
+    input.min = 0; input.max = 1000; input.value = 500;
+    const valueAt = (s) => log ? v * Math.pow(10, (s - 500) / 500)
+                                : v + (s - 500) / 500 * Math.max(1, Math.abs(v) * 2);
+    input.oninput = () => { out.textContent = fmt(valueAt(+input.value)); };
+    input.onchange = () => {
+      const r = window.maille.set(k.key, valueAt(+input.value));
+      if (!r.ok) showError(r.error);
+    };
+    box.append(label, input, out);
+  }
+}
+const fmt = (x) => Math.abs(x) >= 1e4 || (Math.abs(x) < 1e-3 && x !== 0) ? x.toExponential(2) : +x.toPrecision(4) + '';
+
+// ---- the frame loop ----------------------------------------------------------------------
+function stepsPerFrame() {
+  const h = timing.h || 1e-3;
+  const realTime = Math.max(1, Math.round(1 / 60 / h));
+  // Never more than ~12 ms of stepping per frame: slower than real time rather than frozen.
+  const budget = stepMs > 0 ? Math.max(1, Math.floor(12 / stepMs)) : 1;
+  return Math.min(realTime, budget);
+}
+
+let statsCountdown = 0;
+function frame(stamp) {
+  const t0 = performance.now();
+  if (playing && current) {
+    const n = stepsPerFrame();
+    const done = engine.step(n);
+    timing = engine.timing();
+    if (done > 0) stepMs = timing.msPerStep;
+    if (done < n) blewUp();
+  }
+  const t1 = performance.now();
+  if (current) {
+    if (solids.length) solids = engine.solids();
+    renderer.draw(engine.positions(), engine.normals(), solids);
+  }
+  if (audio) feedAudio(); else engine.listened();  // keep the engine's buffer empty
+  const t2 = performance.now();
+  drawMs = t2 - t1;
+  frameTimes.push(t2 - t0); if (frameTimes.length > 120) frameTimes.shift();
+  frameStamps.push(stamp); if (frameStamps.length > 120) frameStamps.shift();
+  if (--statsCountdown <= 0 && current) { statsCountdown = 10; sample(); }
+  requestAnimationFrame(frame);
+}
+
+function frameStats() {
+  const n = frameStamps.length;
+  const fps = n > 1 ? 1000 * (n - 1) / (frameStamps[n - 1] - frameStamps[0]) : 0;
+  const ms = frameTimes.length ? frameTimes.reduce((a, b) => a + b, 0) / frameTimes.length : 0;
+  return { fps, msPerFrame: ms, maxMsPerFrame: Math.max(0, ...frameTimes), frames: frameTimes.length,
+           stepMs, drawMs, stepsPerFrame: current ? stepsPerFrame() : 0 };
+}
+
+function sample() {
+  const s = engine.stats();
+  history.push(s); if (history.length > 400) history.shift();
+  const f = frameStats();
+  $('counters').textContent =
+    `t=${s.time.toFixed(3)} s  step ${s.step}  ${s.msPerStep.toFixed(3)} ms/step  ` +
+    `${f.fps.toFixed(0)} fps  ${f.msPerFrame.toFixed(1)} ms/frame  ` +
+    (playing ? `x${(f.stepsPerFrame * s.h * f.fps).toFixed(2)} real time` : 'paused');
+  plot();
+}
+
+function plot() {
+  const c = $('plot'), g = c.getContext('2d');
+  const w = c.width = c.clientWidth || 960, h = c.height;
+  g.clearRect(0, 0, w, h);
+  if (history.length < 2) return;
+  const series = [['kinetic', '#e0823a'], ['elastic', '#5fb3e6'], ['energy', '#d9d9d9'], ['msPerStep', '#9ad36a']];
+  g.font = '11px monospace';
+  series.forEach(([key, colour], k) => {
+    const ys = history.map((s) => s[key]).filter((y) => Number.isFinite(y));
+    if (ys.length < 2) return;
+    const lo = Math.min(...ys), hi = Math.max(...ys), span = hi - lo || 1;
+    g.strokeStyle = colour; g.beginPath();
+    history.forEach((s, i) => {
+      const x = i / (history.length - 1) * w, y = h - 14 - (s[key] - lo) / span * (h - 28);
+      i ? g.lineTo(x, y) : g.moveTo(x, y);
+    });
+    g.stroke();
+    g.fillStyle = colour;
+    g.fillText(`${key} ${fmt(history[history.length - 1][key])}`, 6 + k * 190, 11);
+  });
+}
+
+function blewUp() {
+  const b = engine.stats().blowUp;
+  if (!b) return;
+  playing = false; $('play').textContent = 'Play';
+  $('blowup').hidden = false;
+  $('blowup').textContent = `Blow-up at step ${b.step} (t = ${b.time.toFixed(4)} s) in ${b.module}: paused.\n${b.message}`;
+}
+
+// ---- mouse: orbit, zoom, drag a point through the viewer's drag spring ---------------------
+const canvas = $('canvas');
+canvas.addEventListener('pointerdown', (e) => {
+  if (!current) return;
+  const r = canvas.getBoundingClientRect(), x = e.clientX - r.left, y = e.clientY - r.top;
+  canvas.setPointerCapture(e.pointerId);
+  const pos = engine.positions();
+  const point = e.button === 0 && !e.shiftKey ? renderer.pick(pos, x, y) : -1;
+  if (point >= 0) {
+    const p = [pos[3 * point], pos[3 * point + 1], pos[3 * point + 2]];
+    dragging = { point, depth: p };
+    engine.grab(point, ...renderer.unproject(x, y, p));
+  } else {
+    orbiting = { x: e.clientX, y: e.clientY, pan: e.button !== 0 || e.shiftKey };
+  }
+});
+canvas.addEventListener('pointermove', (e) => {
+  const r = canvas.getBoundingClientRect(), x = e.clientX - r.left, y = e.clientY - r.top;
+  if (dragging) {
+    engine.moveTo(...renderer.unproject(x, y, dragging.depth));
+  } else if (orbiting) {
+    const dx = e.clientX - orbiting.x, dy = e.clientY - orbiting.y;
+    orbiting.x = e.clientX; orbiting.y = e.clientY;
+    const cam = renderer.camera;
+    if (orbiting.pan) {
+      const s = cam.distance / canvas.clientHeight, a = cam.azimuth;
+      cam.target[0] -= (Math.cos(a) * dx) * s; cam.target[2] += (Math.sin(a) * dx) * s;
+      cam.target[1] += dy * s;
+    } else {
+      cam.azimuth -= dx * 0.01;
+      cam.elevation = Math.max(-1.5, Math.min(1.5, cam.elevation + dy * 0.01));
+    }
+  }
+});
+const endPointer = () => { if (dragging) engine.release(); dragging = null; orbiting = null; };
+canvas.addEventListener('pointerup', endPointer);
+canvas.addEventListener('pointercancel', endPointer);
+canvas.addEventListener('wheel', (e) => {
+  e.preventDefault();
+  renderer.camera.distance *= Math.exp(e.deltaY * 0.001);
+}, { passive: false });
+canvas.addEventListener('contextmenu', (e) => e.preventDefault());
+
+// ---- buttons -------------------------------------------------------------------------------
+function setPlaying(on) { playing = on; $('play').textContent = on ? 'Pause' : 'Play'; }
+$('play').onclick = () => setPlaying(!playing);
+$('step').onclick = () => { setPlaying(false); if (engine.step(stepsPerFrame()) < stepsPerFrame()) blewUp(); };
+$('reset').onclick = () => { engine.reset(); $('blowup').hidden = true; history = []; };
+$('run').onclick = () => loadText($('text').value, current ? current.source : undefined);
+$('text').addEventListener('keydown', (e) => {
+  if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) { e.preventDefault(); $('run').click(); }
+});
+$('text').addEventListener('input', gutter);
+$('text').addEventListener('scroll', () => { $('gutter').scrollTop = $('text').scrollTop; });
+document.addEventListener('keydown', (e) => {
+  if (e.key === ' ' && e.target === document.body) { e.preventDefault(); $('play').click(); }
+});
+$('share').onclick = async () => {
+  const u = new URL(location.href);
+  u.search = ''; u.hash = await compress($('text').value);
+  history_replace(u);
+  try { await navigator.clipboard.writeText(u.href); status('link copied'); } catch (e) { status('link in the address bar'); }
+};
+$('sound').onclick = () => toggleSound();
+
+// ---- sharing: the scene text deflated (CompressionStream), base64url, after '#' ------------
+async function compress(text) {
+  const s = new Blob([text]).stream().pipeThrough(new CompressionStream('deflate-raw'));
+  const bytes = new Uint8Array(await new Response(s).arrayBuffer());
+  let bin = '';
+  for (const b of bytes) bin += String.fromCharCode(b);
+  return btoa(bin).replace(/\+/g, '-').replace(/\//g, '_').replace(/=+$/, '');
+}
+async function decompress(code) {
+  const b64 = code.replace(/-/g, '+').replace(/_/g, '/');
+  const bin = atob(b64 + '='.repeat((4 - b64.length % 4) % 4));
+  const bytes = Uint8Array.from(bin, (c) => c.charCodeAt(0));
+  const s = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate-raw'));
+  return await new Response(s).text();
+}
+
+// ---- sound: the listened channels through an AudioWorklet ----------------------------------
+async function toggleSound() {
+  if (audio) { await audio.context.close(); audio = null; $('sound').textContent = 'Sound'; return; }
+  const context = new AudioContext();
+  await context.audioWorklet.addModule('audio-worklet.js');
+  const node = new AudioWorkletNode(context, 'maille-listen', { outputChannelCount: [2] });
+  node.connect(context.destination);
+  audio = { context, node };
+  engine.listened();  // start from now
+  $('sound').textContent = 'Mute';
+}
+function feedAudio() {
+  const l = engine.listened();
+  if (l.channels > 0 && l.samples.length > 0)
+    audio.node.port.postMessage({ samples: l.samples, channels: l.channels, stepRate: l.stepRate },
+                                [l.samples.buffer]);
+}
+
+// ---- window.maille: the automation interface (docs/web.md) ---------------------------------
+const tomlValue = (v) => typeof v === 'string' ? v : Array.isArray(v) ? JSON.stringify(v) : String(v);
+window.maille = {
+  load(text) {
+    const r = loadText(text);
+    return { ok: r.ok, error: r.ok ? null : { line: r.error.line, column: r.error.column,
+      key: r.error.key, message: r.error.message, text: r.error.text } };
+  },
+  step(n = 1) {
+    const done = engine.step(n);
+    if (done < n) blewUp();
+    return done;
+  },
+  positions: () => engine.positions(),
+  stateHash: () => engine.stateHash(),
+  set(key, value) {
+    const r = engine.set(key, tomlValue(value));
+    if (r.ok) started(current.text, current.source, false); else showError(r.error);
+    return { ok: r.ok, error: r.ok ? null : { line: r.error.line, column: r.error.column,
+      key: r.error.key, message: r.error.message, text: r.error.text } };
+  },
+  stats: () => Object.assign(engine.stats(), { frame: frameStats() }),
+  // Beyond the issue's list, for tests and for the console.
+  examples: () => examples.slice(),
+  exampleText,
+  open: (name) => { const r = openExample(name); return { ok: r.ok, error: r.ok ? null : r.error }; },
+  refused: () => Object.fromEntries(refusals),
+  play: () => setPlaying(true),
+  pause: () => setPlaying(false),
+  reset: () => $('reset').click(),
+  frameStats,
+  dragged: () => dragging ? dragging.point : -1,
+  // Where point i is drawn, in CSS pixels from the canvas's top-left corner (after a frame).
+  project(i) {
+    const vp = renderer.viewProj, p = engine.positions(), c = renderer.canvas;
+    const x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+    const w = vp[3] * x + vp[7] * y + vp[11] * z + vp[15];
+    return [((vp[0] * x + vp[4] * y + vp[8] * z + vp[12]) / w * 0.5 + 0.5) * c.clientWidth,
+            (0.5 - (vp[1] * x + vp[5] * y + vp[9] * z + vp[13]) / w * 0.5) * c.clientHeight];
+  },
+  // Canvas pixels in the middle fifth of the canvas that have the cloth's colour (orange-red
+  // front, lit), and the number of pixels looked at.
+  clothPixels() {
+    const c = renderer.canvas, g = document.createElement('canvas');
+    g.width = c.width; g.height = c.height;
+    const ctx = g.getContext('2d'); ctx.drawImage(c, 0, 0);
+    const x0 = Math.floor(c.width * 0.4), y0 = Math.floor(c.height * 0.4);
+    const d = ctx.getImageData(x0, y0, Math.floor(c.width * 0.2), Math.floor(c.height * 0.2)).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i] > 90 && d[i] > d[i + 1] + 30 && d[i] > d[i + 2] + 45) ++n;
+    return { cloth: n, total: d.length / 4 };
+  },
+  text: () => current ? current.text : '',
+  // The listened channels since the last call (the frame loop takes them each frame): {channels,
+  // stepRate, samples (interleaved Float32Array)}; and the sound's AudioContext state.
+  listened: () => engine.listened(),
+  sound: () => audio ? audio.context.state : 'off',
+  compress, decompress,
+};
+
+// ---- start -------------------------------------------------------------------------------
+listExamples();
+let opened = false;
+if (location.hash.length > 1) {
+  try { opened = loadText(await decompress(location.hash.slice(1))).ok; } catch (e) { showError({ text: `shared scene: ${e}` }); }
+}
+if (!opened) {
+  const name = params.get('scene') || 'flag_in_wind';
+  if (examples.includes(name)) openExample(name);
+  else { showError({ text: `no example named '${name}'` }); openExample('flag_in_wind'); }
+}
+setPlaying(playing);
+window.maille.ready = true;
+document.dispatchEvent(new Event('maille-ready'));
+requestAnimationFrame(frame);

@@ -1,0 +1,58 @@
+# The WebAssembly build's dependencies, included by the top-level CMakeLists.txt under Emscripten
+# (scripts/web.sh configures it with emcmake). The engine's libraries (src/CMakeLists.txt) are
+# compiled from the same source lists as natively; what the browser lacks is replaced here:
+#   OpenMP     none: one thread. An empty OpenMP::OpenMP_CXX whose include directory holds the
+#              OpenMP specification's stub routines (web/shim/omp.h); `#pragma omp` is ignored.
+#   toml++     from Debian's headers alone (its CMake and pkg-config files force the compiled
+#              library): src/scene/toml_cursor.cpp compiles its implementation, as natively.
+#   Eigen      its headers, as a system directory.
+#   libc++ 13  lacks floating-point to_chars / from_chars and bit_cast: web/shim/std_compat.hpp,
+#              force-included, adds them (the native build never sees it).
+# Never the host's /usr/include itself: only a directory holding a link to toml++'s headers.
+set(MAILLE_BUILD_RENDER OFF CACHE BOOL "" FORCE)
+set(MAILLE_BUILD_PYTHON OFF CACHE BOOL "" FORCE)
+set(MAILLE_BUILD_TESTS OFF CACHE BOOL "" FORCE)
+set(MAILLE_BUILD_BENCH OFF CACHE BOOL "" FORCE)
+set(MAILLE_ARCH "portable" CACHE STRING "" FORCE)  # no -march: -msimd128 below
+
+set(MAILLE_TOMLPP_HEADERS "/usr/include/toml++" CACHE PATH "toml++'s headers (toml.h)")
+set(MAILLE_EIGEN_HEADERS "/usr/include/eigen3" CACHE PATH "Eigen's headers (Eigen/Core)")
+foreach(header ${MAILLE_TOMLPP_HEADERS}/toml.h ${MAILLE_EIGEN_HEADERS}/Eigen/Core)
+  if(NOT EXISTS ${header})
+    message(FATAL_ERROR "maille (web): ${header} not found; scripts/setup.sh installs it")
+  endif()
+endforeach()
+set(host_headers ${CMAKE_BINARY_DIR}/host_headers)
+file(MAKE_DIRECTORY ${host_headers})
+file(CREATE_LINK ${MAILLE_TOMLPP_HEADERS} ${host_headers}/toml++ SYMBOLIC)
+
+# -fopenmp-simd: the engine's `#pragma omp simd` loops (the link pools' kernels) are vectorised as
+# natively, with no runtime and without _OPENMP; the other `#pragma omp` lines are ignored.
+add_library(OpenMP::OpenMP_CXX INTERFACE IMPORTED)
+set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
+  INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/shim
+  INTERFACE_COMPILE_OPTIONS "-fopenmp-simd;-Wno-unknown-pragmas;-Wno-source-uses-openmp")
+add_library(tomlplusplus::tomlplusplus INTERFACE IMPORTED)
+set_target_properties(tomlplusplus::tomlplusplus PROPERTIES
+  INTERFACE_SYSTEM_INCLUDE_DIRECTORIES ${host_headers}
+  INTERFACE_INCLUDE_DIRECTORIES ${host_headers})
+add_library(Eigen3::Eigen INTERFACE IMPORTED)
+set_target_properties(Eigen3::Eigen PROPERTIES
+  INTERFACE_SYSTEM_INCLUDE_DIRECTORIES ${MAILLE_EIGEN_HEADERS}
+  INTERFACE_INCLUDE_DIRECTORIES ${MAILLE_EIGEN_HEADERS})
+
+# WebAssembly SIMD (128-bit vectors: what -march gives natively), C++ exceptions (scene errors
+# are exceptions inside the reader), and the C++20 library pieces libc++ 13 lacks
+# (web/shim/std_compat.hpp: floating-point to_chars / from_chars, bit_cast).
+# Exceptions: WebAssembly's own (-fwasm-exceptions: no cost until one is thrown; Chromium 95,
+# Firefox 100, Safari 15.2) or Emscripten's emulation in JavaScript (-fexceptions: every call
+# that may throw from a frame with something to unwind goes through JavaScript).
+option(MAILLE_WASM_EXCEPTIONS "WebAssembly exceptions (-fwasm-exceptions) instead of -fexceptions" ON)
+if(MAILLE_WASM_EXCEPTIONS)
+  set(maille_eh -fwasm-exceptions)
+else()
+  set(maille_eh -fexceptions)
+endif()
+add_compile_options(-msimd128 ${maille_eh}
+  "SHELL:-include ${PROJECT_SOURCE_DIR}/web/shim/std_compat.hpp")
+add_link_options(${maille_eh})
