@@ -418,6 +418,21 @@ def test_keys_a_solver_ignores_are_said():
     assert any("tolerance" in t and "vbd" in t for t in texts), texts
 
 
+def test_a_denormal_radius_does_not_hang_the_broad_phase():
+    # Found by the boundary fuzz: self_collision.radius = 5e-324 is a positive number, and the
+    # grids grew their cell by 1.25 from it, which rounds back to 5e-324 for ever.
+    proc = run_python(f"""
+        import maille
+        for primitive in ("points", "triangles"):
+            sim = maille.Simulation({str(SPHERE)!r}, {{"self_collision.radius": 5e-324,
+                                    "self_collision.primitive": primitive}})
+            sim.energies()
+            sim.step(2)
+        print("stepped")
+    """, timeout=120)
+    assert_clean(proc, "stepped")
+
+
 # --- 1. outputs never replace a FIFO or a device ----------------------------------------------
 
 

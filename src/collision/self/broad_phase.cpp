@@ -68,7 +68,9 @@ Real UniformGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thr
     return (std::floor(double(ext.x / cs)) + 1) * (std::floor(double(ext.y / cs)) + 1) *
            (std::floor(double(ext.z / cs)) + 1);
   };
-  while (count(c) > budget) c *= Real(1.25);
+  // Denormal sizes do not grow by 1.25 (5e-324 * 1.25 rounds back to 5e-324, an endless loop
+  // for a radius a scene may give): the growth starts from the smallest normal number there.
+  while (count(c) > budget) c = std::max(c * Real(1.25), std::numeric_limits<Real>::min());
   const auto nx = std::uint32_t(ext.x / c) + 1, ny = std::uint32_t(ext.y / c) + 1,
              nz = std::uint32_t(ext.z / c) + 1;
   const std::size_t cells = std::size_t(nx) * ny * nz;

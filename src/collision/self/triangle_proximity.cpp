@@ -1,6 +1,7 @@
 #include "triangle_proximity.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <tuple>
 
@@ -79,7 +80,7 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by) {
   const Vec3 ext = box.hi - box.lo;
   while ((ext.x / cell + 1) * (ext.y / cell + 1) * (ext.z / cell + 1) >
          Real(8 * set_.size() + 4096))
-    cell *= Real(1.25);
+    cell = std::max(cell * Real(1.25), std::numeric_limits<Real>::min());  // as UniformGrid
   grid_ = {box.lo, cell, std::int64_t(ext.x / cell) + 1, std::int64_t(ext.y / cell) + 1,
            std::int64_t(ext.z / cell) + 1};
   const std::int64_t nx = grid_.nx, ny = grid_.ny, nz = grid_.nz;
