@@ -125,7 +125,7 @@ TEST(FacetGrid, EveryFacetMeetingABoxIsACandidateInATriangleSoup) {
 // small and 200 large facets must build within 3 s (the old build was not timed on this mesh),
 // and every point of a large facet still finds it among its candidates. The work is bounded,
 // not timed (a timed test fails on a busy machine): cells and (cell, facet) tests within the
-// budgets, the entries within the tests; bench_step's BM_FacetGridBuild times it.
+// budgets, the entries within the tests (its time is for a benchmark: not written yet).
 TEST(FacetGrid, AFewLargeFacetsAmongManySmallOnesBuildWithinTheirBudget) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<Real> at(-1, 1), tiny(-0.002, 0.002);
