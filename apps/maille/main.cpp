@@ -135,7 +135,8 @@ int main(int argc, char** argv) {
       ->check(kDuration);
   play_cmd->add_option("--set", po.sets, set_help);
   play_cmd->add_option("--threads", po.threads, "Threads of the step (default 1)")->check(kThreads);
-  play_cmd->add_option("--record", po.record, "Also write the samples sent to this WAV (float32)");
+  play_cmd->add_option("--record", po.record, "Also write the samples sent to this WAV (float32)")
+      ->check(kOutputPath);
   play_cmd->add_flag("--benchmark", po.benchmark,
                      "No device: the step's CPU time per period over --duration (default 5 s)");
   auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");

@@ -21,6 +21,7 @@
 #include <memory>
 #include <optional>
 #include <thread>
+#include <type_traits>
 
 #include "bindings.hpp"
 #include "maille/checkpoint.hpp"
@@ -162,15 +163,7 @@ class Simulation {
 
   py::dict energies() {
     Busy busy(*this);
-    // Energies evaluate the forces at the current state: the force array and the stages' memory
-    // are put back afterwards, so that asking never changes the trajectory.
-    State& s = state();
-    const std::vector<Vec3> f(s.f().begin(), s.f().end());
-    const std::vector<StageMemory> memory = s.stage_memory;
-    const Energies e = sim_->energies();
-    State& after = state();
-    std::copy(f.begin(), f.end(), after.f().begin());
-    after.stage_memory = memory;
+    const Energies e = keeping_forces([this] { return sim_->energies(); });
     py::dict d;
     d["kinetic"] = e.kinetic;
     d["elastic"] = e.elastic;
@@ -571,14 +564,21 @@ class Simulation {
   // The energies' runaway check with the force array and the stages' memory put back, as
   // energies() does: asking never changes the trajectory. False with blow_up() set.
   bool checked_energy() {
+    return keeping_forces([this] { return sim_->check_energy(); });
+  }
+
+  // `evaluate()` (energies evaluate the forces at the current state) with the force array and
+  // the stages' memory put back afterwards, so that asking never changes the trajectory.
+  template <class F>
+  std::invoke_result_t<F&> keeping_forces(F&& evaluate) {
     State& s = state();
     const std::vector<Vec3> f(s.f().begin(), s.f().end());
     const std::vector<StageMemory> memory = s.stage_memory;
-    const bool fine = sim_->check_energy();
+    const auto result = evaluate();
     State& after = state();
     std::copy(f.begin(), f.end(), after.f().begin());
     after.stage_memory = memory;
-    return fine;
+    return result;
   }
 
   // Once per simulation, a RuntimeWarning when an implicit step ended unconverged
