@@ -29,6 +29,10 @@ build() {
   mkdir -p build/web/gallery
   cp web/page/* build/web/
   cp docs/gallery/*.png build/web/gallery/
+  # The page asks only for the pictures listed here (an example without one gets none).
+  (cd docs/gallery && ls *.png | sed 's/\.png$//' |
+    python3 -c 'import json, sys; print(json.dumps(sys.stdin.read().split()))') \
+    >build/web/gallery/index.json
   echo "web.sh: build/web/ is ready (scripts/web.sh serve, then http://127.0.0.1:8000/)"
 }
 

@@ -20,7 +20,7 @@ physics() {  # a CSV without its ns_* columns
   || { cat "$out/chain.log"; fail "sweep exit $?"; }
 cat "$out/chain.log"
 summary=$out/chain/summary.csv
-head -1 "$summary" | grep -q '^case,rope\[0\]\.stiffness,simulation\.step,status,exit_code,message,rank,wall_seconds,simulated_seconds,final_energy,time,step,kinetic,elastic,gravity,total' \
+head -1 "$summary" | grep -q '^case,rope\[0\]\.stiffness,simulation\.step,status,exit_code,message,rank,wall_seconds,simulated_seconds,final_energy,time,step,kinetic,elastic,gravity,contact,total' \
   || fail "summary header: $(head -1 "$summary")"
 [ "$(cut -d, -f1-5 "$summary" | tail -n +2 | tr '\n' ' ')" = \
   "0000,2000.0,1e-04,ok,0 0001,2000.0,2e-04,ok,0 0002,5000.0,1e-04,ok,0 0003,5000.0,2e-04,ok,0 " ] \

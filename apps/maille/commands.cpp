@@ -476,8 +476,9 @@ int run(const RunOptions& o) {
       std::cerr << "error: the final energy is not finite\n";
       return blow_up;
     }
-    std::printf("maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g)\n",
-                e.total(), e.kinetic, e.elastic, e.gravity);
+    std::printf(
+        "maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g, contact %.6g)\n",
+        e.total(), e.kinetic, e.elastic, e.gravity, e.contact);
   } catch (const std::runtime_error& e) {
     std::cerr << "error: " << e.what() << '\n';
     return output_error;

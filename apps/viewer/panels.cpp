@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -228,17 +229,18 @@ void implicit_controls(PhysicsThread& physics, ImplicitSettings implicit) {
 void plots(const PhysicsThread& physics, const PhysicsStatus& st) {
   const std::vector<PlotSample> history = physics.history();
   if (ImGui::CollapsingHeader("Energies", ImGuiTreeNodeFlags_DefaultOpen)) {
-    std::vector<float> kinetic, elastic, gravity, total;
+    // One curve per stats.csv energy column (for_each_energy), in its order.
+    std::array<std::vector<float>, kEnergyColumns> curves;
+    std::array<const char*, kEnergyColumns> names{};
     for (const auto& s : history) {
-      kinetic.push_back(float(s.energies.kinetic));
-      elastic.push_back(float(s.energies.elastic));
-      gravity.push_back(float(s.energies.gravity));
-      total.push_back(float(s.energies.total()));
+      std::size_t k = 0;
+      for_each_energy(s.energies, [&](const char* name, double value) {
+        names[k] = name;
+        curves[k++].push_back(float(value));
+      });
     }
-    plot("kinetic", kinetic, "J");
-    plot("elastic", elastic, "J");
-    plot("gravity", gravity, "J");
-    plot("total", total, "J");
+    for (std::size_t k = 0; k < kEnergyColumns && !history.empty(); ++k)
+      plot(names[k], curves[k], "J");
   }
   if (ImGui::CollapsingHeader("Time per stage", ImGuiTreeNodeFlags_DefaultOpen)) {
     double sum = 0;

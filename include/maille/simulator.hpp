@@ -265,6 +265,15 @@ class Simulator : private ForceEvaluator {
   void apply_or_restore(Model previous);
   StageContext context(const State& s) const;
   void sample_energies();
+  // The model's energies at the current state (velocity: scratch_velocity_) with every stage's
+  // contact energy added (Stage::energy).
+  Energies all_energies();
+  // Calls f(Installed&) for every installed stage, phase by phase in step order.
+  template <class F>
+  void for_each_installed(F&& f) {
+    for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+      for (Installed& st : *list) f(st);
+  }
   bool runaway(double kinetic_plus_elastic);
   void check_forces(State& s);
   // The structured grid's fused step where it applies (simulator_fused.cpp): false when not.

@@ -177,6 +177,14 @@ class Stage {
   virtual PointContacts* point_contacts() { return nullptr; }
   // Point-triangle contacts that implicit solvers take inside the solve, likewise (null: none).
   virtual TriangleContacts* triangle_contacts() { return nullptr; }
+  // The potential energy of the stage's conservative forces at s (J): a contact's penalty
+  // (1/2 k depth^2 for an obstacle, 1/2 k (s - d)^2 for a pair closer than its contact distance
+  // s), none for dampers, friction, wind or velocity responses. The stage finds its contacts at
+  // s again (one pass of its own detection, into its own scratch arrays: no allocation once
+  // warm), so stats.csv's `contact` column is the energy of the state it is written with.
+  // Default: 0 (a stage of no conservative force; the viewer's drag spring is the user's hand,
+  // external work like a drive's, and keeps it).
+  virtual double energy(const Model& /*m*/, const State& /*s*/) { return 0; }
   // Segments to draw over the scene at the state of the last step (contacts, cells...).
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.

@@ -165,10 +165,7 @@ class Simulation {
     Busy busy(*this);
     const Energies e = keeping_forces([this] { return sim_->energies(); });
     py::dict d;
-    d["kinetic"] = e.kinetic;
-    d["elastic"] = e.elastic;
-    d["gravity"] = e.gravity;
-    d["total"] = e.total();
+    for_each_energy(e, [&](const char* name, double value) { d[name] = value; });
     return d;
   }
 
@@ -177,7 +174,8 @@ class Simulation {
     // Step and counters are integers in stats.csv: ints here too.
     py::dict d;
     for (std::size_t i = 0; i < stat_names_.size(); ++i) {
-      const bool integer = i == 1 || (i >= 6 + stages_ && i < 6 + stages_ + counters_);
+      const std::size_t counters = 2 + kEnergyColumns + stages_;  // the first counter column
+      const bool integer = i == 1 || (i >= counters && i < counters + counters_);
       if (integer)
         d[py::str(stat_names_[i])] = static_cast<std::uint64_t>(stat_values_[i]);
       else
@@ -529,7 +527,7 @@ class Simulation {
   void record(const EnergySample& e, const Profile& p) {
     stages_ = p.stages().size();
     counters_ = p.counters().size();
-    const std::size_t columns = 6 + stages_ + counters_ + p.gauges().size();
+    const std::size_t columns = 2 + kEnergyColumns + stages_ + counters_ + p.gauges().size();
     stat_names_.resize(columns);
     stat_values_.resize(columns);
     std::size_t i = 0;
@@ -539,10 +537,7 @@ class Simulation {
     };
     put("time", e.time);
     put("step", double(e.step));
-    put("kinetic", e.energies.kinetic);
-    put("elastic", e.energies.elastic);
-    put("gravity", e.energies.gravity);
-    put("total", e.energies.total());
+    for_each_energy(e.energies, [&](const char* name, double value) { put(name, value); });
     for (const auto& s : p.stages()) put("ns_" + s.name, s.last_ns);
     for (const auto& c : p.counters()) put(c.name, double(c.last));
     for (const auto& g : p.gauges()) put(g.name, g.last);
@@ -724,8 +719,8 @@ simulation.integrator. Errors raise maille.SceneError (file, line, column, key).
       },
       "True for fixed and driven points, a copy");
   cls.def("energies", &Simulation::energies,
-          "dict: kinetic, elastic, gravity, total (J) of the current state (synchronised "
-          "velocities)");
+          "dict: kinetic, elastic, gravity, contact, total (J) of the current state "
+          "(synchronised velocities; contact: conditional links and the stages' contacts)");
   cls.def("stats", &Simulation::stats,
           "dict of the last stats.csv row's columns (empty before the first sample)");
   cls.def(

@@ -51,7 +51,7 @@ def test_stats_match_stats_csv(exe, tmp_path):
     s = sim.stats()
     assert rows[0] == list(s)
     last = dict(zip(rows[0], rows[-1]))
-    for key in ("time", "step", "kinetic", "elastic", "gravity", "total", "wind_faces"):
+    for key in ("time", "step", "kinetic", "elastic", "gravity", "contact", "total", "wind_faces"):
         # stats.csv prints 6 significant digits
         assert float(last[key]) == pytest.approx(s[key], rel=1e-5, abs=1e-12), key
 

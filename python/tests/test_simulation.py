@@ -70,7 +70,7 @@ def test_groups_are_index_arrays():
 def test_energies():
     sim = maille.Simulation(CHAIN)
     e0 = sim.energies()
-    assert set(e0) == {"kinetic", "elastic", "gravity", "total"}
+    assert set(e0) == {"kinetic", "elastic", "gravity", "contact", "total"}
     assert e0["kinetic"] == 0
     assert e0["total"] == pytest.approx(e0["kinetic"] + e0["elastic"] + e0["gravity"])
     sim.step(2000)
@@ -99,7 +99,7 @@ def test_stats_has_the_columns_of_stats_csv():
     assert sim.stats() == {}
     sim.step(300)
     s = sim.stats()
-    assert list(s)[:6] == ["time", "step", "kinetic", "elastic", "gravity", "total"]
+    assert list(s)[:7] == ["time", "step", "kinetic", "elastic", "gravity", "contact", "total"]
     assert "ns_link_forces" in s and "wind_faces" in s
     assert s["step"] == 266  # samples every output_every = 133 steps: 0, 133, 266
     assert isinstance(s["step"], int)

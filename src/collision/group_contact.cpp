@@ -185,6 +185,7 @@ class GroupContactStage final : public Stage {
   void apply(const Model&, State& s, const StageContext& ctx) override {
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
+    threads_ = ctx.threads;
     if (ctx.jacobians) contacts_as_links(s, Real(ctx.h), ctx.threads);
     std::uint64_t active = 0, tested = 0;
     for (auto& c : contacts_) {
@@ -198,6 +199,23 @@ class GroupContactStage final : public Stage {
       ids_ = {p.counter("active_conditional_links"), p.counter("group_contact_candidates")};
     p.add_count(ids_[0], active);
     p.set_count(ids_[1], tested);
+  }
+
+  // The pairs within the threshold at s, each the conditional spring's energy (the links'
+  // law: method = "links" stores the same springs and reports the same energy).
+  double energy(const Model&, const State& s) override {
+    const Vec3* x = s.x().data();
+    double e = 0;
+    for (auto& c : contacts_) {
+      const GroupContactSpec& sp = c.spec();
+      const ConditionalSpringDamper::Params p{sp.stiffness, sp.damping, sp.threshold,
+                                              sp.rest_length};
+      c.find(x, sp.threshold, threads_);  // the last pass's threads: lists keep their size
+      c.for_each_pair([&](std::uint32_t a, std::uint32_t b) {
+        e += ConditionalSpringDamper::energy(x[a], x[b], p);
+      });
+    }
+    return e;
   }
 
   // As the conditional links' pool bounds them: at most 4 partners at once per point, each as
@@ -277,6 +295,7 @@ class GroupContactStage final : public Stage {
   LinkPool<ConditionalSpringDamper> links_;  // implicit schemes: this step's candidates
   std::array<int, 2> ids_{-1, -1};
   bool draw_contacts_ = false;
+  int threads_ = 1;  // of the last apply()
 };
 
 }  // namespace

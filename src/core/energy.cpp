@@ -19,7 +19,8 @@ Vec3 total_momentum(const Model& m, std::span<const Vec3> velocity) {
 Energies compute_energies(const Model& m, const State& s, std::span<const Vec3> velocity) {
   Energies e;
   e.kinetic = kinetic_energy(m, velocity);
-  for (const auto& pool : m.links.pools()) e.elastic += pool->energy(s.x().data());
+  for (const auto& pool : m.links.pools())
+    (pool->conditional() ? e.contact : e.elastic) += pool->energy(s.x().data());
   const auto x = s.x();
   for (std::size_t i = 0; i < x.size(); ++i)
     if (m.points.inv_mass[i] > 0) e.gravity -= m.points.mass[i] * dot(m.fields.gravity, x[i]);

@@ -454,14 +454,20 @@ Energies Simulator::energies() {
   evaluate(state_);  // synchronising staggered velocities needs the forces at x
   integrator_->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step),
                                      scratch_velocity_);
-  return compute_energies(model_, state_, scratch_velocity_);
+  return all_energies();
+}
+
+Energies Simulator::all_energies() {
+  Energies e = compute_energies(model_, state_, scratch_velocity_);
+  for_each_installed([&](Installed& st) { e.contact += st.stage->energy(model_, state_); });
+  return e;
 }
 
 namespace {
-// What the runaway check watches: kinetic + elastic, and gravity's share only when it is not
-// finite (a falling body is not a blow-up, an infinite potential is).
+// What the runaway check watches: kinetic + elastic + contact, and gravity's share only when it
+// is not finite (a falling body is not a blow-up, an infinite potential is).
 double watched_energy(const Energies& e) {
-  return e.kinetic + e.elastic + (std::isfinite(e.gravity) ? 0.0 : e.gravity);
+  return e.kinetic + e.elastic + e.contact + (std::isfinite(e.gravity) ? 0.0 : e.gravity);
 }
 }  // namespace
 
@@ -477,8 +483,7 @@ bool Simulator::check_energy() {
 void Simulator::sample_energies() {
   integrator_->synchronized_velocity(model_, state_, static_cast<Real>(settings_.step),
                                      scratch_velocity_);
-  const EnergySample sample{state_.step, state_.time,
-                            compute_energies(model_, state_, scratch_velocity_)};
+  const EnergySample sample{state_.step, state_.time, all_energies()};
   if (runaway(watched_energy(sample.energies))) return;
   pending_sample_ = sample;  // handed to listeners at the end of the step, with its timings
 }

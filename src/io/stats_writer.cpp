@@ -26,8 +26,8 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
   auto& o = file_.stream();
   if (!header_written_) header(&profile);
   const Energies& e = sample.energies;
-  o << sample.time << ',' << sample.step << ',' << e.kinetic << ',' << e.elastic << ',' << e.gravity
-    << ',' << e.total();
+  o << sample.time << ',' << sample.step;
+  for_each_energy(e, [&](const char*, double value) { o << ',' << value; });
   for (const auto& s : profile.stages()) o << ',' << s.last_ns;
   for (const auto& c : profile.counters()) o << ',' << c.last;
   for (const auto& g : profile.gauges()) o << ',' << g.last;
@@ -40,7 +40,8 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
 
 void StatsWriter::header(const Profile* profile) {
   auto& o = file_.stream();
-  o << "time,step,kinetic,elastic,gravity,total";
+  o << "time,step";
+  for_each_energy(Energies{}, [&](const char* name, double) { o << ',' << name; });
   if (profile) {
     for (const auto& s : profile->stages()) o << ",ns_" << s.name;
     for (const auto& c : profile->counters()) o << ',' << c.name;

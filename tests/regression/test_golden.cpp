@@ -83,9 +83,9 @@ INSTANTIATE_TEST_SUITE_P(Examples, GoldenHash, ::testing::ValuesIn(examples()),
 // order, so both give the same bits, and one hash file per case (tests/golden/implicit/) holds
 // them.
 struct ImplicitCase {
-  const char* name;     // the hash file's name
-  const char* example;  // examples/NAME.toml
-  const char* solver;   // vbd or matrix_free
+  const char* name;                // the hash file's name
+  const char* example;             // examples/NAME.toml
+  const char* solver;              // vbd or matrix_free
   std::vector<std::string> extra;  // more --set overrides
 };
 
@@ -97,7 +97,9 @@ std::vector<ImplicitCase> implicit_cases() {
     out.push_back({"two_cloths", "two_cloths", solver, {}});
     out.push_back({"cloth_heap", "cloth_heap", solver, {}});
     out.push_back({"lattice_balls_links", "lattice_balls_collide", solver, {}});
-    out.push_back({"lattice_balls_broad_phase", "lattice_balls_collide", solver,
+    out.push_back({"lattice_balls_broad_phase",
+                   "lattice_balls_collide",
+                   solver,
                    {"contact[0].method=broad_phase"}});
   }
   return out;
@@ -115,6 +117,11 @@ std::vector<ImplicitParam> implicit_params() {
   return out;
 }
 
+// ctest's names show the case, not the parameter's bytes.
+void PrintTo(const ImplicitParam& p, std::ostream* os) {
+  *os << p.c.name << ' ' << p.c.solver << ", " << p.threads << " thread(s)";
+}
+
 class ImplicitGoldenHash : public ::testing::TestWithParam<ImplicitParam> {};
 
 TEST_P(ImplicitGoldenHash, golden) {
@@ -124,9 +131,9 @@ TEST_P(ImplicitGoldenHash, golden) {
                                         "simulation.step=0.016666666666666666",
                                         std::string("simulation.implicit.solver=") + c.solver};
   overrides.insert(overrides.end(), c.extra.begin(), c.extra.end());
-  auto scene = load_scene(std::filesystem::path(MAILLE_SOURCE_DIR "/examples") /
-                              (std::string(c.example) + ".toml"),
-                          overrides);
+  auto scene = load_scene(
+      std::filesystem::path(MAILLE_SOURCE_DIR "/examples") / (std::string(c.example) + ".toml"),
+      overrides);
   ASSERT_TRUE(scene.ok()) << scene.error().to_string();
   scene->settings.backend = "cpu";
   scene->settings.threads = threads;

@@ -113,7 +113,7 @@ TEST(Io, StatsCsvHasHeaderAndOneRowPerSample) {
   std::istringstream in(slurp(dir / "stats.csv"));
   std::string header, row;
   std::getline(in, header);
-  EXPECT_EQ(header.rfind("time,step,kinetic,elastic,gravity,total,ns_drive", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("time,step,kinetic,elastic,gravity,contact,total,ns_drive", 0), 0u) << header;
   int rows = 0;
   while (std::getline(in, row)) ++rows;
   EXPECT_EQ(rows, 10);

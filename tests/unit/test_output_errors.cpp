@@ -73,7 +73,7 @@ TEST(OutputErrors, StatsWithoutARowStillHasItsHeader) {
     StatsWriter stats(dir / "stats.csv");
     stats.close();
   }
-  EXPECT_EQ(slurp(dir / "stats.csv"), "time,step,kinetic,elastic,gravity,total\n");
+  EXPECT_EQ(slurp(dir / "stats.csv"), "time,step,kinetic,elastic,gravity,contact,total\n");
   {
     Profile profile;
     StatsWriter stats(dir / "stats2.csv");

@@ -28,6 +28,10 @@ const examples = Module.FS.readdir('/examples')
   .filter((f) => f.endsWith('.toml')).map((f) => f.slice(0, -5)).sort();
 const exampleText = (name) => Module.FS.readFile(`/examples/${name}.toml`, { encoding: 'utf8' });
 const refusals = new Map();  // example name -> why the browser build refuses it
+// The examples that have a picture in docs/gallery (scripts/web.sh lists them): an example
+// without one gets none, rather than a request that fails.
+const pictures = new Set(await fetch('gallery/index.json').then((r) => (r.ok ? r.json() : []),
+  () => []));
 
 function listExamples() {
   const nav = $('examples');
@@ -35,12 +39,14 @@ function listExamples() {
   for (const name of examples) {
     const b = document.createElement('button');
     b.dataset.name = name;
-    const img = document.createElement('img');
-    img.src = `gallery/${name}.png`; img.alt = ''; img.loading = 'lazy';
-    img.onerror = () => img.remove();
+    if (pictures.has(name)) {
+      const img = document.createElement('img');
+      img.src = `gallery/${name}.png`; img.alt = ''; img.loading = 'lazy';
+      b.append(img);
+    }
     const desc = (exampleText(name).match(/^description\s*=\s*"(.*)"/m) || [])[1] || '';
     b.title = desc;
-    b.append(img, document.createTextNode(name));
+    b.append(document.createTextNode(name));
     b.onclick = () => openExample(name);
     nav.append(b);
   }

@@ -70,10 +70,8 @@ val stats(Playground& p) {
   o.set("msPerStep", p.last_step_ms());
   if (!sim.blow_up()) {
     const Energies e = sim.energies();
-    o.set("kinetic", e.kinetic);
-    o.set("elastic", e.elastic);
-    o.set("gravity", e.gravity);
-    o.set("energy", e.total());
+    for_each_energy(e, [&](const char* name, double value) { o.set(name, value); });
+    o.set("energy", e.total());  // the page's plot
   }
   if (const auto& b = sim.blow_up()) {
     val bo = val::object();

@@ -37,6 +37,8 @@ const { page, close } = await launch();
 const consoleErrors = [];
 page.on('pageerror', (e) => consoleErrors.push(String(e)));
 page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+// A failed request's console message does not name the resource: name it here.
+page.on('response', (r) => { if (r.status() >= 400) consoleErrors.push(`${r.status()} ${r.url()}`); });
 const open = (query = '') => openPage(page, base, query);
 
 const t0 = Date.now();

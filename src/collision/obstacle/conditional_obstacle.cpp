@@ -103,6 +103,15 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
   std::string name() const override { return obstacle_stage_name(o_); }
   Phase phase() const override { return obstacle_phase(o_.method); }
 
+  // Each sample within the threshold is a conditional spring: 1/2 k (d - threshold)^2.
+  double energy(const Model&, const State& s) override {
+    const shapes::Affine now = o_.motion.at(shapes::Affine{}, s.time);
+    double e = 0;
+    for (const std::uint32_t p : set_)
+      e += near_samples(s.x()[p], Vec3{}, now, s.time, nullptr).energy;
+    return e;
+  }
+
   void apply(const Model&, State& s, const StageContext& ctx) override {
     // The rigid motion since t = 0 (x_now = R x_0 + d): particles go back by its inverse.
     const shapes::Affine now = o_.motion.at(shapes::Affine{}, ctx.t);
@@ -170,8 +179,9 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
 
  private:
   struct Near {
-    Vec3 force;     // world force of every sample within the threshold, N
-    Real nearest2;  // squared distance to the nearest of them (threshold^2 when none), m^2
+    Vec3 force;       // world force of every sample within the threshold, N
+    Real nearest2;    // squared distance to the nearest of them (threshold^2 when none), m^2
+    Real energy = 0;  // the samples' springs' energy, J
   };
 
   // The samples' forces on a point at x, v with the obstacle placed by `now` (its motion at t),
@@ -197,6 +207,7 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
             const Vec3& xs = samples_[si];
             if (!ConditionalSpringDamper::is_active(xs, xb, params_)) continue;
             out.nearest2 = std::min(out.nearest2, norm2(xb - xs));
+            out.energy += ConditionalSpringDamper::energy(xs, xb, params_);
             force -= ConditionalSpringDamper::force(xs, xb, Vec3{}, vr, params_);
             if (stiffness) {
               const LinkJacobian j = ConditionalSpringDamper::jacobian(xs, xb, Vec3{}, vr, params_,

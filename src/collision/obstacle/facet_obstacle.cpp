@@ -553,8 +553,8 @@ class FacetObstacleStage final : public Stage {
     Real eps;     // the brief's eps, in the mesh frame
   };
   std::vector<Terms> terms_;
-  Real widest_eps_ = 0;        // the largest of them
-  Real rounding_ = 0;          // bound on the rounding of a facet's N.AP (Clearance)
+  Real widest_eps_ = 0;  // the largest of them
+  Real rounding_ = 0;    // bound on the rounding of a facet's N.AP (Clearance)
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
   std::vector<Resting> resting_;                     // per thread: its block's resting contacts

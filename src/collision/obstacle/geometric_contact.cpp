@@ -62,6 +62,19 @@ class GeometricContactStage final : public Stage {
     ctx.profile->set_gauge(ids_[1], deepest);
   }
 
+  // 1/2 k d^2 per contact, d the world penetration (geometric_obstacle.cpp says when exact).
+  double energy(const Model& m, const State& s) override {
+    double e = 0;
+    for (const GeometricContact& c : contacts_) {
+      const GeometricPoint& g = m.geometric_points[c.geometric];
+      Real depth = 0;
+      geometric_contact_force(g, g.place, s.x()[c.point], Vec3{}, c.stiffness, c.damping,
+                              c.world_normal, depth);
+      if (depth > 0) e += 0.5 * double(c.stiffness) * double(depth) * double(depth);
+    }
+    return e;
+  }
+
   // Through M_d the force is k times the world penetration, so each contact is a stiffness k.
   void stability_terms(std::span<const Real>, std::span<Real> k_row,
                        std::span<Real> c_row) const override {

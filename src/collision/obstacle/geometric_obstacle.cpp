@@ -95,6 +95,22 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
     ctx.profile->set_gauge(ids_[1], deepest);
   }
 
+  // The penalty's energy, 1/2 k d^2 with d the world penetration: exact where the force is k d
+  // along the world normal (world_normal, or a uniformly scaled shape), the energy of the world
+  // depth otherwise.
+  double energy(const Model&, const State& s) override {
+    const Vec3* x = s.x().data();
+    const shapes::Affine place = o_.motion.at(o_.place, s.time);
+    double e = 0;
+    for (const std::uint32_t p : set_) {
+      const Vec3 rel = x[p] - place.translation;
+      if (dot(rel, rel) > reach_ * reach_) continue;
+      const Real d = contact(p, place, s.time, x[p], Vec3{}, 0, false).depth;
+      if (d > 0) e += 0.5 * double(o_.stiffness) * double(d) * double(d);
+    }
+    return e;
+  }
+
   // Implicit solvers: the same law at their iterate, with the stiffness (k + z / h) n n^T along
   // the world normal (exact for the world-normal variant and for uniform scales; the force,
   // which decides where the solve converges, is always the brief's), and friction's.

@@ -266,6 +266,25 @@ class SelfCollision {
     if (triangles_ && triangles_->full()) refuse_triangle_contacts();
   }
 
+  // The contacts' potential at x: 1/2 k (s - d)^2 per close pair (in a < b order) and per
+  // particle-triangle contact (counted as apply() pushes them: a shared edge or corner once).
+  // The triangles' pass runs apply's search into `scratch` (forces discarded).
+  double energy(const Vec3* x, const Vec3* v, std::vector<Vec3>& scratch, std::size_t points,
+                int threads) {
+    const double r = s_.radius, k = s_.stiffness;
+    double e = 0;
+    for_each_close_pair(x, threads, [&](std::uint32_t a, std::uint32_t b) {
+      const double gap = r - double(norm(x[b] - x[a]));
+      if (gap > 0) e += 0.5 * k * gap * gap;
+    });
+    if (!triangles_) return e;
+    scratch.assign(points, Vec3{});
+    triangles_->apply(x, v, scratch.data(), {s_.radius, s_.stiffness, s_.damping, s_.friction},
+                      s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
+    if (triangles_->full()) refuse_triangle_contacts();
+    return e + triangles_->energy(s_.stiffness);
+  }
+
   // Each particle sums its own contacts in its partners' order: no atomics, and the same sums
   // whatever the broad phase, the cell size or the thread count.
   SelfCollisionStats apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
@@ -507,6 +526,7 @@ class SelfCollisionStage final : public Stage {
       triangle_terms_.storage().clear();
       return;
     }
+    threads_ = ctx.threads;
     const SelfCollisionStats st =
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
@@ -567,6 +587,12 @@ class SelfCollisionStage final : public Stage {
     }
   }
 
+  double energy(const Model&, const State& s) override {
+    if (!enabled_) return 0;
+    // On the threads of the last pass: the per-thread lists keep their size (no allocation).
+    return engine_.energy(s.x().data(), s.v().data(), energy_scratch_, s.size(), threads_);
+  }
+
   const LinkPoolBase* implicit_links() const override { return &contacts_; }
   TriangleContacts* triangle_contacts() override {
     return engine_.settings().primitive == Primitive::triangles ? &triangle_terms_ : nullptr;
@@ -602,6 +628,8 @@ class SelfCollisionStage final : public Stage {
   std::vector<std::string> warnings_;  // leak_warnings of the resolved settings
   std::array<int, 8> ids_{-1, -1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
+  std::vector<Vec3> energy_scratch_;  // energy(): the triangles' forces, discarded
+  int threads_ = 1;                   // of the last apply()
   // This step's contact candidates as conditional links (same law) with their friction lagged
   // (self_contact_link.hpp), for implicit schemes: the pairs within s + margin, margin covering
   // the step's motion, so that a solve that moves points by a whole step (vertex block descent)

@@ -1,8 +1,8 @@
 #include "triangle_proximity.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "../thread_lists.hpp"
@@ -252,6 +252,7 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
                                        const TriangleResponse& r,
                                        const TopologicalExclusion* exclusion, int threads) {
   full_ = false;
+  all_.clear();  // energy() reads the contacts of the last pass, none when it stops early
   if (tris_.empty() || set_.empty()) return 0;
   const Real reach = r.radius * (1 + kSkinFraction);
   const bool listed = !near_off_ && (near_holds(x, r.radius, reach, exclusion) ||
@@ -290,7 +291,7 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
         thread_full_[std::size_t(thread_id())] = 1;
         return;
       }
-      out.push_back({p, t, fe.kind, fe.a, fe.b, force, w});
+      out.push_back({p, t, fe.kind, fe.a, fe.b, force, w, r.radius - dist});
     };
     if (listed)
       touch(k, near_[std::size_t(i)][1], x, r.radius, contact);
@@ -320,6 +321,12 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
     for (int k = 0; k < 3; ++k) f[tri[std::size_t(k)]] -= c.force * c.weight[std::size_t(k)];
   }
   return all_.size();
+}
+
+double TriangleProximity::energy(Real stiffness) const {
+  double e = 0;
+  for (const Contact& c : all_) e += 0.5 * double(stiffness) * double(c.gap) * double(c.gap);
+  return e;
 }
 
 }  // namespace maille::collision

@@ -68,6 +68,8 @@ class TriangleProximity {
   void candidates(const Vec3* x, const Vec3* v, Real radius, Real h, Real max_margin,
                   const TopologicalExclusion* exclusion, int threads,
                   std::vector<std::array<std::uint32_t, 4>>& out);
+  // The potential 1/2 k (radius - d)^2 of the contacts the last apply() pushed.
+  double energy(Real stiffness) const;
   std::size_t triangles() const { return tris_.size(); }
   bool full() const { return full_; }
   std::size_t max_contacts() const { return max_contacts_; }
@@ -80,6 +82,7 @@ class TriangleProximity {
     std::uint32_t kind, a, b;
     Vec3 force;                  // on the particle
     std::array<Real, 3> weight;  // barycentric weights of the closest point
+    Real gap;                    // radius - distance, m (> 0)
   };
   struct Grid {
     Vec3 lo{};
