@@ -22,7 +22,7 @@
 
 #if defined(MAILLE_VBD_LANES_X86)
 namespace maille::vbd_lanes {
-extern const Kernels kKernels2, kKernels4, kKernels8;
+extern const Kernels kKernels2, kKernels4, kKernels8, kKernels8Portable;
 }
 #endif
 
@@ -32,8 +32,13 @@ namespace {
 
 constexpr std::uint32_t kPadding = std::numeric_limits<std::uint32_t>::max();
 
+std::atomic<int> g_forced{0};
+std::atomic<bool> g_portable{false};  // set_vbd_lane_width_portable
+
 const vbd_lanes::Kernels* kernels_of(int width) {
 #if defined(MAILLE_VBD_LANES_X86)
+  if (width == 8 && g_portable.load(std::memory_order_relaxed))
+    return &vbd_lanes::kKernels8Portable;
   switch (width) {
     case 2:
       return &vbd_lanes::kKernels2;
@@ -67,7 +72,6 @@ int from_environment() {
   return width;
 }
 
-std::atomic<int> g_forced{0};
 
 const LinkPool<SpringDamper>* spring_dampers(const LinkPoolBase& pool) {
   return dynamic_cast<const LinkPool<SpringDamper>*>(&pool);
@@ -89,7 +93,18 @@ int vbd_lane_width() {
 bool set_vbd_lane_width(int width) {
   if (width != 0 && !vbd_lane_width_runs(width)) return false;
   g_forced.store(width, std::memory_order_relaxed);
+  g_portable.store(false, std::memory_order_relaxed);
   return true;
+}
+
+bool set_vbd_lane_width_portable() {
+#if defined(MAILLE_VBD_LANES_X86)
+  g_portable.store(true, std::memory_order_relaxed);
+  g_forced.store(8, std::memory_order_relaxed);
+  return true;
+#else
+  return false;
+#endif
 }
 
 bool VbdLanes::runs(const LinkPoolBase& pool) {
@@ -97,7 +112,8 @@ bool VbdLanes::runs(const LinkPoolBase& pool) {
 }
 
 bool VbdLanes::current() const {
-  return requested_ == vbd_lane_width();
+  const int w = vbd_lane_width();
+  return requested_ == w && requested_kernels_ == kernels_of(w);
 }
 
 void VbdLanes::arrange(std::span<const LanePoolRows> pools,
@@ -105,6 +121,7 @@ void VbdLanes::arrange(std::span<const LanePoolRows> pools,
                        std::span<const std::uint32_t> by_colour) {
   const int w = vbd_lane_width();
   requested_ = w;
+  requested_kernels_ = kernels_of(w);
   kernels_ = pools.empty() || pools.size() > 255 ? nullptr : kernels_of(w);
   pools_.assign(pools.begin(), pools.end());
   if (!kernels_) return;

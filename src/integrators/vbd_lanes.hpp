@@ -31,6 +31,11 @@ int vbd_lane_width();
 // Forces a width for the VBD solvers' next steps (0: back to the default); false, and nothing
 // changed, for a width this CPU or build cannot run.
 bool set_vbd_lane_width(int width);
+// Forces 8 lanes compiled for the build's own instruction set (the compiler splits each vector
+// operation), which any x86-64 CPU runs: the tests' check of the 8-lane layout on a CPU without
+// AVX-512 (the instructions differ, the operations and their order do not). False where there
+// are no lanes; set_vbd_lane_width undoes it.
+bool set_vbd_lane_width_portable();
 
 // One model pool's links by point, as VBD keeps them (PoolRows).
 struct LanePoolRows {
@@ -71,7 +76,8 @@ class VbdLanes {
   vbd_lanes::Block block(std::size_t b) const;
 
   const vbd_lanes::Kernels* kernels_ = nullptr;
-  int requested_ = 0;  // vbd_lane_width() when arranged
+  int requested_ = 0;                                      // vbd_lane_width() when arranged
+  const vbd_lanes::Kernels* requested_kernels_ = nullptr;  // and its kernels
   std::vector<LanePoolRows> pools_;
   std::vector<std::uint32_t> block_of_colour_;  // [colours + 1] first block of each colour
   std::vector<std::uint32_t> points_;           // [blocks * W]

@@ -20,20 +20,32 @@
 namespace maille {
 namespace {
 
+// A width to test: 2, 4 or 8 lanes in the CPU's instructions, or (portable) 8 lanes in the
+// build's own where the CPU has no AVX-512.
+struct Width {
+  int lanes = 0;
+  bool portable = false;
+};
+
 // Puts the default width back whatever a test forced.
 struct ForcedWidth {
-  explicit ForcedWidth(int w) { ok = set_vbd_lane_width(w); }
+  explicit ForcedWidth(Width w) {
+    ok = w.portable ? set_vbd_lane_width_portable() : set_vbd_lane_width(w.lanes);
+  }
   ~ForcedWidth() { set_vbd_lane_width(0); }
   bool ok = false;
 };
 
-std::vector<int> lane_widths() {
-  std::vector<int> out;
+std::vector<Width> lane_widths() {
+  std::vector<Width> out;
   for (const int w : {2, 4, 8})
-    if (vbd_lane_width_runs(w))
-      out.push_back(w);
-    else
-      std::printf("[ skipped  ] %d lanes: this CPU cannot run them\n", w);
+    if (vbd_lane_width_runs(w)) {
+      out.push_back({w, false});
+    } else {
+      std::printf("[ skipped  ] %d lanes: this CPU cannot run them%s\n", w,
+                  w == 8 ? " (8 lanes in the build's own instructions instead)" : "");
+      if (w == 8) out.push_back({8, true});
+    }
   return out;
 }
 
@@ -119,12 +131,12 @@ TEST(VbdLanes, KernelsGiveTheScalarTermsBitForBit) {
   const std::uint32_t split = 70;
   const std::vector<std::uint32_t> colour_row{0, split, std::uint32_t(n)};
   const LanePoolRows rows{&pool, csr.row.data(), csr.slots.data()};
-  for (const int w : lane_widths()) {
+  for (const Width w : lane_widths()) {
     ForcedWidth forced(w);
     ASSERT_TRUE(forced.ok);
     VbdLanes lanes;
     lanes.arrange({&rows, 1}, colour_row, points);
-    ASSERT_EQ(lanes.width(), w);
+    ASSERT_EQ(lanes.width(), w.lanes);
     std::vector<Vec3> g2(n), dx2(n);
     std::vector<Mat3> hess2(n);
     const vbd_lanes::Step step{&x[0].x, &v[0].x,       &y[0].x, m.points.mass.data(),
@@ -136,9 +148,9 @@ TEST(VbdLanes, KernelsGiveTheScalarTermsBitForBit) {
         lanes.terms(c, off, count, step, &g2[0].x, &hess2[0].m[0][0]);
         lanes.solve(c, off, count, &g2[0].x, &hess2[0].m[0][0], &dx2[colour_row[c] + off].x);
       }
-    EXPECT_TRUE(same_bits(g, g2)) << w << " lanes: g";
-    EXPECT_TRUE(same_bits(hess, hess2)) << w << " lanes: H";
-    EXPECT_TRUE(same_bits(dx, dx2)) << w << " lanes: H^-1 g";
+    EXPECT_TRUE(same_bits(g, g2)) << w.lanes << " lanes: g";
+    EXPECT_TRUE(same_bits(hess, hess2)) << w.lanes << " lanes: H";
+    EXPECT_TRUE(same_bits(dx, dx2)) << w.lanes << " lanes: H^-1 g";
   }
 }
 
@@ -195,15 +207,16 @@ TEST(VbdLanes, StepsGiveTheScalarSweepsBits) {
   for (const Case& c : cases) {
     Trajectory scalar;
     {
-      ForcedWidth forced(1);
+      ForcedWidth forced({1, false});
       scalar = run(c.example, c.overrides, c.steps, c.threads);
     }
-    for (const int w : lane_widths()) {
+    for (const Width w : lane_widths()) {
       ForcedWidth forced(w);
       ASSERT_TRUE(forced.ok);
       const Trajectory lanes = run(c.example, c.overrides, c.steps, c.threads);
       EXPECT_TRUE(same_bits(scalar.x, lanes.x) && same_bits(scalar.v, lanes.v))
-          << c.example << " on " << c.threads << " threads, " << w << " lanes";
+          << c.example << " on " << c.threads << " threads, " << w.lanes << " lanes"
+          << (w.portable ? " (portable)" : "");
     }
   }
 }
