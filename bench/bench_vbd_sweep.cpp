@@ -16,8 +16,8 @@
 #include "integrators/vbd_lanes.hpp"
 #include "maille/link_registry.hpp"
 #include "maille/scene.hpp"
-#include "maille/stage_registry.hpp"
 #include "maille/simulator.hpp"
+#include "maille/stage_registry.hpp"
 
 namespace {
 

@@ -72,7 +72,6 @@ int from_environment() {
   return width;
 }
 
-
 const LinkPool<SpringDamper>* spring_dampers(const LinkPoolBase& pool) {
   return dynamic_cast<const LinkPool<SpringDamper>*>(&pool);
 }
