@@ -231,6 +231,7 @@ void VertexBlockDescent::colour() {
   for (const std::uint32_t i : free_) by_colour_[colour_row_[colour_of_[i]]++] = i;
   for (std::uint32_t c = colours; c > 0; --c) colour_row_[c] = colour_row_[c - 1];
   colour_row_[0] = 0;
+  arrange_lanes();
 }
 
 void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_next,
@@ -304,6 +305,14 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
 // `skip_kept`, the pools the coarse correction keeps are left out (coarse_terms adds them).
 void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, const Model& m,
                                      const Vec3* x, const Vec3* v, Real h, bool skip_kept) {
+  inertia_terms(points, m, x, v, h);
+  later_terms(points, x, v, h, 0, skip_kept);
+}
+
+// The terms of inertia and drag: g_i and H_i from zero (the lanes compute the same ones,
+// vbd_lanes_kernel.hpp).
+void VertexBlockDescent::inertia_terms(std::span<const std::uint32_t> points, const Model& m,
+                                       const Vec3* x, const Vec3* v, Real h) {
   const Real inv_h = Real(1) / h, inv_h2 = inv_h * inv_h;
   const Real drag = m.fields.air_drag;
   for (const std::uint32_t i : points) {
@@ -312,10 +321,20 @@ void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, cons
     hess_[i] = Mat3::identity() * (mass * (inv_h2 + drag * inv_h));
     touching_[i] = 0;
   }
-  for (const PoolRows& r : rows_)
+}
+
+// The links of rows_[first_pool] on, then the stages' contacts, added to g_i and H_i in the
+// order that makes a point's sums the same whichever path computed the earlier terms.
+void VertexBlockDescent::later_terms(std::span<const std::uint32_t> points, const Vec3* x,
+                                     const Vec3* v, Real h, std::size_t first_pool,
+                                     bool skip_kept) {
+  const Real inv_h = Real(1) / h;
+  for (std::size_t p = first_pool; p < rows_.size(); ++p) {
+    const PoolRows& r = rows_[p];
     if (!skip_kept || !coarse_.blocks_of(r.pool))
       r.pool->add_point_terms(points, r.row.data(), r.slots.data(), x, v, inv_h, g_.data(),
                               hess_.data());
+  }
   for (std::size_t t = 0; t < triangle_stages_; ++t) {
     const TriangleRows& r = triangles_[t];
     r.contacts->add_point_terms(points, r.row.data(), r.entries.data(), x, v, inv_h, g_.data(),
@@ -323,6 +342,20 @@ void VertexBlockDescent::point_terms(std::span<const std::uint32_t> points, cons
   }
   for (const PointContacts* c : contacts_)
     c->add_terms(points, x, v, inv_h, g_.data(), hess_.data(), touching_.data());
+}
+
+// Lays the lanes out for the colours just found: the leading model pools that run in lanes
+// (vbd_lanes.hpp; a later pool in lanes would add its sums before an earlier scalar one's).
+void VertexBlockDescent::arrange_lanes() {
+  std::vector<LanePoolRows>& pools = lane_rows_;
+  pools.clear();
+  if (vbd_lane_width() > 1)
+    for (const PoolRows& r : rows_) {
+      if (!r.fixed || !VbdLanes::runs(*r.pool)) break;
+      pools.push_back({r.pool, r.row.data(), r.slots.data()});
+    }
+  lanes_.arrange(pools, colour_row_, by_colour_);
+  arranged_ = true;
 }
 
 // One Gauss-Seidel sweep, colour by colour; returns the sweep's merit, the sum over free points
@@ -353,7 +386,7 @@ Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
 #pragma omp for schedule(static)
     for (std::int64_t b = 0; b < blocks; ++b) {
       const std::int64_t lo = begin + b * kBlock, hi = std::min(end, lo + kBlock);
-      update_block({by_colour_.data() + lo, std::size_t(hi - lo)}, m, x, v, h);
+      update_block(std::uint32_t(c), std::uint32_t(lo - begin), std::uint32_t(hi - lo), m, x, v, h);
     }
   }
   Real merit = 0;
@@ -361,19 +394,26 @@ Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
   return merit;
 }
 
-void VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const Model& m, Vec3* x,
-                                      Vec3* v, Real h) {
+// The Newton steps of `count` points of a colour from by_colour_[colour_row_[c] + offset], in
+// lanes when they run (the same bits: vbd_lanes.hpp), then their contacts.
+void VertexBlockDescent::update_block(std::uint32_t colour, std::uint32_t offset,
+                                      std::uint32_t count, const Model& m, Vec3* x, Vec3* v,
+                                      Real h) {
+  const std::span<const std::uint32_t> pts(by_colour_.data() + colour_row_[colour] + offset, count);
   const Real inv_h = Real(1) / h, half_thinnest = Real(0.5) * thinnest_;
-  point_terms(pts, m, x, v, h);
-  for (const std::uint32_t i : pts) {
-    const Vec3 dx = inverse_spd(hess_[i]) * g_[i];
-    trial_x_[i] = is_finite(dx) ? x[i] + dx : x[i];  // non-finite: left to the health check
-    if (bounded_) trial_x_[i] = within_bound(x[i], trial_x_[i], bound_[i]);
-    trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
-    trial_touch_[i] = 0;
-    trial_g_[i] = Vec3{};
-    trial_h_[i] = Mat3{};
-    decrement_[i] = is_finite(dx) ? dot(g_[i], dx) : Real(0);
+  if (lanes_.width() > 1) {
+    for (const std::uint32_t i : pts) touching_[i] = 0;
+    const vbd_lanes::Step step{&x[0].x, &v[0].x,       &y_[0].x,         m.points.mass.data(),
+                               inv_h,   inv_h * inv_h, m.fields.air_drag};
+    lanes_.terms(colour, offset, count, step, &g_[0].x, &hess_[0].m[0][0]);
+    later_terms(pts, x, v, h, lanes_.pools(), false);
+    alignas(64) Real dx[3 * kBlock];
+    lanes_.solve(colour, offset, count, &g_[0].x, &hess_[0].m[0][0], dx);
+    for (std::uint32_t k = 0; k < count; ++k)
+      newton_step(pts[k], x, {dx[3 * k], dx[3 * k + 1], dx[3 * k + 2]}, inv_h);
+  } else {
+    point_terms(pts, m, x, v, h);
+    for (const std::uint32_t i : pts) newton_step(i, x, inverse_spd(hess_[i]) * g_[i], inv_h);
   }
   for (const PointContacts* c : contacts_)
     c->add_terms(pts, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
@@ -395,6 +435,17 @@ void VertexBlockDescent::update_block(std::span<const std::uint32_t> pts, const 
     v[i] = (x[i] - xn_[i]) * inv_h;
     touching_[i] = 1;  // just inside either way: the acceleration leaves it there
   }
+}
+
+// Point i's trial of its Newton step dx (a non-finite one is left to the health check).
+void VertexBlockDescent::newton_step(std::uint32_t i, const Vec3* x, const Vec3& dx, Real inv_h) {
+  trial_x_[i] = is_finite(dx) ? x[i] + dx : x[i];
+  if (bounded_) trial_x_[i] = within_bound(x[i], trial_x_[i], bound_[i]);
+  trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
+  trial_touch_[i] = 0;
+  trial_g_[i] = Vec3{};
+  trial_h_[i] = Mat3{};
+  decrement_[i] = is_finite(dx) ? dot(g_[i], dx) : Real(0);
 }
 
 // Where on the move x0 -> x0 + dx point i's contact state (touching or not, as touching_[i]
@@ -470,6 +521,13 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
     coloured_ = true;
   }
   result.colours = int(colour_row_.size()) - 1;
+  // The lanes: laid out again for a width set since (tests, benchmarks), else the parameters
+  // refreshed (they may be edited between steps).
+  if (!lanes_.current())
+    arrange_lanes();
+  else if (!arranged_)
+    lanes_.refresh_params();
+  arranged_ = false;  // the next solve refreshes
 
   const Real half_thinnest = Real(0.5) * thinnest_;
   const bool coarse = coarse_.aggregates() > 0;

@@ -14,6 +14,7 @@
 #include "maille/model.hpp"
 #include "maille/state.hpp"
 #include "vbd_coarse.hpp"
+#include "vbd_lanes.hpp"
 
 namespace maille {
 
@@ -141,9 +142,15 @@ class VertexBlockDescent {
   void colour();
   void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
                    const Vec3* v, Real h, bool skip_kept = false);
+  void inertia_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
+                     const Vec3* v, Real h);
+  void later_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v, Real h,
+                   std::size_t first_pool, bool skip_kept);
+  void arrange_lanes();
   Real sweep(const Model& m, Vec3* x, Vec3* v, Real h);
-  void update_block(std::span<const std::uint32_t> points, const Model& m, Vec3* x, Vec3* v,
-                    Real h);
+  void update_block(std::uint32_t colour, std::uint32_t offset, std::uint32_t count, const Model& m,
+                    Vec3* x, Vec3* v, Real h);
+  void newton_step(std::uint32_t i, const Vec3* x, const Vec3& dx, Real inv_h);
   void initial_guess(const Model& m, State& s, Real h);
   std::pair<Real, Real> contact_change(std::uint32_t i, const Vec3& x0, const Vec3& dx, Real inv_h);
   Real largest_motion(const Vec3* x) const;
@@ -187,8 +194,11 @@ class VertexBlockDescent {
   Real margin_ = 0;    // contact search radius beyond each link's threshold, m
   Real thinnest_ = 0;  // the point contacts' thinnest region this step (PointContacts::thickness)
   Real gravity_ = 0;
-  CoarseCorrection coarse_;      // built with the static rows when settings_.coarse is on
-  std::vector<Vec3> direction_;  // [points] the coarse correction's direction
+  VbdLanes lanes_;                       // the sweeps in SIMD lanes (vbd_lanes.hpp)
+  std::vector<LanePoolRows> lane_rows_;  // the pools lanes_ runs
+  bool arranged_ = false;                // lanes_ laid out since the last solve's sweeps
+  CoarseCorrection coarse_;              // built with the static rows when settings_.coarse is on
+  std::vector<Vec3> direction_;          // [points] the coarse correction's direction
 };
 
 }  // namespace maille
