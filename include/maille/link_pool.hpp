@@ -122,9 +122,13 @@ class LinkPoolBase {
   // where add_point_terms makes two; the sums are scattered, so one thread runs it.
   virtual void add_link_terms(const Vec3* x, const Vec3* v, Real inv_h, Vec3* f, Mat3* hessian,
                               Mat3* blocks) const = 0;
-  // Conditional kinds: appends the storage slots of the links whose ends are closer than their
-  // distance scale (threshold) plus `margin` (the contact candidates of a step whose points
-  // move less than margin / 2). Always-active kinds append nothing.
+  // Conditional kinds: appends the storage slots of the links that may act while each point p
+  // stays within allow[p] of x: ends closer than the link's reach (its threshold, or the kind's
+  // reach()) plus both ends' allowances. Always-active kinds append nothing.
+  virtual void near_slots(const Vec3* x, const Real* allow,
+                          std::vector<std::uint32_t>& out) const = 0;
+  // The same with one margin for a pair: closer than the threshold (or rest length) plus
+  // `margin` (the candidates of a step whose points move less than margin / 2).
   virtual void near_slots(const Vec3* x, Real margin, std::vector<std::uint32_t>& out) const = 0;
 };
 
@@ -549,6 +553,17 @@ class LinkPool final : public LinkPoolBase {
     }
   }
 
+  void near_slots(const Vec3* x, const Real* allow,
+                  std::vector<std::uint32_t>& out) const override {
+    if constexpr (!kAlwaysActive) {
+      for (std::size_t l = 0; l < ends_.size(); ++l) {
+        const Real reach = reach_of(l) + allow[ends_[l].a] + allow[ends_[l].b];
+        if (norm2(x[ends_[l].b] - x[ends_[l].a]) < reach * reach)
+          out.push_back(static_cast<std::uint32_t>(l));
+      }
+    }
+  }
+
   void near_slots(const Vec3* x, Real margin, std::vector<std::uint32_t>& out) const override {
     if constexpr (!kAlwaysActive) {
       for (std::size_t l = 0; l < ends_.size(); ++l) {
@@ -630,6 +645,14 @@ class LinkPool final : public LinkPoolBase {
 
   // The distance scale of link l, for strain in diagnostics: a field named rest_length or
   // threshold when the kind has one, else 1 m.
+  // The distance below which link l may act: the kind's reach(params) where it declares one
+  // (a contact whose lagged friction acts at any distance), else its threshold or rest length.
+  Real reach_of(std::size_t l) const {
+    if constexpr (requires(const Params& p) { K::reach(p); })
+      return K::reach(params_[l]);
+    else
+      return rest_hint(l);
+  }
   Real rest_hint(std::size_t l) const {
     for (const auto& f : K::fields)
       if (f.name == "rest_length" || f.name == "threshold") return params_[l].*(f.member);

@@ -133,6 +133,12 @@ class TriangleContacts {
   // pushed on through it, so solvers keep each point's motion within a fraction of its
   // distances at the step's start; see implicit_vbd.hpp, "conservative bounds").
   virtual Real distance(std::size_t e, const Vec3* x) const = 0;
+  // The contact radius s, m: a candidate acts while its distance is below it (solvers leave out
+  // of their sweeps the candidates too far to act before they find them again).
+  virtual Real radius() const = 0;
+  // Whether candidate e acts at any distance this step (friction lagged from the step's start,
+  // held wherever the points go): solvers keep it in their sweeps however far it is.
+  virtual bool held(std::size_t /*e*/) const { return false; }
   // For each point i of `points`: the candidates entries[row[i]] .. entries[row[i + 1] - 1],
   // each `candidate * 4 + role`: the force on i into f[i] and the stiffness block
   // c^2 (k + z inv_h) n n^T (the energy's Gauss-Newton Hessian, with the damper through

@@ -75,6 +75,8 @@ class ImplicitEuler final : public Integrator {
         vbd_colours_ = profile.counter("vbd_colours");
         vbd_resets_ = profile.counter("vbd_acceleration_resets");
         vbd_refreshes_ = profile.counter("vbd_candidate_refreshes");
+        vbd_candidates_ = profile.counter("vbd_contact_candidates");
+        vbd_swept_ = profile.counter("vbd_contact_candidates_swept");
       }
       const VbdResult r = vbd_.solve(m, s, h);
       if (r.stopped) return;  // the simulator puts the step's start back
@@ -82,6 +84,8 @@ class ImplicitEuler final : public Integrator {
       profile.set_count(vbd_colours_, std::uint64_t(r.colours));
       profile.set_count(vbd_resets_, std::uint64_t(r.acceleration_resets));
       profile.set_count(vbd_refreshes_, std::uint64_t(r.candidate_refreshes));
+      profile.set_count(vbd_candidates_, r.candidates);
+      profile.set_count(vbd_swept_, r.candidates_swept);
     } else {
       const std::uint64_t iterations = advance_cg(m, s, h, forces, profile);
       if (forces.stop_requested()) return;  // stopped inside: the step's start comes back
@@ -216,7 +220,7 @@ class ImplicitEuler final : public Integrator {
   static constexpr int kBoundStages = 8;
   VertexBlockDescent vbd_;
   int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1, vbd_resets_ = -1,
-      vbd_refreshes_ = -1;
+      vbd_refreshes_ = -1, vbd_candidates_ = -1, vbd_swept_ = -1;
   std::vector<Vec3> x0_, v0_, rhs_, dv_;
   int cg_iterations_ = 0, cg_residual_ = 0, newton_residual_ = 0;
   double newton_residual_value_ = 0;

@@ -74,7 +74,10 @@ struct VbdResult {
   int colours = 0;              // colours of the point graph (links and this step's contacts)
   int candidate_refreshes = 0;  // contact candidates found again because points moved far
   int coarse_corrections = 0;   // coarse corrections taken (vbd_coarse.hpp)
-  bool stopped = false;         // a stop was requested between two sweeps: x, v are unfinished
+  // Contact candidates of the step (conditional and stage links, point-triangle candidates) at
+  // the last find_candidates, and those near enough to act that the sweeps load.
+  std::uint64_t candidates = 0, candidates_swept = 0;
+  bool stopped = false;  // a stop was requested between two sweeps: x, v are unfinished
 };
 
 // The implicit Euler step as a minimisation (Chen, Macklin et al., "Vertex Block Descent",
@@ -125,6 +128,8 @@ class VertexBlockDescent {
     std::vector<std::uint32_t> row;    // [points + 1] offsets into slots
     std::vector<std::uint32_t> slots;  // storage slots of the pool's links, by point
     bool fixed = false;                // always-active model pool: rows built once
+    // Of those, the links near enough to act (compact()): the sweeps' rows, when not fixed.
+    std::vector<std::uint32_t> swept_row, swept_slots;
   };
 
   // A stage's point-triangle contacts of this step, by point: entries = candidate * 4 + role.
@@ -132,12 +137,22 @@ class VertexBlockDescent {
     TriangleContacts* contacts = nullptr;
     std::vector<std::uint32_t> row;      // [points + 1]
     std::vector<std::uint32_t> entries;  // candidates' roles, by point
+    std::vector<std::uint8_t> kept;      // [candidates] 1: near enough to act (compact())
+    std::vector<std::uint32_t> swept_row, swept_entries;  // the kept ones: the sweeps' rows
   };
 
   void build_static_rows(const Model& m);
   void triangle_rows(std::span<TriangleContacts* const> contacts);
   void take_bounds(const Model& m, const Vec3* x);
   void find_candidates(const Model& m, const Vec3* x, Real margin);
+  // The sweeps' rows: of the candidates, those that may act while every point stays within its
+  // allowance of x_n, the allowances taken from the motion of x (implicit_vbd.cpp).
+  void compact(const Vec3* x);
+  void take_allowances(const Vec3* x);
+  Real margin_for(const Vec3* x) const;
+  void candidate_rows(const TriangleRows& t, const std::vector<std::uint8_t>* kept,
+                      std::vector<std::uint32_t>& row, std::vector<std::uint32_t>& entries) const;
+  bool beyond_allowance(const Vec3* x) const;
   void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
   void colour();
   void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
@@ -157,7 +172,6 @@ class VertexBlockDescent {
   bool leaves_cleanly(std::uint32_t i, const Vec3& from, Real half_thinnest);
   Real first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only);
   void stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only);
-  Real margin_for(const Vec3* x) const;
   void coarse_terms(const Model& m, const Vec3* x, const Vec3* v, Real h);
   bool coarse_step(const Model& m, Vec3* x, Vec3* v, Real h);
   void extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3* v, Real h, Real half_thinnest);
@@ -191,7 +205,11 @@ class VertexBlockDescent {
   std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]
   std::vector<Mat3> trial_h_;                         // [points]
   std::vector<std::uint8_t> touching_, trial_touch_;  // [points]
-  Real margin_ = 0;    // contact search radius beyond each link's threshold, m
+  Real margin_ = 0;  // contact search radius beyond each link's threshold, m
+  // [points] how far each point may go from x_n before the sweeps' rows are taken again, m
+  std::vector<Real> allow_;
+  bool compacted_ = false;                               // compact() ran this step
+  std::uint64_t candidates_ = 0, candidates_swept_ = 0;  // at the last find_candidates
   Real thinnest_ = 0;  // the point contacts' thinnest region this step (PointContacts::thickness)
   Real gravity_ = 0;
   VbdLanes lanes_;                       // the sweeps in SIMD lanes (vbd_lanes.hpp)

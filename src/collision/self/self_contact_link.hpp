@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 
 #include "maille/links/conditional.hpp"
 #include "maille/self_collision.hpp"
@@ -33,6 +34,11 @@ struct FrictionalContact {
 
   static bool is_active(const Vec3& xa, const Vec3& xb, const Params& p) {
     return p.lag_force > 0 || Normal::is_active(xa, xb, p.normal);
+  }
+  // The distance below which the link may act (LinkPool::near_slots): the contact radius, or
+  // anywhere while its lagged friction acts.
+  static Real reach(const Params& p) {
+    return p.lag_force > 0 ? std::numeric_limits<Real>::infinity() : p.normal.threshold;
   }
   static Vec3 friction_force(const Vec3& va, const Vec3& vb, const Params& p, Real& scale) {
     scale = 0;

@@ -36,6 +36,10 @@ class TriangleContactTerms final : public TriangleContacts {
   std::span<const std::array<std::uint32_t, 4>> candidates() const override { return candidates_; }
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f) const override;
   Real distance(std::size_t e, const Vec3* x) const override;
+  Real radius() const override { return radius_; }
+  bool held(std::size_t e) const override {
+    return friction_ > 0 && e < lag_force_.size() && lag_force_[e] > 0;
+  }
   void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
                        const std::uint32_t* entries, const Vec3* x, const Vec3* v, Real inv_h,
                        Vec3* f, Mat3* hessian) const override;
