@@ -1,7 +1,7 @@
 // peer_bullet: Maille against Bullet's soft-body cloth on the same scene (docs/peer.md).
 //
 //   peer_bullet --out DIR [--quick] [--sizes 32,64,128] [--duration T] [--engine maille|bullet]
-//               [--large-steps]
+//               [--settings default,tuned] [--large-steps [--rates 60,120,240] [--sweeps 10]]
 //
 // A square cloth (1 m, 0.3 kg, structural + shear springs) dropped flat from 0.5 m above a
 // fixed sphere (R = 0.25 m), n x n particles for n = 32, 64, 128; each engine with its default
@@ -15,7 +15,14 @@
 // `--quick`: 32 and 64 only, 0.5 s simulated (the ctest). The full run simulates 2 s.
 // `--large-steps`: Maille's implicit Euler by vertex block descent (10 sweeps, geometric sphere
 // in the solve) also runs at the animation steps 1/60, 1/120 and 1/240 s, no ladder: rows with
-// setting vbd_60, vbd_120, vbd_240, held to the tuned bounds (docs/implicit.md).
+// setting vbd_60, vbd_120, vbd_240, held to the tuned bounds (docs/implicit.md). `--rates` picks
+// the steps (per second) and `--sweeps` the sweep counts (a row per pair; a count other than 10
+// is named vbd_60_s15 and so on).
+// `--settings`: which of the ladders' settings run (default both, default and tuned), each
+// for both engines or for one (`bullet.tuned`): `--large-steps --settings bullet.tuned` runs
+// only the VBD rows and Bullet tuned's ladder (the default ladders take minutes at 128^2, where
+// Bullet's defaults hold at no step).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -95,7 +102,8 @@ void write_csv(const std::filesystem::path& dir, const std::vector<Row>& rows) {
 int usage() {
   std::fprintf(stderr,
                "usage: peer_bullet --out DIR [--quick] [--sizes 32,64,128] [--duration T] "
-               "[--engine maille|bullet] [--large-steps]\n");
+               "[--engine maille|bullet] [--settings default,tuned,bullet.tuned] [--large-steps "
+               "[--rates 60,120,240] [--sweeps 10]]\n");
   return 2;
 }
 
@@ -108,6 +116,15 @@ int main(int argc, char** argv) {
   double duration = 0;
   std::string engine;  // "": both
   bool large_steps = false;
+  std::vector<int> rates, sweeps;
+  std::vector<std::string> settings;
+  const auto ints = [](const char* text) {
+    std::vector<int> values;
+    std::stringstream list(text);
+    for (std::string item; std::getline(list, item, ',');)
+      values.push_back(std::atoi(item.c_str()));
+    return values;
+  };
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc) {
@@ -117,9 +134,22 @@ int main(int argc, char** argv) {
     } else if (a == "--large-steps") {
       large_steps = true;
     } else if (a == "--sizes" && i + 1 < argc) {
+      sizes = ints(argv[++i]);
+    } else if (a == "--rates" && i + 1 < argc) {
+      rates = ints(argv[++i]);
+    } else if (a == "--sweeps" && i + 1 < argc) {
+      sweeps = ints(argv[++i]);
+    } else if (a == "--settings" && i + 1 < argc) {
       std::stringstream list(argv[++i]);
-      for (std::string item; std::getline(list, item, ',');)
-        sizes.push_back(std::atoi(item.c_str()));
+      for (std::string item; std::getline(list, item, ',');) {
+        const std::string bare = item.substr(item.find('.') + 1);
+        const std::string who =
+            item.find('.') == std::string::npos ? "" : item.substr(0, item.find('.'));
+        if ((bare != "default" && bare != "tuned") ||
+            (who != "" && who != "maille" && who != "bullet"))
+          return usage();
+        settings.push_back(item);
+      }
     } else if (a == "--engine" && i + 1 < argc) {
       engine = argv[++i];
       if (engine != "maille" && engine != "bullet") return usage();
@@ -134,6 +164,17 @@ int main(int argc, char** argv) {
   for (int n : sizes)
     if (n < 2 || n > 1024) return usage();
   if (duration <= 0) duration = quick ? 0.5 : 2.0;
+  if (rates.empty()) rates = {60, 120, 240};
+  if (sweeps.empty()) sweeps = {10};
+  if (settings.empty()) settings = {"default", "tuned"};
+  for (int r : rates)
+    if (r < 1 || r > 100000) return usage();
+  for (int k : sweeps)
+    if (k < 1 || k > 100000) return usage();
+  const auto wanted = [&](const std::string& who, const std::string& name) {
+    return std::find(settings.begin(), settings.end(), name) != settings.end() ||
+           std::find(settings.begin(), settings.end(), who + "." + name) != settings.end();
+  };
 
   // Default settings: each engine as it comes. Tuned: see docs/peer.md for how they were chosen.
   const peer::MailleSetting maille_default{};
@@ -159,6 +200,7 @@ int main(int argc, char** argv) {
       s.duration = duration;
       for (const peer::MailleSetting& m : {maille_default, maille_tuned}) {
         if (engine == "bullet") break;
+        if (!wanted("maille", m.name)) continue;
         const double estimate = peer::maille_estimate(s, m);
         Row row{"maille",
                 peer::maille_version(),
@@ -169,22 +211,26 @@ int main(int argc, char** argv) {
                 0};
         rows.push_back(ladder([&](double h) { return peer::run_maille(s, m, h); }, row, quick));
       }
-      for (const int per_second : {60, 120, 240}) {
-        if (!large_steps || engine == "bullet") break;
-        const peer::MailleSetting v{"vbd_" + std::to_string(per_second),
-                                    "implicit_euler",
-                                    "geometric",
-                                    "",
-                                    peer::Bounds{0.005, 0.3},
-                                    "solver = \"vbd\"\niterations = 10\n"};
-        Row row{"maille", peer::maille_version(), v.name, v.describe(), s.particles(), {}, 1};
-        row.r = peer::run_maille(s, v, 1.0 / per_second);
-        std::printf("    maille  %-7s n=%-5d h=1/%d: %s%s\n", v.name.c_str(), s.particles(),
-                    per_second, row.r.stable ? "stable" : "unstable: ", row.r.why.c_str());
-        rows.push_back(row);
-      }
+      for (const int per_second : rates)
+        for (const int k : sweeps) {
+          if (!large_steps || engine == "bullet") break;
+          const std::string name = "vbd_" + std::to_string(per_second) +
+                                   (k == 10 ? std::string() : "_s" + std::to_string(k));
+          const peer::MailleSetting v{name,
+                                      "implicit_euler",
+                                      "geometric",
+                                      "",
+                                      peer::Bounds{0.005, 0.3},
+                                      "solver = \"vbd\"\niterations = " + std::to_string(k) + "\n"};
+          Row row{"maille", peer::maille_version(), v.name, v.describe(), s.particles(), {}, 1};
+          row.r = peer::run_maille(s, v, 1.0 / per_second);
+          std::printf("    maille  %-7s n=%-5d h=1/%d: %s%s\n", v.name.c_str(), s.particles(),
+                      per_second, row.r.stable ? "stable" : "unstable: ", row.r.why.c_str());
+          rows.push_back(row);
+        }
       for (const peer::BulletSetting& b : {bullet_default, bullet_tuned}) {
         if (engine == "maille") break;
+        if (!wanted("bullet", b.name)) continue;
         Row row{"bullet", peer::bullet_version(), b.name, b.describe(), s.particles(), {}, 0};
         rows.push_back(ladder([&](double h) { return peer::run_bullet(s, b, h); }, row, quick));
       }

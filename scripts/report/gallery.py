@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Renders every example in examples/*.toml to a thumbnail and writes the gallery page.
 
-    gallery.py --maille BIN --out DIR --md FILE [--quick] [--width W --height H]
+    gallery.py --maille BIN --out DIR --md FILE [--quick] [--width W --height H] [--only N,...]
 
 Each scene is rendered by `maille render SCENE --out DIR/NAME.png --duration T --width W
 --height H` (headless EGL), T from GALLERY_TIME below (a moment that shows what the scene is
@@ -9,6 +9,8 @@ about) or the smaller of the scene's duration and 2 s, with GALLERY_CAMERA's vie
 automatic framing is not the best. The page (FILE) is a table: thumbnail,
 name, the scene's `description`, and the exact command that reproduces the thumbnail.
 --quick renders 160 x 90 thumbnails at t = 0.1 s (a check that every scene renders; for CI).
+--only NAME,... renders only those scenes (a new example's thumbnail without rendering all
+again); every other scene keeps the thumbnail already in DIR and its row on the page.
 Exit 1 if any scene fails to render (the others are still rendered and listed).
 """
 import argparse
@@ -26,14 +28,15 @@ from gallery_timings import TIMINGS_BEGIN, TIMINGS_END
 GALLERY_TIME = {
     "flag_in_wind": 2.5, "hanging_net": 1.5, "rope_bridge": 1.5, "jelly_cube_bounce": 1.0,
     "drum_membrane": 0.3, "lattice_balls_collide": 0.8, "pendulum_chain": 0.53,
-    "cloth_heap": 2.5, "flag_storm": 3.0, "cloth_wringing": 2.5, "cloth_down_stairs": 3.0,
-    "rope_coil": 3.0, "net_and_rotating_cube": 2.0, "shaken_flag": 2.0,
+    "cloth_heap": 2.5, "cloth_heap_vbd": 2.5, "flag_storm": 3.0, "cloth_wringing": 2.5,
+    "cloth_down_stairs": 3.0, "rope_coil": 3.0, "net_and_rotating_cube": 2.0, "shaken_flag": 2.0,
 }
 
 # Camera (yaw, pitch[, zoom]) where the automatic framing is not the best view; these are the
 # views of the README's pictures.
 GALLERY_CAMERA = {
-    "cloth_heap": "35,25,0.7", "cloth_wringing": "20,20,0.9", "two_cloths": "30,30,0.7",
+    "cloth_heap": "35,25,0.7", "cloth_heap_vbd": "35,25,0.7", "cloth_wringing": "20,20,0.9",
+    "two_cloths": "30,30,0.7",
     "flag_storm": "40,10", "tablecloth_on_table": "30,25,0.9", "cloth_down_stairs": "50,20,0.9",
     "cloth_in_bowl": "20,35,0.9", "cloth_on_torus": "30,30,0.9", "cloth_over_rock": "30,25,0.9",
     "cloth_on_cylinder": "40,20,0.9", "smooth_flag_16": "35,15,0.8", "flag_64": "35,15,0.8",
@@ -75,13 +78,22 @@ def main():
     p.add_argument("--quick", action="store_true")
     p.add_argument("--width", type=int)
     p.add_argument("--height", type=int)
+    p.add_argument("--only", help="comma-separated scene names to render; the others' "
+                   "thumbnails in --out are kept")
     a = p.parse_args()
     width = a.width or (160 if a.quick else 320)
     height = a.height or (90 if a.quick else 180)
     os.makedirs(a.out, exist_ok=True)
     md_dir = os.path.dirname(os.path.abspath(a.md))
-    rows, failed, started = [], [], time.monotonic()
+    rows, failed, kept, started = [], [], [], time.monotonic()
     scenes = sorted(glob.glob(os.path.join(a.examples, "*.toml")))
+    only = set(a.only.split(",")) if a.only else None
+    if only:
+        unknown = only - {os.path.splitext(os.path.basename(s))[0] for s in scenes}
+        if unknown:
+            print(f"gallery: --only: no such scene in {a.examples}: {', '.join(sorted(unknown))}",
+                  file=sys.stderr)
+            sys.exit(2)
     for path in scenes:
         name = os.path.splitext(os.path.basename(path))[0]
         with open(path, "rb") as f:
@@ -95,6 +107,18 @@ def main():
         if name in GALLERY_CAMERA:
             cmd += ["--camera", GALLERY_CAMERA[name]]
         cmd += GALLERY_FLAGS.get(name, [])
+        rel = os.path.relpath(png, md_dir)
+        shown = " ".join(shlex.quote(c) for c in [SHOWN_MAILLE] + cmd[1:])
+        row = f"| ![{name}]({rel}) | `{name}` | {description} (t = {t:g} s) | `{shown}` |"
+        if only and name not in only:
+            if os.path.exists(png):
+                kept.append(name)
+                rows.append(row)
+            else:
+                failed.append(name)
+                print(f"gallery: {name}: no thumbnail in {a.out} to keep (not in --only)",
+                      file=sys.stderr)
+            continue
         t0 = time.monotonic()
         r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         wall = time.monotonic() - t0
@@ -105,10 +129,7 @@ def main():
             continue
         size = os.path.getsize(png)
         print(f"gallery: {name:24s} t = {t:5.2f} s  {wall:6.1f} s wall  {size / 1e3:5.1f} kB")
-        rel = os.path.relpath(png, md_dir)
-        shown = " ".join(shlex.quote(c) for c in [SHOWN_MAILLE] + cmd[1:])
-        rows.append(f"| ![{name}]({rel}) | `{name}` | {description} (t = {t:g} s) | "
-                    f"`{shown}` |")
+        rows.append(row)
     total = time.monotonic() - started
     page = [
         "# Gallery",
@@ -116,8 +137,11 @@ def main():
         "<!-- Generated by scripts/gallery.sh (scripts/report/gallery.py): do not edit. -->",
         "",
         f"Every scene in `examples/` ({len(scenes)}), rendered headless by `maille render` "
-        f"({width} x {height}, the last frame at the time given; {len(rows)} rendered in "
-        f"{total:.0f} s of wall time{' in the quick mode' if a.quick else ''}). "
+        f"({width} x {height}, the last frame at the time given; "
+        + (f"{len(rows) - len(kept)} rendered in {total:.0f} s of wall time by this run, "
+           f"{len(kept)} kept from an earlier one"
+           if only else f"{len(rows)} rendered in {total:.0f} s of wall time")
+        + f"{' in the quick mode' if a.quick else ''}). "
         "Each command reproduces its thumbnail; `--out NAME.mp4` instead makes a video "
         "(`--width 1280 --height 720` for a large one), `--camera YAW,PITCH,ZOOM` turns the "
         "view. Regenerate the page with `scripts/gallery.sh` (or `scripts/report.sh`, which "
@@ -132,7 +156,8 @@ def main():
     with open(a.md + ".tmp", "w") as f:
         f.write("\n".join(page) + "\n")
     os.replace(a.md + ".tmp", a.md)
-    print(f"gallery: {len(rows)} of {len(scenes)} scenes in {total:.0f} s -> {a.md}")
+    print(f"gallery: {len(rows)} of {len(scenes)} scenes ({len(kept)} kept) in {total:.0f} s -> "
+          f"{a.md}")
     sys.exit(1 if failed else 0)
 
 

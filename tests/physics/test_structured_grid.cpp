@@ -9,6 +9,13 @@
 // Why a bound and not bit-identity: reproducing the CPU schedule's order per point (bands,
 // colours, chunks of 256) would need index arrays again; the bound is 1000 times the measured
 // worst case, small against any physical tolerance, and tight enough to catch a wrong link.
+// An implicit example (integrator = "implicit_euler": cloth_on_sphere_vbd, cloth_heap_vbd) is
+// compared after one step against kImplicitBound: the solve's sweeps amplify the summation
+// order's rounding by the system's condition (one step at 1/60 s: 1.9e-10 of the scene's size
+// on cloth_on_sphere_vbd, 3.4e-9 on cloth_heap_vbd), and later steps' discrete decisions
+// (a contact entered or not, the acceleration's fallback) turn that into millimetres within 20
+// steps (0.3 of the scene's size after 200), chaos rather than a wrong link, which would move a
+// point by its force times h^2 / m in the first step.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,6 +35,7 @@ namespace maille {
 namespace {
 
 constexpr double kBound = 1e-9;
+constexpr double kImplicitBound = 1e-6;  // after one step; 300 times the measured worst case
 
 double extent(const Model& m) {
   Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -97,11 +105,13 @@ TEST(StructuredGrid, AgreesWithTheGeneralPathOnEveryExample) {
     if (!has_grid) continue;
     ++grids;
     EXPECT_GT(structured_links(scene.model), 0u) << entry.path().filename();
-    const std::uint64_t steps = scene.model.points.size() > 50000 ? 20 : 200;
+    const bool implicit = scene.settings.integrator == "implicit_euler";
+    const std::uint64_t steps = implicit ? 1 : scene.model.points.size() > 50000 ? 20 : 200;
     const auto a = run(scene.model, scene.settings, true, steps);
     const auto b = run(scene.model, scene.settings, false, steps);
     const double d = max_difference(a, b), scale = extent(scene.model);
-    EXPECT_LE(d, kBound * scale) << entry.path().filename() << ": " << d << " m";
+    EXPECT_LE(d, (implicit ? kImplicitBound : kBound) * scale)
+        << entry.path().filename() << ": " << d << " m";
     RecordProperty(entry.path().stem().string(), std::to_string(d / scale));
     std::printf("%s: %.3g of the scene's size\n", entry.path().stem().string().c_str(), d / scale);
   }
