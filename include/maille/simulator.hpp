@@ -268,11 +268,23 @@ class Simulator : private ForceEvaluator {
   // The model's energies at the current state (velocity: scratch_velocity_) with every stage's
   // contact energy added (Stage::energy).
   Energies all_energies();
-  // Calls f(Installed&) for every installed stage, phase by phase in step order.
+  // Calls f(Installed&) for every installed stage, phase by phase in step order (the one
+  // loop over the three phase lists).
   template <class F>
   void for_each_installed(F&& f) {
     for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
       for (Installed& st : *list) f(st);
+  }
+  template <class F>
+  void for_each_installed(F&& f) const {
+    for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
+      for (const Installed& st : *list) f(st);
+  }
+  // Every installed stage, in step order (backends and the stability estimate take them so).
+  std::vector<const Stage*> installed_stages() const {
+    std::vector<const Stage*> out;
+    for_each_installed([&](const Installed& st) { out.push_back(st.stage.get()); });
+    return out;
   }
   bool runaway(double kinetic_plus_elastic);
   void check_forces(State& s);

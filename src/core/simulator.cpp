@@ -92,10 +92,10 @@ void Simulator::build_integrator(const std::string& name) {
   scheme->set_threads(threads_);
   if (const std::string why = scheme->check(model_); !why.empty()) throw std::invalid_argument(why);
   if (backend_) check_backend(*scheme);
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list)
-      if (const std::string why = scheme->check_stage(*st.stage); !why.empty())
-        throw std::invalid_argument(why);
+  for_each_installed([&](const Installed& st) {
+    if (const std::string why = scheme->check_stage(*st.stage); !why.empty())
+      throw std::invalid_argument(why);
+  });
   if (scheme->response_timing() == ResponseTiming::refused && !response_stages_.empty())
     throw std::invalid_argument("stage '" + response_stages_.front().stage->name() +
                                 "' rewrites forces and velocities after the fact; " + name +
@@ -107,10 +107,7 @@ void Simulator::build_integrator(const std::string& name) {
 }
 
 void Simulator::restimate_stability() {
-  std::vector<const Stage*> stages;
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list) stages.push_back(st.stage.get());
-  stability_ = estimate_stability(model_, *integrator_, stages);
+  stability_ = estimate_stability(model_, *integrator_, installed_stages());
 }
 
 void Simulator::install_model_stages() {
@@ -133,8 +130,7 @@ void Simulator::reset() {
             state_.v().begin());
   stages::drive(model_, state_, 0);
   integrator_->reset();
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (auto& st : *list) st.stage->model_changed(model_);
+  for_each_installed([&](Installed& st) { st.stage->model_changed(model_); });
   blow_up_.reset();
   unconverged_.reset();
   streak_ = Unconverged{};
@@ -520,11 +516,11 @@ void Simulator::publish() {
     snapshot_.device = {};
   }
   if (overlays_ && device == 0)
-    for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-      for (const auto& st : *list) st.stage->overlay(model_, state_, snapshot_.overlay);
+    for_each_installed(
+        [&](const Installed& st) { st.stage->overlay(model_, state_, snapshot_.overlay); });
   snapshot_.surfaces.clear();
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list) st.stage->surfaces(state_.time, snapshot_.surfaces);
+  for_each_installed(
+      [&](const Installed& st) { st.stage->surfaces(state_.time, snapshot_.surfaces); });
   for (const auto& l : publish_listeners_) l(snapshot_);
   ++snapshot_.frame;
 }

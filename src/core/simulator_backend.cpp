@@ -37,9 +37,7 @@ void Simulator::make_backend() {
 }
 
 void Simulator::check_backend(const Integrator& scheme, const Stage* extra) const {
-  std::vector<const Stage*> stages;
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list) stages.push_back(st.stage.get());
+  std::vector<const Stage*> stages = installed_stages();
   if (extra) stages.push_back(extra);
   if (const std::string why = backend_->refuses(model_, scheme, stages); !why.empty())
     throw std::invalid_argument("backend " + std::string(backend_->name()) + ": " + why);
@@ -92,10 +90,7 @@ bool Simulator::step_on_backend() {
   const auto& ids = *ids_;
   if (host_ahead_) {
     sync_host();
-    std::vector<const Stage*> stages;
-    for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-      for (const auto& st : *list) stages.push_back(st.stage.get());
-    backend_->load(model_, state_, stages);
+    backend_->load(model_, state_, installed_stages());
     host_ahead_ = false;
   }
   profile_.begin_step();
