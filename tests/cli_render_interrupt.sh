@@ -23,3 +23,26 @@ if command -v ffprobe >/dev/null; then
   echo "video of $frames frames"
 fi
 echo "interrupted render kept its video"
+
+# Ctrl-C inside an implicit step that would last minutes (100,000 VBD sweeps at h = 0.1 s): the
+# render stops inside the step (the simulator's stop request), exit 130 at once.
+rm -rf "$out.frames"
+"$maille" render "$scene" --out "$out.frames" --duration 1 --fps 2 --width 64 --height 48 \
+  --samples 1 --set simulation.integrator=implicit_euler --set simulation.step=0.1 \
+  --set simulation.implicit.solver=vbd --set simulation.implicit.iterations=100000 \
+  >"$out.log" 2>&1 &
+pid=$!
+for _ in $(seq 300); do [ -d "$out.frames" ] && break; sleep 0.1; done
+sleep 2
+kill -INT $pid
+for _ in $(seq 300); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+if kill -0 $pid 2>/dev/null; then
+  kill -KILL $pid
+  echo "render still running 30 s after Ctrl-C inside a long implicit step"
+  exit 1
+fi
+wait $pid
+rc=$?
+cat "$out.log"
+[ $rc -eq 130 ] || { echo "implicit render: exit code $rc, expected 130"; exit 1; }
+echo "interrupted inside a long implicit step"

@@ -719,6 +719,8 @@ int render(const RenderCommandOptions& o) {
     } else {
       sink = render::png_sequence(out);
     }
+    // Ctrl-C inside a long implicit step abandons it (render_movie's stop request).
+    m.stop_requested = [] { return g_stop.load(); };
     const auto t0 = std::chrono::steady_clock::now();
     render::MovieReport r;
     {

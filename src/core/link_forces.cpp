@@ -1,6 +1,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "maille/link_loops.hpp"
 #include "stages.hpp"
 
 namespace maille::stages {
@@ -23,9 +24,9 @@ LinkCounters link_forces(const Model& m, State& s, int threads) {
                              "Simulator::edit_model");
   if (threads > 1) {
 #pragma omp parallel num_threads(threads)
-    for (const auto& pool : pools) pool->accumulate(x, v, f, counters);
+    for (const auto& pool : pools) accumulate_forces(*pool, x, v, f, counters);
   } else {
-    for (const auto& pool : pools) pool->accumulate(x, v, f, counters);
+    for (const auto& pool : pools) accumulate_forces(*pool, x, v, f, counters);
   }
   return counters;
 }

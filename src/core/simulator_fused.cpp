@@ -21,6 +21,7 @@
 #include <memory>
 #include <span>
 
+#include "maille/link_loops.hpp"
 #include "point_update.hpp"
 #include "simulator_detail.hpp"
 #include "stages.hpp"
@@ -152,12 +153,12 @@ bool Simulator::fused_grid_step(Real h) {
     if (threads_ > 1) {
 #pragma omp parallel num_threads(threads_)
       {
-        pool->structured_forces(x, v, rows.f, &hook);
-        pool->other_forces(x, v, rows.f);
+        structured_forces(*pool, x, v, rows.f, &hook);
+        other_forces(*pool, x, v, rows.f);
       }
     } else {
-      pool->structured_forces(x, v, rows.f, &hook);
-      pool->other_forces(x, v, rows.f);
+      structured_forces(*pool, x, v, rows.f, &hook);
+      other_forces(*pool, x, v, rows.f);
     }
     off_grids([&](std::uint32_t first, std::uint32_t count) { finish_points(rows, first, count); });
   }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "health.hpp"
+#include "maille/link_loops.hpp"
 #include "maille/simulator.hpp"
 #include "stages.hpp"
 
@@ -27,7 +28,7 @@ std::string Simulator::blame_forces(State& s) {
   stages::clear_forces(s);
   LinkCounters ignored;
   for (const auto& pool : model_.links.pools()) {
-    pool->accumulate(x, v, f, ignored);  // outside a parallel region: serial
+    accumulate_forces(*pool, x, v, f, ignored);  // outside a parallel region: serial
     if (!all_finite(s.f())) return std::string(pool->keyword());
   }
   stages::field_forces(model_, s, 1);

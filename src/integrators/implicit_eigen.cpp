@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "implicit_system.hpp"
+#include "maille/link_loops.hpp"
 
 namespace maille {
 
@@ -37,7 +38,7 @@ class EigenSystem final : public ImplicitSystem {
                  std::span<TriangleContacts* const>) override {
     const auto pools = m.links.pools();
     for (std::size_t p = 0; p < pools.size(); ++p)
-      pools[p]->implicit_blocks(s.x().data(), s.v().data(), h, blocks_[p].data(), rhs);
+      implicit_blocks(*pools[p], s.x().data(), s.v().data(), h, blocks_[p].data(), rhs);
     Real* val = matrix_.valuePtr();
     std::fill(val, val + matrix_.nonZeros(), Real(0));
     const Real drag = h * m.fields.air_drag;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "implicit_system.hpp"
+#include "maille/link_loops.hpp"
 
 namespace maille {
 
@@ -69,9 +70,9 @@ class MatrixFreeSystem final : public ImplicitSystem {
 #pragma omp parallel num_threads(threads_) if (threads_ > 1)
     {
       for (std::size_t p = 0; p < pools.size(); ++p)
-        pools[p]->implicit_blocks(x, v, h, blocks_[p].data(), rhs);
+        implicit_blocks(*pools[p], x, v, h, blocks_[p].data(), rhs);
       for (std::size_t p = 0; p < transient_.size(); ++p)
-        transient_[p]->implicit_blocks(x, v, h, transient_blocks_[p].data(), rhs);
+        implicit_blocks(*transient_[p], x, v, h, transient_blocks_[p].data(), rhs);
     }
     // Diagonal: M (1 + h gamma) (air drag: df/dv = -gamma m) plus every block touching i.
     const Real drag = h * m.fields.air_drag;
@@ -80,9 +81,9 @@ class MatrixFreeSystem final : public ImplicitSystem {
       diagonal_[i] = Mat3::identity() * mass_[i];
     }
     for (std::size_t p = 0; p < pools.size(); ++p)
-      pools[p]->add_block_diagonal(blocks_[p].data(), diagonal_.data());
+      add_block_diagonal(*pools[p], blocks_[p].data(), diagonal_.data());
     for (std::size_t p = 0; p < transient_.size(); ++p)
-      transient_[p]->add_block_diagonal(transient_blocks_[p].data(), diagonal_.data());
+      add_block_diagonal(*transient_[p], transient_blocks_[p].data(), diagonal_.data());
     point_contact_blocks(s, h, rhs, contacts);
     triangle_contact_blocks(s, h, rhs, triangles);
     for (std::size_t i = 0; i < diagonal_.size(); ++i)
@@ -204,9 +205,9 @@ class MatrixFreeSystem final : public ImplicitSystem {
     for (std::int64_t i = 0; i < n; ++i) out[i] = u[i] * mass_[i];
     const auto pools = model_.links.pools();
     for (std::size_t p = 0; p < pools.size(); ++p)
-      pools[p]->apply_blocks(blocks_[p].data(), u.data(), out.data());
+      apply_blocks(*pools[p], blocks_[p].data(), u.data(), out.data());
     for (std::size_t p = 0; p < transient_.size(); ++p)
-      transient_[p]->apply_blocks(transient_blocks_[p].data(), u.data(), out.data());
+      apply_blocks(*transient_[p], transient_blocks_[p].data(), u.data(), out.data());
     if (!triangles_.empty()) {
       const Real h = step_;
 #pragma omp single

@@ -34,6 +34,7 @@
 #include <string>
 
 #include "implicit_system.hpp"
+#include "maille/link_loops.hpp"
 #include "maille/link_set.hpp"
 #include "maille/stage.hpp"
 
@@ -354,7 +355,7 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   // f_ext: the evaluated forces without the ones the solve takes implicitly.
   std::fill(g_.begin(), g_.end(), Vec3{});
   LinkCounters counters;
-  for (const PoolRows& r : rows_) r.pool->accumulate(x, v, g_.data(), counters);
+  for (const PoolRows& r : rows_) accumulate_forces(*r.pool, x, v, g_.data(), counters);
   for (std::size_t t = 0; t < triangle_stages_; ++t)
     triangles_[t].contacts->accumulate(x, v, g_.data());
   thinnest_ = std::numeric_limits<Real>::infinity();
@@ -410,9 +411,8 @@ void VertexBlockDescent::later_terms(std::span<const std::uint32_t> points, cons
     const PoolRows& r = rows_[p];
     if (skip_kept && coarse_.blocks_of(r.pool)) continue;
     const bool swept = !r.fixed;  // the compacted rows (compact()); fixed pools all act
-    r.pool->add_point_terms(points, (swept ? r.swept_row : r.row).data(),
-                            (swept ? r.swept_slots : r.slots).data(), x, v, inv_h, g_.data(),
-                            hess_.data());
+    add_point_terms(*r.pool, points, (swept ? r.swept_row : r.row).data(),
+                    (swept ? r.swept_slots : r.slots).data(), x, v, inv_h, g_.data(), hess_.data());
   }
   for (std::size_t t = 0; t < triangle_stages_; ++t) {
     const TriangleRows& r = triangles_[t];
@@ -709,7 +709,7 @@ void VertexBlockDescent::coarse_terms(const Model& m, const Vec3* x, const Vec3*
     }
   for (const PoolRows& r : rows_)
     if (Mat3* kept = coarse_.blocks_of(r.pool))
-      r.pool->add_link_terms(x, v, Real(1) / h, g_.data(), hess_.data(), kept);
+      add_link_terms(*r.pool, x, v, Real(1) / h, g_.data(), hess_.data(), kept);
 }
 
 // One coarse correction (vbd_coarse.hpp): x += alpha p, the coarse matrix factorised at x (once

@@ -47,6 +47,10 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
     renderer.set_overlay(snapshot.overlay);
   });
 
+  // A stop asked for inside a step that lasts minutes (an implicit solver at accepted keys)
+  // abandons it: the state of the last whole step stays.
+  if (s.stop_requested) sim.on_stop_request(s.stop_requested);
+
   const double aspect = double(s.width) / s.height;
   Camera framed;
   framed.yaw = s.yaw;
@@ -58,13 +62,21 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
     // Frame k shows the state at the step nearest to k / fps.
     const auto step = static_cast<std::uint64_t>(std::llround(double(k) / s.fps / settings.step));
     auto t0 = Clock::now();
-    while (sim.steps_taken() < step)
+    while (sim.steps_taken() < step) {
       if (!sim.step()) {
-        report.blow_up = sim.blow_up()->message;
+        if (sim.blow_up())
+          report.blow_up = sim.blow_up()->message;
+        else
+          report.interrupted = true;  // a stop request abandoned the step
         break;
       }
+      if (s.stop_requested && s.stop_requested()) {
+        report.interrupted = true;
+        break;
+      }
+    }
     report.simulate_seconds += seconds_since(t0);
-    if (report.blow_up) break;
+    if (report.blow_up || report.interrupted) break;
     sim.publish_now();
     renderer.wait_for_bounds();
     auto_frame.update(framed, renderer.bounds(), aspect);

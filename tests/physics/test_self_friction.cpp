@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "maille/builders.hpp"
+#include "maille/link_loops.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/self_collision.hpp"
 #include "maille/simulator.hpp"
@@ -142,7 +143,7 @@ TEST(SelfFriction, LaggedTermsAtTheStepStartAreTheStagesForces) {
   ASSERT_GT(pool->size(), 0u);
   std::vector<Vec3> f(st.size());
   LinkCounters counters;
-  pool->accumulate(st.x().data(), st.v().data(), f.data(), counters);
+  maille::accumulate_forces(*pool, st.x().data(), st.v().data(), f.data(), counters);
   Real largest = 0;
   for (std::size_t i = 0; i < st.size(); ++i) largest = std::max(largest, norm(st.f()[i]));
   ASSERT_GT(largest, 0);

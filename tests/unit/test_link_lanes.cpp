@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "maille/link_loops.hpp"
 #include "maille/link_pool.hpp"
 #include "maille/links/spring_damper.hpp"
 
@@ -68,10 +69,10 @@ TEST(LinkLanes, PointTermsEqualTheBlocksLinkByLinkBitForBit) {
   std::vector<Vec3> f(200, Vec3{1, 2, 3}), f_ref = f;
   std::vector<Mat3> h(200, Mat3::identity()), h_ref = h;
   // Two calls (as two blocks of a sweep) must give what one would.
-  g.pool.add_point_terms({points.data(), 77}, g.row.data(), g.slots.data(), g.x.data(), g.v.data(),
-                         kInvH, f.data(), h.data());
-  g.pool.add_point_terms({points.data() + 77, 123}, g.row.data(), g.slots.data(), g.x.data(),
-                         g.v.data(), kInvH, f.data(), h.data());
+  maille::add_point_terms(g.pool, {points.data(), 77}, g.row.data(), g.slots.data(), g.x.data(),
+                          g.v.data(), kInvH, f.data(), h.data());
+  maille::add_point_terms(g.pool, {points.data() + 77, 123}, g.row.data(), g.slots.data(),
+                          g.x.data(), g.v.data(), kInvH, f.data(), h.data());
   int stretched = 0, compressed = 0;
   for (const std::uint32_t i : points) {
     Vec3 fi{};
@@ -103,7 +104,7 @@ TEST(LinkLanes, LinkTermsEqualTheBlocksLinkByLinkBitForBit) {
   std::vector<Vec3> f(150, Vec3{}), f_ref = f;
   std::vector<Mat3> h(150, Mat3{}), h_ref = h;
   std::vector<Mat3> blocks(ends.size());
-  g.pool.add_link_terms(g.x.data(), g.v.data(), kInvH, f.data(), h.data(), blocks.data());
+  maille::add_link_terms(g.pool, g.x.data(), g.v.data(), kInvH, f.data(), h.data(), blocks.data());
   for (std::size_t l = 0; l < ends.size(); ++l) {
     const auto [a, b] = ends[l];
     const LinkBlock blk = SpringDamper::block(g.x[a], g.x[b], g.v[a], g.v[b], params[l], kInvH);

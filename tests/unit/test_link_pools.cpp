@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "maille/colouring.hpp"
+#include "maille/link_loops.hpp"
 #include "maille/link_pool.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/damper.hpp"
@@ -118,10 +119,10 @@ void check_kind(Graph g, std::mt19937_64& rng) {
     f.assign(g.points, Vec3{});
     LinkCounters counters;
     if (threads == 1) {
-      pool.accumulate(g.x.data(), g.v.data(), f.data(), counters);
+      maille::accumulate_forces(pool, g.x.data(), g.v.data(), f.data(), counters);
     } else {
 #pragma omp parallel num_threads(2)
-      pool.accumulate(g.x.data(), g.v.data(), f.data(), counters);
+      maille::accumulate_forces(pool, g.x.data(), g.v.data(), f.data(), counters);
     }
     if constexpr (requires { K::is_active(g.x[0], g.x[0], params[0]); }) {
       EXPECT_EQ(counters.active, active) << K::keyword << ", " << threads << " threads";

@@ -14,6 +14,7 @@
 #include "integrators/implicit_system.hpp"
 #include "integrators/vbd_lanes.hpp"
 #include "maille/builders.hpp"
+#include "maille/link_loops.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 
@@ -122,8 +123,8 @@ TEST(VbdLanes, KernelsGiveTheScalarTermsBitForBit) {
     g[i] = (y[i] - x[i]) * (mass * inv_h2) - v[i] * (drag * mass);
     hess[i] = Mat3::identity() * (mass * (inv_h2 + drag * inv_h));
   }
-  pool.add_point_terms(points, csr.row.data(), csr.slots.data(), x.data(), v.data(), inv_h,
-                       g.data(), hess.data());
+  add_point_terms(pool, points, csr.row.data(), csr.slots.data(), x.data(), v.data(), inv_h,
+                  g.data(), hess.data());
   for (std::size_t i = 0; i < n; ++i) dx[i] = inverse_spd(hess[i]) * g[i];
   ASSERT_TRUE(std::signbit(g[n - 1].x));
 

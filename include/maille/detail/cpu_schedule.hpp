@@ -45,27 +45,20 @@ class CpuSchedule {
   std::uint32_t chunk_end(std::size_t c) const { return chunk_begin_[c + 1]; }
   bool chunk_is_run(std::size_t c) const { return chunk_is_run_[c] != 0; }
 
-  // Runs f(chunk) over every chunk, colour by colour. Callable inside an OpenMP parallel region
-  // (the threads split each colour's bands) or outside it (serially, in the same order).
-  template <class F>
-  void for_each_chunk(F&& f) const {
-    for (std::size_t g = 0; g + 1 < groups_.size(); ++g) {
-      const auto begin = static_cast<std::int64_t>(groups_[g]);
-      const auto end = static_cast<std::int64_t>(groups_[g + 1]);
-#pragma omp for schedule(static)
-      for (std::int64_t k = begin; k < end; ++k) {
-        const std::uint32_t band = band_order_[static_cast<std::size_t>(k)];
-        for (std::uint32_t c = band_begin_[band]; c < band_begin_[band + 1]; ++c) f(c);
-      }
-    }
+  // Colour by colour, the bands no two of which share a point (src/core/schedule_loops.hpp
+  // runs them, the threads of a team splitting each colour's bands).
+  std::size_t colours() const { return groups_.empty() ? 0 : groups_.size() - 1; }
+  std::span<const std::uint32_t> bands_of_colour(std::size_t c) const {
+    return std::span<const std::uint32_t>(band_order_)
+        .subspan(groups_[c], groups_[c + 1] - groups_[c]);
   }
+  std::uint32_t first_chunk(std::uint32_t band) const { return band_begin_[band]; }
+  std::uint32_t end_chunk(std::uint32_t band) const { return band_begin_[band + 1]; }
 
  private:
   static constexpr std::uint32_t kBands = 16;
   static constexpr std::uint32_t kMinBandPoints = 256;
-  std::uint32_t band_of(std::uint32_t a) const {
-    return (a - band_origin_) / band_points_;
-  }
+  std::uint32_t band_of(std::uint32_t a) const { return (a - band_origin_) / band_points_; }
   void cut_chunks(std::span<const LinkEnds> ends);
 
   bool ready_ = false;

@@ -12,10 +12,10 @@
 // with its first record as a constant (one load instead of one per link), which gives the same
 // bits as reading each record.
 //
-// Forces (LinkPool::structured_forces) go row by row: the links whose first end is in row j
-// into a row buffer per family (zero where there is no link), then each point of row j sums, in
-// one fixed order, the forces of its links as first end (row j's buffers) and as second end
-// (the buffers of rows j, j - 1 and j - 2, read at the column offset of each family): a gather,
+// Forces (structured_forces, src/core/link_loops.cpp) go row by row: the links whose first end is
+// in row j into a row buffer per family (zero where there is no link), then each point of row j
+// sums, in one fixed order, the forces of its links as first end (row j's buffers) and as second
+// end (the buffers of rows j, j - 1 and j - 2, read at the column offset of each family): a gather,
 // no scatter, so the sum of a point does not depend on how rows are split among threads. Once
 // row j is summed it is complete (no later row's link reaches it), so a caller may finish it at
 // once (RowHook: fields, the wind and the kick-drift update, the fused step of
@@ -24,9 +24,9 @@
 // barrier, so that no strip reads positions another has already moved (RowHook::strip lets the
 // caller do the same: the wind's cells, src/core/wind_rows.hpp).
 //
-// The implicit solvers run the links by segment (for_each_segment): rows are cut into blocks of
-// at least two rows, about kBlocks per grid; blocks of even rank run together, then those of
-// odd rank, so no two blocks running at once touch one point.
+// The implicit solvers run the links by segment (for_each_segment in src/core/schedule_loops.hpp):
+// rows are cut into blocks of at least two rows, about kBlocks per grid; blocks of even rank run
+// together, then those of odd rank, so no two blocks running at once touch one point.
 #pragma once
 
 #include <array>
@@ -124,20 +124,14 @@ class StructuredGrid {
   const Segment& segment(std::size_t s) const { return segments_[s]; }
   bool uniform(std::size_t s) const { return uniform_[s] != 0; }
 
-  // Runs f(segment index) over every segment, block colour by block colour. Callable inside an
-  // OpenMP parallel region (the threads split each colour's blocks) or outside (serially, in
-  // the same order).
-  template <class F>
-  void for_each_segment(F&& f) const {
-    for (std::size_t c = 0; c + 1 < colour_begin_.size(); ++c) {
-      const auto begin = static_cast<std::int64_t>(colour_begin_[c]);
-      const auto end = static_cast<std::int64_t>(colour_begin_[c + 1]);
-#pragma omp for schedule(static)
-      for (std::int64_t k = begin; k < end; ++k) {
-        const Block& b = blocks_[static_cast<std::size_t>(k)];
-        for (std::uint32_t s = b.begin; s < b.end; ++s) f(s);
-      }
-    }
+  // Block colour by block colour, the blocks of segments no two of which (of one colour)
+  // touch one point (src/core/schedule_loops.hpp runs them): [first, end) of blocks.
+  std::size_t colours() const { return colour_begin_.empty() ? 0 : colour_begin_.size() - 1; }
+  std::pair<std::uint32_t, std::uint32_t> blocks_of_colour(std::size_t c) const {
+    return {colour_begin_[c], colour_begin_[c + 1]};
+  }
+  std::pair<std::uint32_t, std::uint32_t> segments_of_block(std::size_t k) const {
+    return {blocks_[k].begin, blocks_[k].end};
   }
 
  private:

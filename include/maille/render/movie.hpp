@@ -31,6 +31,9 @@ struct MovieSettings {
   // Stages' live settings applied before the first frame (stage, option, value), e.g.
   // {"self_collision", "draw_cells", "on"}; stages' overlays are then drawn.
   std::vector<std::array<std::string, 3>> stage_options;
+  // Polled between steps and inside long implicit steps (Simulator::on_stop_request): true
+  // stops the render at the last whole step, the frames written so far complete. May be empty.
+  std::function<bool()> stop_requested;
 };
 
 struct MovieReport {
@@ -42,7 +45,7 @@ struct MovieReport {
   double output_seconds = 0;           // wall time encoding and writing
   std::string gl;                      // the OpenGL renderer used
   std::optional<std::string> blow_up;  // the simulator's report when it stopped on a blow-up
-  bool interrupted = false;            // progress returned false
+  bool interrupted = false;            // progress returned false, or a stop was requested
 };
 
 // `progress(done, total)` is called after every frame; returning false stops the render (the
