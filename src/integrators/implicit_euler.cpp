@@ -24,10 +24,12 @@
 #include <limits>
 #include <vector>
 
+#include "contact_entry.hpp"
 #include "implicit_system.hpp"
 #include "implicit_vbd.hpp"
 #include "integrators.hpp"
 #include "maille/stage.hpp"
+#include "step_residual.hpp"
 
 namespace maille {
 
@@ -68,9 +70,8 @@ class ImplicitEuler final : public Integrator {
       solver_residual_ = profile.gauge("solver_residual");
       vbd_ = VertexBlockDescent(settings_, threads_);
     }
-    // Every solver reports the residual of the nonlinear step, measured the VBD way.
-    vbd_.begin(m, s, h, s.time + h, forces);
     if (settings_.solver == ImplicitSolver::vbd) {
+      vbd_.begin(m, s, h, s.time + h, forces);
       if (vbd_colours_ < 0) {
         vbd_colours_ = profile.counter("vbd_colours");
         vbd_resets_ = profile.counter("vbd_acceleration_resets");
@@ -86,12 +87,13 @@ class ImplicitEuler final : public Integrator {
       profile.set_count(vbd_refreshes_, std::uint64_t(r.candidate_refreshes));
       profile.set_count(vbd_candidates_, r.candidates);
       profile.set_count(vbd_swept_, r.candidates_swept);
+      profile.set_gauge(solver_residual_, vbd_.residual(m, s, h));
     } else {
       const std::uint64_t iterations = advance_cg(m, s, h, forces, profile);
       if (forces.stop_requested()) return;  // stopped inside: the step's start comes back
       profile.set_count(solver_iterations_, iterations);
+      profile.set_gauge(solver_residual_, residual_.end(m, s, h, forces));
     }
-    profile.set_gauge(solver_residual_, vbd_.residual(m, s, h));
   }
 
   // Baraff-Witkin by conjugate gradients (matrix_free or eigen); returns the CG iterations.
@@ -113,6 +115,7 @@ class ImplicitEuler final : public Integrator {
     const auto x = s.x(), v = s.v();
     std::copy(x.begin(), x.end(), x0_.begin());
     std::copy(v.begin(), v.end(), v0_.begin());
+    start_contacts(m, s, h, forces);
 
     std::uint64_t iterations = 0;
     double residual = 0;
@@ -148,7 +151,7 @@ class ImplicitEuler final : public Integrator {
     if (!finite || forces.failed()) return iterations;
     // Obstacles: a point the linearised step carried into a contact it did not touch at x_n,
     // or through a thin one, stops where it entered it (continuous detection, as in VBD).
-    vbd_.stop_at_entry(s, h);
+    entry_.stop_at_entry(free_, x.data(), v.data(), h);
     // Point-triangle candidates: no point crosses a face on its way to the solved position
     // (conservative bounds, implicit_vbd.hpp).
     if (const auto tri = forces.triangle_contacts(); !tri.empty()) {
@@ -189,6 +192,20 @@ class ImplicitEuler final : public Integrator {
   ResponseTiming response_timing() const override { return ResponseTiming::after_solve; }
 
  private:
+  // The step's start for the point contacts, as VBD takes it: placed at t_n (the residual's
+  // explicit forces are taken there), then lagged for the solve (friction's normal force held)
+  // and moved to t_n+1; continuous detection from x_n.
+  void start_contacts(const Model& m, const State& s, Real h, ForceEvaluator& forces) {
+    const auto contacts = forces.point_contacts();
+    for (PointContacts* c : contacts) c->set_time(s.time);
+    residual_.begin(m, s, h, forces);
+    free_.clear();
+    for (std::uint32_t i = 0; i < s.size(); ++i)
+      if (m.points.inv_mass[i] > 0) free_.push_back(i);
+    for (PointContacts* c : contacts) c->lag(free_, s.x().data(), s.v().data(), s.time + h);
+    entry_.begin(contacts, x0_.data(), s.size());
+  }
+
   // Iteration 0 (Baraff-Witkin): b = h f(x_n, v_n), plus h^2 df/dx v_n added by the pools.
   // Newton iteration k: b = h f(x_n + h v_k, v_k) - M (v_k - v_n).
   void build_rhs(const Model& m, const State& s, Real h, bool first) {
@@ -218,7 +235,10 @@ class ImplicitEuler final : public Integrator {
   // Stages toward the solved positions: each closes at most 0.8 of a gap, so a point within a
   // contact's reach of its face stops there after a few; eight leave 0.2^8 of a far one's way.
   static constexpr int kBoundStages = 8;
-  VertexBlockDescent vbd_;
+  VertexBlockDescent vbd_;           // solver = "vbd"
+  StepResidual residual_;            // the CG solvers' solver_residual
+  ContactEntry entry_;               // the CG solvers' continuous detection against point contacts
+  std::vector<std::uint32_t> free_;  // free points
   int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1, vbd_resets_ = -1,
       vbd_refreshes_ = -1, vbd_candidates_ = -1, vbd_swept_ = -1;
   std::vector<Vec3> x0_, v0_, rhs_, dv_;

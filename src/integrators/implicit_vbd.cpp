@@ -345,6 +345,7 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   dynamic_ = model_dynamic_ || !transient.empty() || triangle_stages_ > 0;
   const auto pc = forces.point_contacts();
   contacts_.assign(pc.begin(), pc.end());
+  entry_.begin(pc, xn_.data(), n);
   margin_ = -1;  // no candidates yet this step
   compacted_ = false;
 
@@ -606,7 +607,8 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   initial_guess(m, s, h);
   Vec3* x = s.x().data();
   Vec3* v = s.v().data();
-  stop_at_first_touch(x, v, h, false);  // the guess: the solve starts at the first contact
+  entry_.stop_at_first_touch(free_, x, v, h,
+                             false);  // the guess: the solve starts at the first contact
   if (dynamic_) {
     find_candidates(m, xn_.data(), margin_for(x));
     colour();
@@ -660,7 +662,7 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
       compact(x);  // the same candidates and colours, the sweeps' share taken again
     }
   }
-  stop_at_first_touch(x, v, h, true);  // the solve's result: only if it went through
+  entry_.stop_at_first_touch(free_, x, v, h, true);  // the solve's result: only if it went through
   result.candidates = candidates_;
   result.candidates_swept = candidates_swept_;
   return result;
@@ -779,92 +781,6 @@ bool VertexBlockDescent::leaves_cleanly(std::uint32_t i, const Vec3& from, Real 
   for (const PointContacts* c : contacts_)
     if (dot(c->push(i, from), dx) < 0) return false;
   return norm2(to - xn_[i]) <= half_thinnest * half_thinnest;
-}
-
-// Fraction of the segment x_n,i -> `to` at which point i first enters a point contact: touches
-// it after a sample outside, or while moving against its push (a point leaving a contact, or
-// sliding along one, is not stopped), just inside it. 1: it enters nothing on the way, or, with
-// through_only, it touches at `to` (the solve saw that contact). Sampled at half the thinnest
-// contact region (x_n included: a point already touching a thin box and heading through it stays),
-// then bisected between the last sample that does not enter and the first that does. Uses the trial
-// arrays of point i only (threads may run other points).
-Real VertexBlockDescent::first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only) {
-  const Vec3 from = xn_[i], d = to - from;
-  const std::span<const std::uint32_t> one(&i, 1);
-  const Real inv_h = Real(1) / h;
-  auto touches = [&](Real t) {
-    trial_x_[i] = from + d * t;
-    trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
-    trial_touch_[i] = 0;
-    trial_g_[i] = Vec3{};
-    for (const PointContacts* c : contacts_)
-      c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
-                   trial_touch_.data());
-    return trial_touch_[i] != 0;
-  };
-  auto enters = [&](Real t) { return touches(t) && dot(trial_g_[i], d) < 0; };
-  if (through_only && touches(1)) return 1;
-  bool before = touches(0);
-  if (before && dot(trial_g_[i], d) < 0) return 0;
-  const Real length = norm(d);
-  const int samples = int(std::min<Real>(kVbdMaxSegmentSamples, std::ceil(2 * length / thinnest_)));
-  for (int k = 1; k <= samples; ++k) {
-    const Real t = Real(k) / Real(samples);
-    const bool from_outside = !before;
-    before = touches(t);
-    // Entering: touching after a sample outside (whatever the push: inside a thin box mapped
-    // canonically, the push may point to a side face), or pushed against the motion.
-    if (!before || !(from_outside || dot(trial_g_[i], d) < 0)) continue;
-    Real lo = Real(k - 1) / Real(samples), hi = t;
-    for (int b = 0; b < kVbdBisections; ++b) {
-      const Real mid = Real(0.5) * (lo + hi);
-      ((from_outside ? touches(mid) : enters(mid)) ? hi : lo) = mid;
-    }
-    return hi;
-  }
-  return 1;
-}
-
-// Continuous detection for points that move more than half the thinnest contact region.
-void VertexBlockDescent::stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only) {
-  if (!(thinnest_ < std::numeric_limits<Real>::infinity())) return;
-  const Real half = Real(0.5) * thinnest_;
-  for (const std::uint32_t i : free_) {
-    if (norm2(x[i] - xn_[i]) <= half * half) continue;
-    const Real t = first_touch(i, x[i], h, through_only);
-    if (t >= 1) continue;
-    x[i] = xn_[i] + (x[i] - xn_[i]) * t;
-    v[i] = (x[i] - xn_[i]) * (Real(1) / h);
-  }
-}
-
-void VertexBlockDescent::stop_at_entry(State& s, Real h) {
-  Vec3* x = s.x().data();
-  Vec3* v = s.v().data();
-  stop_at_first_touch(x, v, h, false);
-  if (contacts_.empty()) return;
-  const Real inv_h = Real(1) / h;
-  for (const std::uint32_t i : free_) {
-    const Vec3 from = xn_[i], d = x[i] - from;
-    const std::span<const std::uint32_t> one(&i, 1);
-    auto touches = [&](Real t) {
-      trial_x_[i] = from + d * t;
-      trial_v_[i] = d * (t * inv_h);
-      trial_touch_[i] = 0;
-      for (const PointContacts* c : contacts_)
-        c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
-                     trial_touch_.data());
-      return trial_touch_[i] != 0;
-    };
-    if (touches(0) || !touches(1)) continue;
-    Real lo = 0, hi = 1;
-    for (int b = 0; b < kVbdBisections; ++b) {
-      const Real mid = Real(0.5) * (lo + hi);
-      (touches(mid) ? hi : lo) = mid;
-    }
-    x[i] = from + d * hi;
-    v[i] = (x[i] - from) * inv_h;
-  }
 }
 
 double VertexBlockDescent::residual(const Model& m, const State& s, Real h) {

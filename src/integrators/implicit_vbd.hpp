@@ -1,5 +1,5 @@
-// Internal: vertex block descent (VBD) for the implicit Euler step, and the step's force
-// residual that every implicit solver reports (implicit_vbd.cpp).
+// Internal: vertex block descent (VBD) for the implicit Euler step, and its force residual
+// (implicit_vbd.cpp; the CG solvers measure theirs with step_residual.hpp).
 #pragma once
 
 #include <cmath>
@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "contact_entry.hpp"
 #include "maille/integrator.hpp"
 #include "maille/mat3.hpp"
 #include "maille/model.hpp"
@@ -101,18 +102,12 @@ class VertexBlockDescent {
       : settings_(settings), threads_(threads) {}
 
   // Takes the step's start: x_n, v_n and the explicit forces f_ext = s.f() minus the links',
-  // the stages' implicit contacts' and the air drag's forces at the start. Called by every
-  // implicit solver (the residual needs it); t_next is the time of the end of the step.
+  // the stages' implicit contacts' and the air drag's forces at the start; t_next is the time of
+  // the end of the step.
   void begin(const Model& m, const State& s, Real h, double t_next, ForceEvaluator& forces);
   // Solves the step by VBD from s (x, v at the step's start): on exit s.x, s.v hold x_n+1,
   // v_n+1 on free points (fixed points untouched). Needs begin() first.
   VbdResult solve(const Model& m, State& s, Real h);
-  // Continuous detection for a step another solver made (the CG solvers, whose one
-  // linearisation at x_n does not see a contact the step enters): s.x, s.v hold the solved
-  // step; a point that went through a thin point contact (a box, a conditional shell) on its
-  // way from x_n is stopped just inside the first one it entered, and so is a point that ends
-  // inside a contact it did not touch at x_n (a half-space entered at speed). Needs begin().
-  void stop_at_entry(State& s, Real h);
   // Largest force imbalance |m (v_n+1 - v_n) / h - f(x_n+1, v_n+1)| over free points, divided by
   // m g of the heaviest free point (g = |gravity|, or 9.81 m/s^2 when gravity is off): the
   // residual of the nonlinear implicit Euler equations at s, after a solve.
@@ -170,8 +165,6 @@ class VertexBlockDescent {
   std::pair<Real, Real> contact_change(std::uint32_t i, const Vec3& x0, const Vec3& dx, Real inv_h);
   Real largest_motion(const Vec3* x) const;
   bool leaves_cleanly(std::uint32_t i, const Vec3& from, Real half_thinnest);
-  Real first_touch(std::uint32_t i, const Vec3& to, Real h, bool through_only);
-  void stop_at_first_touch(Vec3* x, Vec3* v, Real h, bool through_only);
   void coarse_terms(const Model& m, const Vec3* x, const Vec3* v, Real h);
   bool coarse_step(const Model& m, Vec3* x, Vec3* v, Real h);
   void extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3* v, Real h, Real half_thinnest);
@@ -210,7 +203,8 @@ class VertexBlockDescent {
   std::vector<Real> allow_;
   bool compacted_ = false;                               // compact() ran this step
   std::uint64_t candidates_ = 0, candidates_swept_ = 0;  // at the last find_candidates
-  Real thinnest_ = 0;  // the point contacts' thinnest region this step (PointContacts::thickness)
+  Real thinnest_ = 0;   // the point contacts' thinnest region this step (PointContacts::thickness)
+  ContactEntry entry_;  // continuous detection against contacts_ from x_n (contact_entry.hpp)
   Real gravity_ = 0;
   VbdLanes lanes_;                       // the sweeps in SIMD lanes (vbd_lanes.hpp)
   std::vector<LanePoolRows> lane_rows_;  // the pools lanes_ runs

@@ -1,0 +1,53 @@
+#include "step_residual.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "maille/link_loops.hpp"
+#include "maille/stage.hpp"
+
+namespace maille {
+
+void StepResidual::implicit_forces(const Model& m, const State& s, Real h,
+                                   const ForceEvaluator& forces, std::vector<Vec3>& f) {
+  const std::size_t n = s.size();
+  const Vec3* x = s.x().data();
+  const Vec3* v = s.v().data();
+  f.assign(n, Vec3{});
+  if (blocks_.size() != n) blocks_.assign(n, Mat3{});
+  LinkCounters counters;
+  for (const auto& pool : m.links.pools()) accumulate_forces(*pool, x, v, f.data(), counters);
+  for (const LinkPoolBase* pool : forces.transient_links())
+    accumulate_forces(*pool, x, v, f.data(), counters);
+  for (const TriangleContacts* t : forces.triangle_contacts()) t->accumulate(x, v, f.data());
+  for (const PointContacts* c : forces.point_contacts())
+    c->add_terms(free_, x, v, Real(1) / h, f.data(), blocks_.data(), nullptr);
+}
+
+void StepResidual::begin(const Model& m, const State& s, Real h, const ForceEvaluator& forces) {
+  const std::size_t n = s.size();
+  free_.clear();
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (m.points.inv_mass[i] > 0) free_.push_back(i);
+  vn_.assign(s.v().begin(), s.v().end());
+  implicit_forces(m, s, h, forces, work_);
+  explicit_.resize(n);
+  const auto f = s.f();
+  for (std::size_t i = 0; i < n; ++i) explicit_[i] = f[i] - work_[i];
+}
+
+double StepResidual::end(const Model& m, const State& s, Real h, const ForceEvaluator& forces) {
+  implicit_forces(m, s, h, forces, work_);
+  const auto v = s.v();
+  Real worst = 0, heaviest = 0;
+  for (const std::uint32_t i : free_) {
+    const Real mass = m.points.mass[i];
+    const Vec3 r = (v[i] - vn_[i]) * (mass / h) - explicit_[i] - work_[i];
+    worst = std::max(worst, norm(r));
+    heaviest = std::max(heaviest, mass);
+  }
+  const Real g = norm(m.fields.gravity) > 0 ? norm(m.fields.gravity) : Real(9.81);
+  return heaviest > 0 ? double(worst / (heaviest * g)) : 0.0;
+}
+
+}  // namespace maille
