@@ -26,12 +26,28 @@ set(host_headers ${CMAKE_BINARY_DIR}/host_headers)
 file(MAKE_DIRECTORY ${host_headers})
 file(CREATE_LINK ${MAILLE_TOMLPP_HEADERS} ${host_headers}/toml++ SYMBOLIC)
 
-# -fopenmp-simd: the engine's `#pragma omp simd` loops (the link pools' kernels) are vectorised as
-# natively, with no runtime and without _OPENMP; the other `#pragma omp` lines are ignored.
+# Two builds of the module (docs/web.md, "Threads"):
+#   MAILLE_WEB_THREADS=OFF  maille.js: one thread. -fopenmp-simd: the engine's `#pragma omp simd`
+#                           loops (the link pools' kernels) are vectorised as natively, with no
+#                           runtime and without _OPENMP; the other `#pragma omp` lines are
+#                           ignored, and web/shim/omp.h answers the runtime calls (thread 0 of 1).
+#   MAILLE_WEB_THREADS=ON   maille-mt.js: -fopenmp and -pthread: the engine's OpenMP code as
+#                           natively, on Web Workers through the small runtime web/omp/ (clang's
+#                           __kmpc_* entry points on Emscripten's pthreads). Needs a
+#                           cross-origin isolated page (SharedArrayBuffer).
+option(MAILLE_WEB_THREADS "the threaded module (OpenMP on Web Workers), maille-mt.js" OFF)
 add_library(OpenMP::OpenMP_CXX INTERFACE IMPORTED)
-set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
-  INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/shim
-  INTERFACE_COMPILE_OPTIONS "-fopenmp-simd;-Wno-unknown-pragmas;-Wno-source-uses-openmp")
+if(MAILLE_WEB_THREADS)
+  set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/omp
+    INTERFACE_COMPILE_OPTIONS "-fopenmp")
+  add_compile_options(-pthread)
+  add_link_options(-pthread)
+else()
+  set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/shim
+    INTERFACE_COMPILE_OPTIONS "-fopenmp-simd;-Wno-unknown-pragmas;-Wno-source-uses-openmp")
+endif()
 add_library(tomlplusplus::tomlplusplus INTERFACE IMPORTED)
 set_target_properties(tomlplusplus::tomlplusplus PROPERTIES
   INTERFACE_SYSTEM_INCLUDE_DIRECTORIES ${host_headers}
