@@ -63,8 +63,11 @@ set_target_properties(Eigen3::Eigen PROPERTIES
 # Exceptions: WebAssembly's own (-fwasm-exceptions: no cost until one is thrown; Chromium 95,
 # Firefox 100, Safari 15.2) or Emscripten's emulation in JavaScript (-fexceptions: every call
 # that may throw from a frame with something to unwind goes through JavaScript).
+# The threaded module always takes Emscripten's: with -pthread, Debian's Emscripten 3.1.6 does not
+# catch a WebAssembly exception (a six-line throw and catch aborts with an uncaught
+# WebAssembly.Exception; the same program without -pthread, or with -fexceptions, catches it).
 option(MAILLE_WASM_EXCEPTIONS "WebAssembly exceptions (-fwasm-exceptions) instead of -fexceptions" ON)
-if(MAILLE_WASM_EXCEPTIONS)
+if(MAILLE_WASM_EXCEPTIONS AND NOT MAILLE_WEB_THREADS)
   set(maille_eh -fwasm-exceptions)
 else()
   set(maille_eh -fexceptions)

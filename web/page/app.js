@@ -522,6 +522,10 @@ window.maille = {
   // step now, and a new count (the run goes on from its state; 1 in the one-thread module).
   threaded,
   threads: () => engine.threads(),
+  // VBD's lanes (2: f64x2, 1: the scalar sweep; 0: the default) and the simulator's time per
+  // stage since the load (ns): the benchmark's comparisons.
+  setVbdLanes: (w) => Module.Playground.setVbdLanes(w),
+  profile: () => engine.profile(),
   setThreads: (n) => { const got = engine.setThreads(n); showThreads(); return got; },
   // The sliders' keys (declared with their documented ranges, then the text's other numbers).
   sliders: () => sliderList(),

@@ -90,6 +90,15 @@ val stats(Playground& p) {
   return o;
 }
 
+// Where the steps' time went since the load: ns per stage of the simulator's profile (the
+// benchmark's breakdown of a step).
+val profile(Playground& p) {
+  val o = val::object();
+  if (!p.loaded()) return o;
+  for (const auto& s : p.simulator().profile().stages()) o.set(s.name, s.total_ns);
+  return o;
+}
+
 // What the frame loop reads every frame, without the force pass stats() makes for the energies.
 val timing(Playground& p) {
   val o = val::object();
@@ -253,6 +262,7 @@ EMSCRIPTEN_BINDINGS(maille) {
       .function("stateHash", &state_hash)
       .function("stats", &stats)
       .function("timing", &timing)
+      .function("profile", &profile)
       .function("topology", &topology)
       .function("normals", &normals)
       .function("solids", &solids)

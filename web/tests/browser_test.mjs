@@ -398,6 +398,9 @@ try {
         threads: maille.threads(), cores: navigator.hardwareConcurrency }));
       check(info.isolated && info.threaded && info.threads >= Math.min(2, info.cores),
         'a cross-origin isolated page runs the threaded module', JSON.stringify(info));
+      // Scene errors are C++ exceptions inside the reader: caught in the threaded module too.
+      const bad = await page.evaluate(() => maille.load(maille.exampleText('flag_in_wind').replace(/^mass\s*=.*$/m, 'mass = -1.0')));
+      check(!bad.ok && bad.error.line > 0, 'the threaded module reports a bad value at its line', bad.error?.text);
       const two = await page.evaluate(() => maille.setThreads(2));
       if (two < 2) {
         console.log(`skip threads: this machine offers ${info.cores} core(s)`);
