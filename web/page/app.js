@@ -28,6 +28,9 @@ const Module = await createMaille();
 const engine = new Module.Playground();
 // Threads per step: all the module offers (the cores, at most 4) unless ?threads=N says fewer.
 if (threaded) engine.setThreads(threadsAsked || Module.Playground.maxThreads());
+// VBD's sweeps: the scalar sweep by default. The lanes of 2 doubles (f64x2) give the same bits
+// but were slower in Chromium here (docs/web.md, "Performance"); ?lanes=2 takes them.
+Module.Playground.setVbdLanes(params.has('lanes') ? +params.get('lanes') : 1);
 const renderer = new Renderer($('canvas'));
 // The smooth surface: the engine's shared math (include/maille/detail/smooth_math.glsl, copied
 // next to the page by scripts/web.sh) compiled into the WebGL2 vertex shader (render.js). On by
@@ -522,8 +525,8 @@ window.maille = {
   // step now, and a new count (the run goes on from its state; 1 in the one-thread module).
   threaded,
   threads: () => engine.threads(),
-  // VBD's lanes (2: f64x2, 1: the scalar sweep; 0: the default) and the simulator's time per
-  // stage since the load (ns): the benchmark's comparisons.
+  // VBD's lanes (2: f64x2, 1: the scalar sweep, the page's default; 0: the engine's default,
+  // the widest) and the simulator's time per stage since the load (ns): the benchmark's.
   setVbdLanes: (w) => Module.Playground.setVbdLanes(w),
   profile: () => engine.profile(),
   setThreads: (n) => { const got = engine.setThreads(n); showThreads(); return got; },

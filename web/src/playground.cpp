@@ -58,7 +58,7 @@ InputError refuse_backend(const std::string& text, const std::string& source_nam
   InputError e{source_name, 0, 0, "simulation.backend",
                "the scene asks for the '" + scene.settings.backend +
                    "' compute backend, which the browser build does not have (WebGL2 has no "
-                   "compute shaders); the browser runs scenes on the CPU, one thread"};
+                   "compute shaders); the browser runs scenes on the CPU"};
   try {
     const toml::table root = toml::parse(text, source_name);
     if (const toml::node* n = root.at_path("simulation.backend").node()) {

@@ -115,6 +115,21 @@ try {
   check(refused.length <= 1 && (refused.length === 0 || refused[0] === 'gpu_cloth_512'),
     'only gpu_cloth_512 (the GPU compute backend) is refused', refused.join(', '));
   fs.writeFileSync(path.join(outDir, 'golden.txt'), `equal ${golden1.equal} of ${golden1.compared}\n${golden1.differing.join('\n')}\n`);
+  // VBD's sweeps in lanes of 2 doubles (f64x2; the page runs the scalar sweep by default): the
+  // implicit examples' golden hashes again, bit for bit.
+  for (const name of ['cloth_on_sphere_vbd', 'cloth_heap_vbd']) {
+    const golden = fs.readFileSync(path.join(root, `tests/golden/${name}.hash`), 'utf8').trim().split(' ');
+    const r = await page.evaluate(({ name, steps }) => {
+      maille.setVbdLanes(2);
+      maille.open(name); maille.pause();
+      const done = maille.step(steps);
+      const out = { done, hash: maille.stateHash(), lanes: maille.stats().vbdLanes };
+      maille.setVbdLanes(1);
+      return out;
+    }, { name, steps: +golden[0] });
+    check(r.lanes === 2 && r.hash === golden[2], `${name} with VBD in lanes of 2 doubles: the golden hash`,
+      `${r.hash} vs ${golden[2]} after ${r.done} steps (${r.lanes} lanes)`);
+  }
   const oneThread = await page.evaluate(() => ({ threaded: maille.threaded, threads: maille.threads(),
     isolated: self.crossOriginIsolated }));
   check(!oneThread.isolated && !oneThread.threaded && oneThread.threads === 1,
