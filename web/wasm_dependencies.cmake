@@ -26,12 +26,28 @@ set(host_headers ${CMAKE_BINARY_DIR}/host_headers)
 file(MAKE_DIRECTORY ${host_headers})
 file(CREATE_LINK ${MAILLE_TOMLPP_HEADERS} ${host_headers}/toml++ SYMBOLIC)
 
-# -fopenmp-simd: the engine's `#pragma omp simd` loops (the link pools' kernels) are vectorised as
-# natively, with no runtime and without _OPENMP; the other `#pragma omp` lines are ignored.
+# Two builds of the module (docs/web.md, "Threads"):
+#   MAILLE_WEB_THREADS=OFF  maille.js: one thread. -fopenmp-simd: the engine's `#pragma omp simd`
+#                           loops (the link pools' kernels) are vectorised as natively, with no
+#                           runtime and without _OPENMP; the other `#pragma omp` lines are
+#                           ignored, and web/shim/omp.h answers the runtime calls (thread 0 of 1).
+#   MAILLE_WEB_THREADS=ON   maille-mt.js: -fopenmp and -pthread: the engine's OpenMP code as
+#                           natively, on Web Workers through the small runtime web/omp/ (clang's
+#                           __kmpc_* entry points on Emscripten's pthreads). Needs a
+#                           cross-origin isolated page (SharedArrayBuffer).
+option(MAILLE_WEB_THREADS "the threaded module (OpenMP on Web Workers), maille-mt.js" OFF)
 add_library(OpenMP::OpenMP_CXX INTERFACE IMPORTED)
-set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
-  INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/shim
-  INTERFACE_COMPILE_OPTIONS "-fopenmp-simd;-Wno-unknown-pragmas;-Wno-source-uses-openmp")
+if(MAILLE_WEB_THREADS)
+  set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/omp
+    INTERFACE_COMPILE_OPTIONS "-fopenmp")
+  add_compile_options(-pthread)
+  add_link_options(-pthread)
+else()
+  set_target_properties(OpenMP::OpenMP_CXX PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/web/shim
+    INTERFACE_COMPILE_OPTIONS "-fopenmp-simd;-Wno-unknown-pragmas;-Wno-source-uses-openmp")
+endif()
 add_library(tomlplusplus::tomlplusplus INTERFACE IMPORTED)
 set_target_properties(tomlplusplus::tomlplusplus PROPERTIES
   INTERFACE_SYSTEM_INCLUDE_DIRECTORIES ${host_headers}
@@ -47,8 +63,11 @@ set_target_properties(Eigen3::Eigen PROPERTIES
 # Exceptions: WebAssembly's own (-fwasm-exceptions: no cost until one is thrown; Chromium 95,
 # Firefox 100, Safari 15.2) or Emscripten's emulation in JavaScript (-fexceptions: every call
 # that may throw from a frame with something to unwind goes through JavaScript).
+# The threaded module always takes Emscripten's: with -pthread, Debian's Emscripten 3.1.6 does not
+# catch a WebAssembly exception (a six-line throw and catch aborts with an uncaught
+# WebAssembly.Exception; the same program without -pthread, or with -fexceptions, catches it).
 option(MAILLE_WASM_EXCEPTIONS "WebAssembly exceptions (-fwasm-exceptions) instead of -fexceptions" ON)
-if(MAILLE_WASM_EXCEPTIONS)
+if(MAILLE_WASM_EXCEPTIONS AND NOT MAILLE_WEB_THREADS)
   set(maille_eh -fwasm-exceptions)
 else()
   set(maille_eh -fexceptions)

@@ -24,6 +24,10 @@
 namespace maille::vbd_lanes {
 extern const Kernels kKernels2, kKernels4, kKernels8, kKernels8Portable;
 }
+#elif defined(MAILLE_VBD_LANES_WASM)
+namespace maille::vbd_lanes {
+extern const Kernels kKernels2;  // WebAssembly SIMD, 2 doubles (web/src/vbd_lanes_simd128.cpp)
+}
 #endif
 
 namespace maille {
@@ -49,6 +53,8 @@ const vbd_lanes::Kernels* kernels_of(int width) {
     default:
       return nullptr;
   }
+#elif defined(MAILLE_VBD_LANES_WASM)
+  return width == 2 ? &vbd_lanes::kKernels2 : nullptr;
 #else
   (void)width;
   return nullptr;

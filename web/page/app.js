@@ -6,9 +6,40 @@ import { Renderer } from './render.js';
 const $ = (id) => document.getElementById(id);
 const params = new URLSearchParams(location.search);
 
+// ---- the module: threaded where the page may share memory with workers ----------------------
+// maille-mt.js (OpenMP on Web Workers, docs/web.md "Threads") needs SharedArrayBuffer, which a
+// browser gives only to a cross-origin isolated page (served with COOP: same-origin and COEP:
+// require-corp, as scripts/web.sh serve does); elsewhere, or with ?threads=1, maille.js runs
+// everything on this thread. A missing maille-mt.js (MAILLE_WEB_THREADS=0) falls back too.
+function loadScript(src) {
+  return new Promise((resolve, reject) => {
+    const s = document.createElement('script');
+    s.src = src;
+    s.onload = resolve;
+    s.onerror = () => { s.remove(); reject(new Error(`cannot load ${src}`)); };
+    document.head.append(s);
+  });
+}
+const threadsAsked = params.has('threads') ? Math.max(1, parseInt(params.get('threads'), 10) || 1) : 0;
+let threaded = self.crossOriginIsolated === true && threadsAsked !== 1;
+if (threaded) await loadScript('maille-mt.js').catch(() => { threaded = false; });
+if (!threaded) await loadScript('maille.js');
 const Module = await createMaille();
 const engine = new Module.Playground();
+// Threads per step: all the module offers (the cores, at most 4) unless ?threads=N says fewer.
+if (threaded) engine.setThreads(threadsAsked || Module.Playground.maxThreads());
+// VBD's sweeps: the scalar sweep by default. The lanes of 2 doubles (f64x2) give the same bits
+// but were slower in Chromium here (docs/web.md, "Performance"); ?lanes=2 takes them.
+Module.Playground.setVbdLanes(params.has('lanes') ? +params.get('lanes') : 1);
 const renderer = new Renderer($('canvas'));
+// The smooth surface: the engine's shared math (include/maille/detail/smooth_math.glsl, copied
+// next to the page by scripts/web.sh) compiled into the WebGL2 vertex shader (render.js). On by
+// default for the scenes named smooth_*, ?smooth=1 / ?smooth=0 and the checkbox say otherwise.
+const SMOOTH_LOD = 4;  // sub-segments per physical edge, as `maille render --smooth --lod 4`
+const smoothReady = await fetch('smooth_math.glsl').then((r) => r.ok ? r.text() : Promise.reject(new Error(r.statusText)))
+  .then((glsl) => renderer.setSmoothMath(glsl))
+  .catch((e) => { renderer.smoothError = String(e.message || e); return false; });
+if (!smoothReady) console.warn(`smooth surface unavailable: ${renderer.smoothError}`);
 
 // ---- state of the page -------------------------------------------------------------------
 let playing = params.get('paused') === null;
@@ -80,6 +111,9 @@ function started(text, source, reframe = true) {
   $('scene-title').textContent = `${info.name}: ${info.description}`;
   for (const b of $('examples').children) b.classList.toggle('current', b.dataset.name === info.name);
   renderer.setTopology(engine.topology());
+  renderer.setSmooth(smoothReady ? engine.smoothLayout(SMOOTH_LOD) : null);
+  const smoothParam = params.get('smooth');
+  setSmooth(smoothParam !== null ? smoothParam !== '0' : info.name.startsWith('smooth_'));
   renderer.solidBuffers.clear();
   solids = engine.solids();
   if (reframe) renderer.camera.frame(engine.positions(), renderer.styles, solids);
@@ -121,23 +155,70 @@ function gutter() {
 
 function status(s) { $('status').textContent = s; }
 
-// ---- sliders: the numbers the scene text writes, each moved as `--set KEY=VALUE` ------------
+// ---- sliders: generated from the engine's declarations of the scene's keys -------------------
+// engine.sliderKeys() (web/src/playground_keys.cpp): every number and integer key the engine
+// declares for the scene's tables (with the documented range, unit and doc; written in the text
+// or not), then the other numbers the text writes. Each slider moves its key as
+// `--set KEY=VALUE` (window.maille.set).
 const structural = /(^scene\.|duration|output_every|sample_every|publish_every|resolution|seed|\.count$|segments|^audio\.)/;
+// How a slider's position s in [0, 1000] maps onto a key's values.
+function sliderScale(k) {
+  const v = k.value;
+  if (k.hi > k.lo) {
+    if (k.lo >= 0 && k.hi - k.lo > 100 * Math.max(v, 0)) {
+      // A wide range ([0, 1e12] for a stiffness): two decades either side of the value (of the
+      // range's top / 1e6 when the value is 0) on a log scale, within the range; the left end
+      // is the range's 0 when 0 is allowed.
+      const c = v > 0 ? v : k.hi * 1e-6;
+      const a = Math.max(c / 100, k.lo), b = Math.min(c * 100, k.hi);
+      const zero = k.lo === 0 && !k.loOpen;
+      return { at: (s) => (zero && s === 0) ? 0 : a * Math.pow(b / a, s / 1000),
+        of: (x) => x > 0 ? 1000 * Math.log(x / a) / Math.log(b / a) : 0 };
+    }
+    const lo = k.loOpen ? k.lo + (k.hi - k.lo) * 1e-3 : k.lo;
+    return { at: (s) => lo + (k.hi - lo) * s / 1000, of: (x) => 1000 * (x - lo) / (k.hi - lo) };
+  }
+  if (k.bound === 'positive' || k.bound === 'non_negative' || v > 0) {
+    // One decade either side of the value (of 1 when the value is 0), on a log scale; a
+    // non-negative key reaches 0 at the left end.
+    const c = v > 0 ? v : 1;
+    return { at: (s) => (k.bound === 'non_negative' && s === 0) ? 0 : c * Math.pow(10, (s - 500) / 500),
+      of: (x) => x > 0 ? 500 + 500 * Math.log10(x / c) : 0 };
+  }
+  const span = Math.max(1, Math.abs(v) * 2);
+  return { at: (s) => v + (s - 500) / 500 * span, of: (x) => 500 + 500 * (x - v) / span };
+}
+// The keys with sliders, each with the values at its slider's two ends (sliderMin, sliderMax).
+function sliderList() {
+  return engine.sliderKeys().filter((k) => k.declared || !(k.integer || structural.test(k.key)))
+    .map((k) => {
+      const scale = sliderScale(k), end = (s) => k.integer ? Math.round(scale.at(s)) : scale.at(s);
+      return { ...k, sliderMin: end(0), sliderMax: end(1000) };
+    });
+}
 function makeSliders() {
   const box = $('sliders');
   box.textContent = '';
-  for (const k of engine.declaredKeys()) {
-    if (k.integer || structural.test(k.key)) continue;
-    const v = k.value;
-    const label = document.createElement('label'); label.textContent = k.key; label.title = k.key;
+  let group = null;
+  for (const k of sliderList()) {
+    const title = k.declared ? 'Declared keys' : 'Other numbers of the text';
+    if (title !== group) {
+      group = title;
+      const h = document.createElement('div'); h.className = 'slider-group'; h.textContent = title;
+      box.append(h);
+    }
+    const scale = sliderScale(k);
+    const label = document.createElement('label'); label.textContent = k.key;
+    label.title = [k.doc, k.unit && `unit: ${k.unit}`, k.range && `range: ${k.range}`,
+      k.declared && !k.written && 'not written: the declared default'].filter(Boolean).join('\n') || k.key;
+    if (k.declared && !k.written) label.classList.add('default');
     const input = document.createElement('input'); input.type = 'range';
-    const out = document.createElement('output'); out.textContent = fmt(v);
-    // Positive values on a log scale from v/10 to 10 v; others linearly around them.
-    const log = v > 0;
-    input.min = 0; input.max = 1000; input.value = 500;
-    const valueAt = (s) => log ? v * Math.pow(10, (s - 500) / 500)
-                                : v + (s - 500) / 500 * Math.max(1, Math.abs(v) * 2);
-    input.oninput = () => { out.textContent = fmt(valueAt(+input.value)); };
+    input.dataset.key = k.key;
+    const out = document.createElement('output'); out.textContent = fmt(k.value) + (k.unit ? ' ' + k.unit : '');
+    input.min = 0; input.max = 1000;
+    input.value = Math.min(1000, Math.max(0, Math.round(scale.of(k.value))));
+    const valueAt = (s) => k.integer ? Math.round(scale.at(s)) : scale.at(s);
+    input.oninput = () => { out.textContent = fmt(valueAt(+input.value)) + (k.unit ? ' ' + k.unit : ''); };
     input.onchange = () => {
       const r = window.maille.set(k.key, valueAt(+input.value));
       if (!r.ok) showError(r.error);
@@ -169,7 +250,9 @@ function frame(stamp) {
   const t1 = performance.now();
   if (current) {
     if (solids.length) solids = engine.solids();
-    renderer.draw(engine.positions(), engine.normals(), solids);
+    const smoothOn = renderer.smooth && renderer.smoothLayout;
+    renderer.draw(engine.positions(), smoothOn ? null : engine.normals(), solids,
+      smoothOn && renderer.smoothLayout.pnTriangles.length ? engine.smoothNormals() : null);
   }
   if (audio) feedAudio(); else engine.listened();  // keep the engine's buffer empty
   const t2 = performance.now();
@@ -277,6 +360,31 @@ function setPlaying(on) { playing = on; $('play').textContent = on ? 'Pause' : '
 $('play').onclick = () => setPlaying(!playing);
 $('step').onclick = () => { setPlaying(false); if (engine.step(stepsPerFrame()) < stepsPerFrame()) blewUp(); };
 $('reset').onclick = () => { engine.reset(); $('blowup').hidden = true; history = []; };
+// The smooth-surface toggle (only where the scene has a surface and the shader compiled).
+function setSmooth(on) {
+  renderer.smooth = !!on && !!renderer.smoothLayout;
+  $('smooth').checked = renderer.smooth;
+  $('smooth').disabled = !renderer.smoothLayout;
+  $('smooth').parentElement.title = renderer.smoothLayout
+    ? 'draw cloth as the smooth surface (Catmull-Rom patches on grids, PN triangles elsewhere)'
+    : smoothReady ? 'the scene has no surface to smooth' : `unavailable: ${renderer.smoothError}`;
+}
+$('smooth').onchange = () => setSmooth($('smooth').checked);
+// Threads: a choice of 1 to the module's maximum (only 1 in the one-thread module).
+function showThreads() {
+  const sel = $('threads');
+  const max = threaded ? Module.Playground.maxThreads() : 1;
+  if (sel.options.length !== max) {
+    sel.textContent = '';
+    for (let n = 1; n <= max; ++n) sel.append(new Option(String(n), String(n)));
+  }
+  sel.value = String(engine.threads());
+  sel.disabled = !threaded;
+  $('threads-box').title = threaded ? 'threads per step (OpenMP on Web Workers)'
+    : 'one thread: the page is not cross-origin isolated (scripts/web.sh serve sends the headers)';
+}
+$('threads').onchange = () => { engine.setThreads(+$('threads').value); showThreads(); };
+showThreads();
 $('run').onclick = () => loadText($('text').value, current ? current.source : undefined);
 $('text').addEventListener('keydown', (e) => {
   if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) { e.preventDefault(); $('run').click(); }
@@ -313,7 +421,9 @@ async function decompress(code) {
 // ---- sound: the listened channels through an AudioWorklet ----------------------------------
 async function toggleSound() {
   if (audio) { await audio.context.close(); audio = null; $('sound').textContent = 'Sound'; return; }
-  const context = new AudioContext();
+  // The context runs at the scene's [audio] rate: the engine's samples are played one for one.
+  const rate = engine.listened().rate || 44100;
+  const context = new AudioContext({ sampleRate: rate });
   await context.audioWorklet.addModule('audio-worklet.js');
   const node = new AudioWorkletNode(context, 'maille-listen', { outputChannelCount: [2] });
   node.connect(context.destination);
@@ -324,8 +434,7 @@ async function toggleSound() {
 function feedAudio() {
   const l = engine.listened();
   if (l.channels > 0 && l.samples.length > 0)
-    audio.node.port.postMessage({ samples: l.samples, channels: l.channels, stepRate: l.stepRate },
-                                [l.samples.buffer]);
+    audio.node.port.postMessage({ samples: l.samples, channels: l.channels }, [l.samples.buffer]);
 }
 
 // ---- window.maille: the automation interface (docs/web.md) ---------------------------------
@@ -382,8 +491,47 @@ window.maille = {
   },
   text: () => current ? current.text : '',
   // The listened channels since the last call (the frame loop takes them each frame): {channels,
-  // stepRate, samples (interleaved Float32Array)}; and the sound's AudioContext state.
+  // rate (the scene's [audio] rate), sampling (exact / resampled), samples (interleaved
+  // Float32Array, before any gain, as `maille run --audio` computes them)}; and the sound's
+  // AudioContext state.
   listened: () => engine.listened(),
+  // The smooth surface: whether it is drawn (on = true/false sets it), and the shader's
+  // evaluation of every smooth vertex against the engine's CPU evaluation (SmoothSurface::
+  // evaluate, the native renderer's oracle): largest differences of position (m) and normal.
+  smooth(on) { if (on !== undefined) setSmooth(on); return renderer.smooth; },
+  smoothCheck() {
+    if (!renderer.smoothLayout) return { available: !!smoothReady, error: renderer.smoothError || null, vertices: 0 };
+    const L = renderer.smoothLayout;
+    const gpu = renderer.smoothFeedback(engine.positions(), L.pnTriangles.length ? engine.smoothNormals() : null);
+    const cpu = engine.smoothEvaluate(L.lod);
+    let dp = 0, dn = 0, extent = 0;
+    for (let i = 0; i < cpu.length; i += 6)
+      for (let k = 0; k < 3; ++k) {
+        dp = Math.max(dp, Math.abs(gpu[i + k] - cpu[i + k]));
+        dn = Math.max(dn, Math.abs(gpu[i + 3 + k] - cpu[i + 3 + k]));
+        extent = Math.max(extent, Math.abs(cpu[i + k]));
+      }
+    return { available: true, vertices: cpu.length / 6, gpuVertices: gpu.length / 6, lod: L.lod,
+      grids: L.grids.length / 4, pnTriangles: L.pnTriangles.length / 3, positionDiff: dp, normalDiff: dn, extent };
+  },
+  // FNV-1a 64 of a Float32Array's bytes (little-endian), as hex: the tests' hash of samples.
+  fnv1a(samples) {
+    const bytes = new Uint8Array(samples.buffer, samples.byteOffset, samples.byteLength);
+    let h = 0xcbf29ce484222325n;
+    for (const b of bytes) h = BigInt.asUintN(64, (h ^ BigInt(b)) * 0x100000001b3n);
+    return h.toString(16).padStart(16, '0');
+  },
+  // Threads: whether the threaded module runs (cross-origin isolated page), the threads per
+  // step now, and a new count (the run goes on from its state; 1 in the one-thread module).
+  threaded,
+  threads: () => engine.threads(),
+  // VBD's lanes (2: f64x2, 1: the scalar sweep, the page's default; 0: the engine's default,
+  // the widest) and the simulator's time per stage since the load (ns): the benchmark's.
+  setVbdLanes: (w) => Module.Playground.setVbdLanes(w),
+  profile: () => engine.profile(),
+  setThreads: (n) => { const got = engine.setThreads(n); showThreads(); return got; },
+  // The sliders' keys (declared with their documented ranges, then the text's other numbers).
+  sliders: () => sliderList(),
   sound: () => audio ? audio.context.state : 'off',
   compress, decompress,
 };

@@ -22,6 +22,80 @@ void main() {
   float s = pow(max(dot(n, normalize(l1 + v)), 0.0), 32.0) * 0.25;
   colour = vec4(base.rgb * d + s, base.a);
 }`;
+// The smooth surface (include/maille/smooth_surface.hpp), evaluated in the vertex shader from
+// the shared math include/maille/detail/smooth_math.glsl, pasted between this head and main as
+// the native renderer pastes it into its compute shader (src/render/smooth_shader.hpp). WebGL2
+// has no compute shaders nor storage buffers, so what that shader reads from buffers comes from
+// textures here (positions and vertex normals as RGB32F, grids and PN triangles as RGBA32UI,
+// fetched with texelFetch), and each vertex of the smooth mesh is evaluated where it is drawn
+// (gl_VertexID is its index in the smooth mesh) instead of into a vertex buffer first. Its main
+// is the compute shader's, line for line, but for those reads and its output.
+const TEX_W = 1024;  // texels per row of the data textures
+const VS_SMOOTH_HEAD = `#version 300 es
+precision highp float; precision highp int; precision highp sampler2D; precision highp usampler2D;
+uniform sampler2D u_positions; uniform sampler2D u_normals;
+uniform usampler2D u_grids; uniform usampler2D u_tris;
+uniform int u_lod; uniform int u_grid_count; uniform uint u_grid_vertices;
+uniform mat4 viewProj;
+out vec3 vN; out vec3 vP;
+#define MAILLE_SHARED
+#define MAILLE_OUT(T) out T
+`;
+const VS_SMOOTH_MAIN = `
+ivec2 texel(uint k) { return ivec2(int(k) % ${TEX_W}, int(k) / ${TEX_W}); }
+vec3 point_at(uint k) { return texelFetch(u_positions, texel(k), 0).xyz; }
+vec3 normal_at(uint k) { return texelFetch(u_normals, texel(k), 0).xyz; }
+struct Grid { uint first; uint nx; uint ny; uint offset; };
+Grid grid_at(int i) { uvec4 g = texelFetch(u_grids, ivec2(i, 0), 0); return Grid(g.x, g.y, g.z, g.w); }
+// Control point (c, d) of a grid, extrapolated linearly beyond its border (as on the CPU).
+vec3 fetch(Grid g, int c, int d) { return point_at(g.first + uint(d * int(g.nx) + c)); }
+vec3 column(Grid g, int c, int d) {
+  int ny = int(g.ny);
+  if (d < 0) return fetch(g, c, 0) * 2.0f - fetch(g, c, 1);
+  if (d >= ny) return fetch(g, c, ny - 1) * 2.0f - fetch(g, c, ny - 2);
+  return fetch(g, c, d);
+}
+vec3 control(Grid g, int a, int b) {
+  int nx = int(g.nx);
+  if (a < 0) return column(g, 0, b) * 2.0f - column(g, 1, b);
+  if (a >= nx) return column(g, nx - 1, b) * 2.0f - column(g, nx - 2, b);
+  return column(g, a, b);
+}
+void main() {
+  uint id = uint(gl_VertexID);
+  vec3 s, t1, t2;
+  float step = 1.0f / float(u_lod);
+  uint lod = uint(u_lod);
+  if (id < u_grid_vertices) {
+    int gi = 0;
+    while (gi + 1 < u_grid_count && grid_at(gi + 1).offset <= id) ++gi;
+    Grid g = grid_at(gi);
+    uint local = id - g.offset;
+    uint cols = lod * (g.nx - 1u) + 1u;
+    uint a = local % cols, b = local / cols;
+    uint i = min(a / lod, g.nx - 2u), j = min(b / lod, g.ny - 2u);
+    float u = float(a - i * lod) * step, v = float(b - j * lod) * step;
+    vec3 p[16];
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) p[4 * r + c] = control(g, int(i) - 1 + c, int(j) - 1 + r);
+    cr_patch(p, u, v, s, t1, t2);
+  } else {
+    uint per = uint((u_lod + 1) * (u_lod + 2) / 2);
+    uint k = id - u_grid_vertices;
+    uint t = k / per;
+    int local = int(k % per), j = 0;
+    while (local > u_lod - j) { local -= u_lod + 1 - j; ++j; }
+    uvec4 c = texelFetch(u_tris, texel(t), 0);
+    pn_triangle(point_at(c.x), point_at(c.y), point_at(c.z), normal_at(c.x), normal_at(c.y),
+                normal_at(c.z), float(local) * step, float(j) * step, s, t1, t2);
+  }
+  vec3 n = unit_normal(t1, t2);
+  vP = s; vN = n;
+  gl_Position = viewProj * vec4(s, 1.0);
+}`;
+const FS_PLAIN = `#version 300 es
+precision highp float; out vec4 colour; void main() { colour = vec4(1.0); }`;
+
 const VS_FLAT = `#version 300 es
 layout(location=0) in vec3 p; layout(location=2) in float style;
 uniform mat4 viewProj; uniform float pointScale; flat out int vStyle;
@@ -38,7 +112,7 @@ void main() {
   } else colour = tint;
 }`;
 
-function compile(gl, vs, fs) {
+function compile(gl, vs, fs, feedback = null) {
   const prog = gl.createProgram();
   for (const [type, src] of [[gl.VERTEX_SHADER, vs], [gl.FRAGMENT_SHADER, fs]]) {
     const sh = gl.createShader(type);
@@ -46,6 +120,7 @@ function compile(gl, vs, fs) {
     if (!gl.getShaderParameter(sh, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(sh));
     gl.attachShader(prog, sh);
   }
+  if (feedback) gl.transformFeedbackVaryings(prog, feedback, gl.INTERLEAVED_ATTRIBS);
   gl.linkProgram(prog);
   if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(prog));
   const u = {};
@@ -150,6 +225,106 @@ export class Renderer {
     this.solidBuffers = new Map();
     this.f32 = new Float32Array(0);
   }
+  // The shared smooth-surface math (smooth_math.glsl's text): compiles the smooth programs, the
+  // drawing one and one that writes the evaluated vertices back (transform feedback: the test's
+  // comparison with the engine's CPU evaluation). False, with the reason in smoothError, when
+  // this WebGL2 cannot compile it.
+  setSmoothMath(glsl) {
+    const gl = this.gl;
+    try {
+      this.smoothProg = compile(gl, VS_SMOOTH_HEAD + glsl + VS_SMOOTH_MAIN, FS_SURFACE);
+      this.smoothFeedbackProg = compile(gl, VS_SMOOTH_HEAD + glsl + VS_SMOOTH_MAIN, FS_PLAIN, ['vP', 'vN']);
+    } catch (e) {
+      this.smoothError = String(e.message || e);
+      return false;
+    }
+    const tex = () => {
+      const t = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, t);
+      for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+      return t;
+    };
+    this.smoothTex = { positions: tex(), normals: tex(), grids: tex(), tris: tex() };
+    this.smoothIdx = gl.createBuffer();
+    this.smoothVao = gl.createVertexArray();
+    return true;
+  }
+  // The smooth layout of the scene (engine.smoothLayout(lod)); null: none.
+  setSmooth(layout) {
+    this.smoothLayout = layout && layout.vertexCount > 0 ? layout : null;
+    if (!this.smoothLayout || !this.smoothProg) return;
+    const gl = this.gl, L = this.smoothLayout;
+    const upload = (t, w, h, internal, format, type, data) => {
+      gl.bindTexture(gl.TEXTURE_2D, t);
+      gl.texImage2D(gl.TEXTURE_2D, 0, internal, w, h, 0, format, type, data);
+    };
+    const grids = L.grids.length ? L.grids : new Uint32Array(4);
+    upload(this.smoothTex.grids, grids.length / 4, 1, gl.RGBA32UI, gl.RGBA_INTEGER, gl.UNSIGNED_INT, grids);
+    const nt = Math.max(1, L.pnTriangles.length / 3), h = Math.ceil(nt / TEX_W);
+    const tris = new Uint32Array(TEX_W * h * 4);
+    for (let t = 0; t < L.pnTriangles.length / 3; ++t)
+      for (let k = 0; k < 3; ++k) tris[4 * t + k] = L.pnTriangles[3 * t + k];
+    upload(this.smoothTex.tris, TEX_W, h, gl.RGBA32UI, gl.RGBA_INTEGER, gl.UNSIGNED_INT, tris);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.smoothIdx);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, L.triangles, gl.STATIC_DRAW);
+    this.smoothTriangles = L.triangles.length;
+  }
+  // Positions (and, for PN triangles, the vertex normals) into the smooth programs' textures.
+  uploadSmoothInputs(positions32, normals) {
+    const gl = this.gl, n = positions32.length / 3, h = Math.max(1, Math.ceil(n / TEX_W));
+    if (!this.smoothData || this.smoothData.length !== TEX_W * h * 3) this.smoothData = new Float32Array(TEX_W * h * 3);
+    this.smoothData.set(positions32);
+    gl.bindTexture(gl.TEXTURE_2D, this.smoothTex.positions);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, TEX_W, h, 0, gl.RGB, gl.FLOAT, this.smoothData);
+    if (this.smoothLayout.pnTriangles.length && normals) {
+      this.smoothData.fill(0); this.smoothData.set(normals);
+      gl.bindTexture(gl.TEXTURE_2D, this.smoothTex.normals);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGB32F, TEX_W, h, 0, gl.RGB, gl.FLOAT, this.smoothData);
+    }
+  }
+  bindSmooth(p) {
+    const gl = this.gl, L = this.smoothLayout;
+    gl.useProgram(p.prog);
+    [this.smoothTex.positions, this.smoothTex.normals, this.smoothTex.grids, this.smoothTex.tris].forEach((t, i) => {
+      gl.activeTexture(gl.TEXTURE0 + i); gl.bindTexture(gl.TEXTURE_2D, t);
+    });
+    gl.activeTexture(gl.TEXTURE0);
+    gl.uniform1i(p.u.u_positions, 0); gl.uniform1i(p.u.u_normals, 1);
+    gl.uniform1i(p.u.u_grids, 2); gl.uniform1i(p.u.u_tris, 3);
+    gl.uniform1i(p.u.u_lod, L.lod); gl.uniform1i(p.u.u_grid_count, L.grids.length / 4);
+    gl.uniform1ui(p.u.u_grid_vertices, L.gridVertices);
+  }
+  // The smooth mesh's vertices as the shader evaluates them (6 floats each: position, normal),
+  // read back through transform feedback: what the test compares with the CPU's evaluation.
+  smoothFeedback(positions, normals) {
+    const gl = this.gl, L = this.smoothLayout;
+    if (!L || !this.smoothFeedbackProg) return null;
+    this.uploadSmoothInputs(Float32Array.from(positions), normals);
+    const p = this.smoothFeedbackProg;
+    this.bindSmooth(p);
+    if (p.u.viewProj) gl.uniformMatrix4fv(p.u.viewProj, false, [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
+    const buf = gl.createBuffer();
+    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, buf);
+    gl.bufferData(gl.TRANSFORM_FEEDBACK_BUFFER, L.vertexCount * 24, gl.STREAM_READ);
+    const tf = gl.createTransformFeedback();
+    gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, tf);
+    gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, buf);
+    gl.bindVertexArray(this.smoothVao);
+    gl.enable(gl.RASTERIZER_DISCARD);
+    gl.beginTransformFeedback(gl.POINTS);
+    gl.drawArrays(gl.POINTS, 0, L.vertexCount);
+    gl.endTransformFeedback();
+    gl.disable(gl.RASTERIZER_DISCARD);
+    gl.bindVertexArray(null);
+    gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
+    gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
+    const out = new Float32Array(L.vertexCount * 6);
+    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, buf);
+    gl.getBufferSubData(gl.TRANSFORM_FEEDBACK_BUFFER, 0, out);
+    gl.bindBuffer(gl.TRANSFORM_FEEDBACK_BUFFER, null);
+    gl.deleteBuffer(buf); gl.deleteTransformFeedback(tf);
+    return out;
+  }
   setTopology(topo) {
     const gl = this.gl;
     this.triangleCount = topo.triangles.length;
@@ -167,7 +342,7 @@ export class Renderer {
     this.pointRadius = topo.pointRadius;
     this.styles = Uint32Array.from(topo.pointStyle);
   }
-  draw(positions, normals, solids) {
+  draw(positions, normals, solids, smoothNormals = null) {
     const gl = this.gl, c = this.canvas;
     const w = c.clientWidth | 0, h = c.clientHeight | 0;
     if (w > 0 && (c.width !== w || c.height !== h)) { c.width = w; c.height = h; }
@@ -186,7 +361,23 @@ export class Renderer {
     gl.uniformMatrix3fv(s.u.direct, false, [1, 0, 0, 0, 1, 0, 0, 0, 1]);
     gl.uniform3f(s.u.translation, 0, 0, 0);
     gl.uniform3fv(s.u.eye, eye);
-    if (this.triangleCount > 0) {
+    if (this.smooth && this.smoothLayout && this.smoothProg) {
+      // The cloth as the smooth surface (the physical mesh's triangles are not drawn).
+      this.uploadSmoothInputs(this.f32, smoothNormals);
+      const sp = this.smoothProg;
+      this.bindSmooth(sp);
+      gl.uniformMatrix4fv(sp.u.viewProj, false, vp);
+      gl.uniform3fv(sp.u.eye, eye);
+      gl.uniform4f(sp.u.front, 0.88, 0.45, 0.2, 1); gl.uniform4f(sp.u.back, 0.72, 0.33, 0.16, 1);
+      gl.disableVertexAttribArray(0);
+      gl.bindVertexArray(this.smoothVao);
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.smoothIdx);
+      gl.drawElements(gl.TRIANGLES, this.smoothTriangles, gl.UNSIGNED_INT, 0);
+      gl.bindVertexArray(null);
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.pos);
+      gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
+      gl.useProgram(s.prog);
+    } else if (this.triangleCount > 0) {
       gl.bindBuffer(gl.ARRAY_BUFFER, this.nrm); gl.bufferData(gl.ARRAY_BUFFER, normals, gl.DYNAMIC_DRAW);
       gl.enableVertexAttribArray(1); gl.vertexAttribPointer(1, 3, gl.FLOAT, false, 0, 0);
       gl.uniform4f(s.u.front, 0.88, 0.45, 0.2, 1); gl.uniform4f(s.u.back, 0.72, 0.33, 0.16, 1);

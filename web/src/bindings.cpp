@@ -4,8 +4,10 @@
 #include <emscripten/bind.h>
 #include <emscripten/val.h>
 
+#include <algorithm>
 #include <cstdio>
 
+#include "integrators/vbd_lanes.hpp"
 #include "playground.hpp"
 
 namespace maille::web {
@@ -68,6 +70,8 @@ val stats(Playground& p) {
   o.set("links", double(sim.model().links.total()));
   o.set("integrator", sim.settings().integrator);
   o.set("msPerStep", p.last_step_ms());
+  o.set("threads", p.threads());
+  o.set("vbdLanes", vbd_lane_width());  // VBD's sweeps: 2 lanes (f64x2) or 1 (scalar)
   if (!sim.blow_up()) {
     const Energies e = sim.energies();
     for_each_energy(e, [&](const char* name, double value) { o.set(name, value); });
@@ -83,6 +87,15 @@ val stats(Playground& p) {
   } else {
     o.set("blowUp", val::null());
   }
+  return o;
+}
+
+// Where the steps' time went since the load: ns per stage of the simulator's profile (the
+// benchmark's breakdown of a step).
+val profile(Playground& p) {
+  val o = val::object();
+  if (!p.loaded()) return o;
+  for (const auto& s : p.simulator().profile().stages()) o.set(s.name, s.total_ns);
   return o;
 }
 
@@ -114,6 +127,40 @@ val normals(Playground& p) {
   return val(emscripten::typed_memory_view(n.size(), n.data()));
 }
 
+// The smooth surface's layout at a level of detail (the page's shader evaluates it): the grids
+// as 4 uints each (first point, nx, ny, first vertex), the PN triangles' corners, the vertex
+// count (grid vertices first) and the smooth mesh's triangles. Copies: made once per load.
+val smooth_layout(Playground& p, int lod) {
+  const SmoothSurface& s = p.smooth();
+  lod = std::clamp(lod, 1, kMaxSmoothLod);
+  std::vector<std::uint32_t> grids;
+  for (const SmoothSurface::Grid& g : s.grids_at(lod))
+    grids.insert(grids.end(), {g.first, g.nx, g.ny, g.vertex_offset});
+  const std::vector<std::uint32_t> triangles =
+      s.empty() ? std::vector<std::uint32_t>{} : s.triangles(lod);
+  const auto u32 = [](const std::vector<std::uint32_t>& v) {
+    return val::global("Uint32Array").new_(val(emscripten::typed_memory_view(v.size(), v.data())));
+  };
+  val o = val::object();
+  o.set("lod", lod);
+  o.set("grids", u32(grids));
+  o.set("pnTriangles", u32(s.other_triangles()));
+  o.set("gridVertices", s.empty() ? 0u : s.grid_vertices(lod));
+  o.set("vertexCount", s.empty() ? 0u : s.vertex_count(lod));
+  o.set("triangles", u32(triangles));
+  return o;
+}
+
+val smooth_normals(Playground& p) {
+  const std::vector<float>& n = p.smooth_normals();
+  return val(emscripten::typed_memory_view(n.size(), n.data()));
+}
+
+val smooth_evaluate(Playground& p, int lod) {
+  const SmoothMesh& m = p.smooth_evaluate(lod);
+  return val(emscripten::typed_memory_view(m.vertices.size(), m.vertices.data()));
+}
+
 val solids(Playground& p) {
   val list = val::array();
   for (const Solid& s : p.solids()) {
@@ -138,7 +185,8 @@ val listened(Playground& p) {
   const std::vector<float> samples = p.take_listened();
   val o = val::object();
   o.set("channels", p.loaded() ? p.scene().audio.listeners.size() : 0);
-  o.set("stepRate", p.loaded() ? 1.0 / p.simulator().settings().step : 0.0);
+  o.set("rate", p.audio_rate());  // samples per second: the scene's [audio] rate
+  o.set("sampling", p.sampling());
   o.set("samples", val::global("Float32Array")
                        .new_(val(emscripten::typed_memory_view(samples.size(), samples.data()))));
   return o;
@@ -156,6 +204,27 @@ val declared_keys(Playground& p) {
   return list;
 }
 
+val slider_keys(Playground& p) {
+  val list = val::array();
+  for (const SliderKey& k : p.slider_keys()) {
+    val o = val::object();
+    o.set("key", k.key);
+    o.set("value", k.value);
+    o.set("lo", k.lo);
+    o.set("hi", k.hi);
+    o.set("loOpen", k.lo_open);
+    o.set("integer", k.integer);
+    o.set("declared", k.declared);
+    o.set("written", k.written);
+    o.set("bound", k.bound);
+    o.set("unit", k.unit);
+    o.set("doc", k.doc);
+    o.set("range", k.range);
+    list.call<void>("push", o);
+  }
+  return list;
+}
+
 val scene_info(Playground& p) {
   val o = val::object();
   if (!p.loaded()) return o;
@@ -166,6 +235,12 @@ val scene_info(Playground& p) {
   for (const audio::Listener& l : p.scene().audio.listeners) listeners.call<void>("push", l.label);
   o.set("listeners", listeners);
   return o;
+}
+
+// VBD's lane width for the next steps (1: the scalar sweep, 2: f64x2; 0: the default, the
+// widest): the benchmark's comparison. False for a width this build cannot run.
+bool set_vbd_lanes(int width) {
+  return set_vbd_lane_width(width);
 }
 
 }  // namespace
@@ -179,17 +254,26 @@ EMSCRIPTEN_BINDINGS(maille) {
       .function("set", &set)
       .function("step", &step)
       .function("reset", &Playground::reset)
+      .function("setThreads", &Playground::set_threads)
+      .function("threads", &Playground::threads)
+      .class_function("maxThreads", &Playground::max_threads)
+      .class_function("setVbdLanes", &set_vbd_lanes)
       .function("positions", &positions)
       .function("stateHash", &state_hash)
       .function("stats", &stats)
       .function("timing", &timing)
+      .function("profile", &profile)
       .function("topology", &topology)
       .function("normals", &normals)
       .function("solids", &solids)
+      .function("smoothLayout", &smooth_layout)
+      .function("smoothNormals", &smooth_normals)
+      .function("smoothEvaluate", &smooth_evaluate)
       .function("grab", &grab)
       .function("moveTo", &move_to)
       .function("release", &Playground::release)
       .function("listened", &listened)
       .function("declaredKeys", &declared_keys)
+      .function("sliderKeys", &slider_keys)
       .function("sceneInfo", &scene_info);
 }

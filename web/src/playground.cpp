@@ -1,5 +1,6 @@
 #include "playground.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <stdexcept>
@@ -10,6 +11,10 @@
 #include "../../apps/viewer/drag_spring.hpp"
 #include "maille/link_registry.hpp"
 #include "maille/stage_registry.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace maille::web {
 
@@ -53,7 +58,7 @@ InputError refuse_backend(const std::string& text, const std::string& source_nam
   InputError e{source_name, 0, 0, "simulation.backend",
                "the scene asks for the '" + scene.settings.backend +
                    "' compute backend, which the browser build does not have (WebGL2 has no "
-                   "compute shaders); the browser runs scenes on the CPU, one thread"};
+                   "compute shaders); the browser runs scenes on the CPU"};
   try {
     const toml::table root = toml::parse(text, source_name);
     if (const toml::node* n = root.at_path("simulation.backend").node()) {
@@ -112,10 +117,11 @@ LoadResult Playground::set(const std::string& key, const std::string& value) {
 }
 
 void Playground::start(Scene scene, std::optional<State> keep) {
-  // The golden tests' settings: the CPU, one thread.
+  // The golden tests' settings: the CPU, one thread, or the threads the page asks for in the
+  // threaded module (the engine's results do not depend on the count).
   SimulationSettings settings = scene.settings;
   settings.backend = "cpu";
-  settings.threads = 1;
+  settings.threads = threads_;
   auto sim = std::make_unique<Simulator>(scene.model, settings);
   sim->on_publish([this](const Snapshot& s) { surfaces_ = s.surfaces; });
   if (keep) {
@@ -128,11 +134,17 @@ void Playground::start(Scene scene, std::optional<State> keep) {
   drag_->release();
   drag_installed_ = false;
   topology_ = render::make_topology(sim->model());
-  initial_.assign(sim->model().points.initial_position.begin(),
-                  sim->model().points.initial_position.end());
-  sim_ = std::move(sim);
+  smooth_ = SmoothSurface(sim->model());
+  // Kept state (set, threads) continues the sound with the same resamplers, if the step and the
+  // listeners stayed; anything else starts it again.
+  const bool continuing = keep.has_value() && sim->steps_taken() > 0 && scene_ &&
+                          scene_->audio.listeners.size() == scene.audio.listeners.size() &&
+                          scene_->settings.step == scene.settings.step &&
+                          scene_->audio.settings.rate == scene.audio.settings.rate &&
+                          scene_->audio.settings.resampler == scene.audio.settings.resampler;
   scene_ = std::move(scene);
-  listened_.clear();
+  listen(*sim, continuing);
+  sim_ = std::move(sim);
   solids_.clear();
 }
 
@@ -140,22 +152,36 @@ std::uint64_t Playground::step(std::uint64_t n) {
   if (!sim_) return 0;
   const auto t0 = std::chrono::steady_clock::now();
   std::uint64_t done = 0;
-  const bool listening = !scene_->audio.listeners.empty();
-  for (; done < n; ++done) {
+  for (; done < n; ++done)
     if (!sim_->step()) break;
-    if (listening) record_listened();
-  }
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (done > 0) last_step_ms_ = ms / double(done);
   return done;
 }
 
+int Playground::max_threads() {
+#ifdef _OPENMP
+  return omp_get_num_procs();
+#else
+  return 1;
+#endif
+}
+
+int Playground::set_threads(int n) {
+  n = std::clamp(n, 1, max_threads());
+  if (n == threads_) return n;
+  threads_ = n;
+  // The run goes on from its state with the new team (as `set` does).
+  if (sim_) start(Scene(*scene_), sim_->state());
+  return n;
+}
+
 void Playground::reset() {
   if (!sim_) return;
   sim_->reset();
   drag_->release();
-  listened_.clear();
+  listen(*sim_, false);
 }
 
 std::uint64_t Playground::state_hash() const {
@@ -165,6 +191,17 @@ std::uint64_t Playground::state_hash() const {
 const std::vector<float>& Playground::normals() {
   if (sim_) render::surface_normals(topology_, sim_->state().x(), normals_);
   return normals_;
+}
+
+const std::vector<float>& Playground::smooth_normals() {
+  if (sim_) vertex_normals(smooth_.other_triangles(), sim_->state().x(), smooth_normals_);
+  return smooth_normals_;
+}
+
+const SmoothMesh& Playground::smooth_evaluate(int lod) {
+  if (sim_ && !smooth_.empty())
+    smooth_.evaluate(sim_->state().x(), std::clamp(lod, 1, kMaxSmoothLod), smooth_mesh_);
+  return smooth_mesh_;
 }
 
 const std::vector<Solid>& Playground::solids() {
@@ -210,36 +247,6 @@ void Playground::move_to(const Vec3& target) {
 }
 void Playground::release() {
   drag_->release();
-}
-
-void Playground::record_listened() {
-  const State& s = sim_->state();
-  for (const audio::Listener& l : scene_->audio.listeners) {
-    double value = 0;
-    switch (l.quantity) {
-      case audio::Quantity::position:
-        value = dot(s.x()[l.point] - initial_[l.point], l.axis);
-        break;
-      case audio::Quantity::velocity:
-        value = dot(s.v()[l.point], l.axis);
-        break;
-      case audio::Quantity::force:
-        value = dot(s.f()[l.point], l.axis);
-        break;
-    }
-    listened_.push_back(float(value));
-  }
-  // At most ten seconds of steps wait for the page (a page that does not listen).
-  const std::size_t limit =
-      std::size_t(10.0 / sim_->settings().step) * scene_->audio.listeners.size();
-  if (listened_.size() > limit)
-    listened_.erase(listened_.begin(), listened_.end() - std::ptrdiff_t(limit));
-}
-
-std::vector<float> Playground::take_listened() {
-  std::vector<float> out;
-  out.swap(listened_);
-  return out;
 }
 
 std::vector<DeclaredKey> Playground::declared_keys() const {

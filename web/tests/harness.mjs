@@ -12,7 +12,10 @@ export const root = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '
 const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm',
   '.css': 'text/css', '.png': 'image/png', '.toml': 'text/plain' };
 
-export async function serve(site = process.env.MAILLE_WEB_SITE || path.join(root, 'build/web')) {
+// `isolated`: send the cross-origin isolation headers (as web/serve.py does), so that the page
+// runs the threaded module; without them it runs on one thread.
+export async function serve(site = process.env.MAILLE_WEB_SITE || path.join(root, 'build/web'),
+  { isolated = false } = {}) {
   if (!fs.existsSync(path.join(site, 'maille.wasm'))) {
     console.error(`${site}/maille.wasm is missing: run scripts/web.sh first`);
     process.exit(2);
@@ -22,7 +25,12 @@ export async function serve(site = process.env.MAILLE_WEB_SITE || path.join(root
     if (file.startsWith(site) && fs.existsSync(file) && fs.statSync(file).isDirectory())
       file = path.join(file, 'index.html');
     if (!file.startsWith(site) || !fs.existsSync(file)) { res.writeHead(404); return res.end('not found'); }
-    res.writeHead(200, { 'content-type': types[path.extname(file)] || 'application/octet-stream' });
+    const headers = { 'content-type': types[path.extname(file)] || 'application/octet-stream' };
+    if (isolated) {
+      headers['cross-origin-opener-policy'] = 'same-origin';
+      headers['cross-origin-embedder-policy'] = 'require-corp';
+    }
+    res.writeHead(200, headers);
     fs.createReadStream(file).pipe(res);
   });
   await new Promise((r) => server.listen(0, '127.0.0.1', r));
