@@ -32,6 +32,8 @@ packages=(
   # The Python module (python/: pybind11 over NumPy views, tested with pytest) and sweeps across
   # machines (`maille sweep` under mpirun: Open MPI, built in when present).
   pybind11-dev python3-dev python3-numpy python3-pytest libopenmpi-dev openmpi-bin
+  # `pip install .` of the module into a virtual environment (docs/python.md, "Installing").
+  python3-venv
   # Live sound (`maille play`, docs/sound.md): RtAudio (JACK, ALSA, PulseAudio), JACK directly
   # (libjack-jackd2-dev), RtMidi and liblo for the controls; built in when present. jackd2 is the
   # server the tests start with its dummy driver (no sound card); without recommends (it would

@@ -32,11 +32,13 @@ void for_each_chunk(const CpuSchedule& schedule, F&& f) {
 template <class F>
 void for_each_segment(const StructuredGrid& grid, F&& f) {
   for (std::size_t c = 0; c < grid.colours(); ++c) {
-    const auto [first, end] = grid.blocks_of_colour(c);
+    // No structured binding: clang 14 (the web build) refuses one inside an OpenMP loop.
+    const std::pair<std::uint32_t, std::uint32_t> blocks = grid.blocks_of_colour(c);
+    const auto first = std::int64_t(blocks.first), end = std::int64_t(blocks.second);
 #pragma omp for schedule(static)
-    for (std::int64_t k = first; k < std::int64_t(end); ++k) {
-      const auto [s0, s1] = grid.segments_of_block(std::size_t(k));
-      for (std::uint32_t s = s0; s < s1; ++s) f(s);
+    for (std::int64_t k = first; k < end; ++k) {
+      const std::pair<std::uint32_t, std::uint32_t> block = grid.segments_of_block(std::size_t(k));
+      for (std::uint32_t s = block.first; s < block.second; ++s) f(s);
     }
   }
 }
