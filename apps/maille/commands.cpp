@@ -19,6 +19,7 @@
 #include "maille/io.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
+#include "maille/intersections.hpp"
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"
@@ -37,6 +38,22 @@ namespace maille::app {
 namespace {
 
 std::atomic<bool> g_stop{false};
+
+// The first stats row where the self-colliding cloth crosses itself (stats.csv
+// `intersecting_pairs`, [self_collision] check): said once, with its step and time.
+void warn_first_crossing(const EnergySample& e, const Profile& p) {
+  static bool said = false;
+  if (said) return;
+  for (const Profile::Counter& c : p.counters())
+    if (c.name == "intersecting_pairs" && c.last > 0) {
+      said = true;
+      std::cerr << "maille: warning: " << c.last << " pair" << (c.last == 1 ? "" : "s")
+                << " of triangles of the self-colliding cloth cross at step " << e.step
+                << " (t = " << e.time
+                << " s): the cloth passes through itself (stats.csv intersecting_pairs; "
+                   "[self_collision] check = \"every_step\" stops at the first)\n";
+    }
+}
 // While a scene loads and its simulator is set up, nothing of this run is written yet and no
 // loop polls g_stop: an interrupt then ends the process at once (exit 130), whatever step of
 // the loading it is in (a long sampling, a large build).
@@ -195,6 +212,19 @@ int validate_sweep(const std::string& path, const std::vector<std::string>& sets
 
 }  // namespace
 
+// A cloth that starts through itself or through another (surface faces that cross, exact
+// test: maille/intersections.hpp): no contact response can undo it.
+static void warn_initial_crossings(const Simulator& sim) {
+  const auto& faces = sim.model().surface.triangles;
+  if (faces.empty()) return;
+  IntersectionCount count;
+  if (const std::size_t n = count.count(sim.state().x(), faces))
+    std::cerr << "warning: " << n << " pair" << (n == 1 ? "" : "s")
+              << " of the surface's triangles cross in the initial state: the cloth starts "
+                 "through itself (or through another); self-collision holds it as it is, it "
+                 "cannot pull it back\n";
+}
+
 int validate(const std::string& path, const std::vector<std::string>& sets) {
   install_interrupt_handler();  // writes nothing: an interrupt ends it at once
   if (is_sweep_file(path)) return validate_sweep(path, sets);
@@ -204,6 +234,7 @@ int validate(const std::string& path, const std::vector<std::string>& sets) {
     Simulator sim(std::move(scene->model), scene->settings);
     warn_if_unstable(sim);
     warn_stages(sim);
+    warn_initial_crossings(sim);
     std::cout << path << ": ok (" << sim.model().points.size() << " points, "
               << sim.model().links.total() << " links";
     if (const auto n = scene->audio.listeners.size())
@@ -428,7 +459,10 @@ int run(const RunOptions& o) {
     FrameWriter frames(out, *format, sim.model(), o.smooth ? o.lod : 0);
     StatsWriter stats(out / "stats.csv", kept);
     if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
-    sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
+    sim.on_sample([&](const EnergySample& e, const Profile& p) {
+      stats.write(e, p);
+      warn_first_crossing(e, p);
+    });
     // Ctrl-C inside a long implicit step abandons it: the state of the last whole step stays.
     sim.on_stop_request([] { return g_stop.load(); });
     if (o.resume.empty() && !g_stop) sim.publish_now();  // frame 0: the initial state

@@ -36,6 +36,7 @@ namespace maille {
 enum class BroadPhase : std::uint8_t { brute, uniform, hashed, hierarchical };
 enum class Exclusion : std::uint8_t { none, matrix, signature };
 enum class Primitive : std::uint8_t { points, triangles };
+enum class IntersectionCheck : std::uint8_t { off, stats, every_step };
 
 template <>
 struct NameTable<BroadPhase> {
@@ -65,6 +66,17 @@ struct NameTable<Primitive> {
   }};
 };
 
+template <>
+struct NameTable<IntersectionCheck> {
+  static constexpr std::string_view what = "check";
+  static constexpr std::array<Name<IntersectionCheck>, 3> names{{
+      {IntersectionCheck::off, "off", "no count"},
+      {IntersectionCheck::stats, "stats", "counted at the stats cadence (intersecting_pairs)"},
+      {IntersectionCheck::every_step, "every_step",
+       "counted every step; the run stops (exit 3) at the first crossing"},
+  }};
+};
+
 struct SelfCollisionSettings {
   std::vector<std::string> groups;  // empty: every group with free points
   Real radius = 0;           // s, m; 0: half the smallest rest length among the groups' links
@@ -78,6 +90,8 @@ struct SelfCollisionSettings {
   // points: particle-particle contacts; triangles: also particle-triangle proximity (the
   // groups' surface faces), so that a coarse cloth cannot pass through itself between particles
   Primitive primitive = Primitive::points;
+  // How often the pairs of the groups' faces that cross are counted (intersections.hpp).
+  IntersectionCheck check = IntersectionCheck::stats;
 };
 
 // What one pass found (for tests, studies and the profile).

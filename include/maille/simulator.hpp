@@ -312,6 +312,7 @@ class Simulator : private ForceEvaluator {
   bool advance_or_stop(Real h);  // the scheme's advance, undone when a stop came during it
   void keep_for_stop();
   void note_convergence();
+  bool inspect_stages(bool sampled);  // Stage::inspect; false: a stage stopped the run
 
   Model model_;
   SimulationSettings settings_;

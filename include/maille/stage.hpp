@@ -191,6 +191,14 @@ class Stage {
   // Default: 0 (a stage of no conservative force; the viewer's drag spring is the user's hand,
   // external work like a drive's, and keeps it).
   virtual double energy(const Model& /*m*/, const State& /*s*/) { return 0; }
+  // Checks of the state the stage offers (self-collision: triangles that cross), run by the
+  // simulator at the start of each step on x_n (`sampled`: this step's stats row is written):
+  // counters into the profile. A non-empty answer stops the run as a blow-up at this step naming
+  // the stage (a check the user asked to stop on, e.g. `check = "every_step"`).
+  virtual std::string inspect(const Model& /*m*/, const State& /*s*/, Profile& /*profile*/,
+                              bool /*sampled*/) {
+    return {};
+  }
   // Segments to draw over the scene at the state of the last step (contacts, cells...).
   virtual void overlay(const Model&, const State&, std::vector<OverlaySegment>& /*out*/) const {}
   // Solids to draw with the scene at time t (obstacles): appended to `out` at every snapshot.

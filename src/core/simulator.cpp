@@ -241,6 +241,8 @@ bool Simulator::step() {
   if (backend_) return step_on_backend();
   keep_for_stop();
   profile_.begin_step();
+  if (!inspect_stages(state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0))
+    return false;
   const auto& ids = *ids_;
   const Real h = static_cast<Real>(settings_.step);
   if (fused_grid_step(h)) {  // grid cloth alone: forces and update in one pass

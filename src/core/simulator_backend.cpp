@@ -112,6 +112,7 @@ bool Simulator::step_on_backend() {
   if (sampling) {
     device_ahead_ = true;
     sync_host();
+    if (!inspect_stages(true)) return false;  // every_step checks at this cadence here
     sample_energies();
     if (blow_up_) return false;
   }

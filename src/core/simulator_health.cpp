@@ -170,4 +170,21 @@ void Simulator::fail(std::string module, std::string detail) {
   blow_up_ = BlowUp{state_.step, state_.time, module, msg.str()};
 }
 
+// The stages' checks of the state (Stage::inspect): a stage that asks to stop ends the run like
+// a blow-up, at this step (the state of its start), naming the stage.
+bool Simulator::inspect_stages(bool sampled) {
+  bool stopped = false;
+  for_each_installed([&](Installed& st) {
+    if (stopped) return;
+    const std::string why = st.stage->inspect(model_, state_, profile_, sampled);
+    if (why.empty()) return;
+    std::ostringstream msg;
+    msg << "stopped at step " << state_.step << " (t = " << state_.time << " s) by stage '"
+        << st.stage->name() << "': " << why;
+    blow_up_ = BlowUp{state_.step, state_.time, st.stage->name(), msg.str()};
+    stopped = true;
+  });
+  return !stopped;
+}
+
 }  // namespace maille

@@ -109,6 +109,7 @@ TEST(Names, TheDocsListEveryTablesNames) {
   expect_documented<BroadPhase>("## Self-collision", "broad_phase");
   expect_documented<Exclusion>("## Self-collision", "exclusion");
   expect_documented<Primitive>("## Self-collision", "primitive");
+  expect_documented<IntersectionCheck>("## Self-collision", "check");
   expect_documented<ObstacleMethod>("## Obstacles", "method");
   expect_documented<ShapeKind>("## Obstacles", "shape");
   expect_documented<ContactNormal>("## Obstacles", "normal");
@@ -189,6 +190,7 @@ cell_size = 0.08
 exclusion = "matrix"
 topological_radius = 3
 primitive = "triangles"
+check = "every_step"
 groups = ["cloth"]
 )";
   auto r = parse(text);
@@ -197,10 +199,10 @@ groups = ["cloth"]
   const auto& p = r->model.stages[0].parameters;
   ASSERT_EQ(p.size(), self_collision_keys().size());  // every key visited, in order
   const std::vector<std::pair<std::string, std::string>> want{
-      {"groups", "cloth"},       {"radius", "0.05"},      {"stiffness", "750"},
-      {"damping", "0.25"},       {"friction", "0.5"},     {"broad_phase", "hashed"},
-      {"cell_size", "0.08"},     {"exclusion", "matrix"}, {"topological_radius", "3"},
-      {"primitive", "triangles"}};
+      {"groups", "cloth"},        {"radius", "0.05"},      {"stiffness", "750"},
+      {"damping", "0.25"},        {"friction", "0.5"},     {"broad_phase", "hashed"},
+      {"cell_size", "0.08"},      {"exclusion", "matrix"}, {"topological_radius", "3"},
+      {"primitive", "triangles"}, {"check", "every_step"}};
   EXPECT_EQ(p, want);
 }
 
@@ -248,13 +250,14 @@ resolution = [4, 4]
 origin = [0, -1, 0]
 fixed = "none"
 )";
-  auto r = parse(two + "[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 500\nthreshold = 0.05\n");
+  auto r =
+      parse(two + "[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 500\nthreshold = 0.05\n");
   ASSERT_TRUE(r) << r.error().to_string();
   ASSERT_EQ(r->model.stages.size(), 1u);
   const std::vector<std::pair<std::string, std::string>> want{
-      {"contact[0].between", "a, b"},          {"contact[0].stiffness", "500"},
-      {"contact[0].damping", "0"},             {"contact[0].threshold", "0.05"},
-      {"contact[0].rest_length", "0.05"},      {"contact[0].method", "broad_phase"}};
+      {"contact[0].between", "a, b"},     {"contact[0].stiffness", "500"},
+      {"contact[0].damping", "0"},        {"contact[0].threshold", "0.05"},
+      {"contact[0].rest_length", "0.05"}, {"contact[0].method", "broad_phase"}};
   EXPECT_EQ(r->model.stages[0].parameters, want);
   auto error = [&](const std::string& table) {
     const auto e = parse(two + table);
@@ -262,15 +265,15 @@ fixed = "none"
   };
   EXPECT_EQ(error("[[contact]]\nbetween = [\"a\", \"b\"]\nthreshold = 0.05\n"),
             "contact[0].stiffness | is required but missing");
-  EXPECT_EQ(
-      error("[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 1\nthreshold = 0.05\n"
-            "rest_length = 3e6\n"),
-      "contact[0].rest_length | must be in [0, 2e+06] m (got 3e+06)");
+  EXPECT_EQ(error("[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 1\nthreshold = 0.05\n"
+                  "rest_length = 3e6\n"),
+            "contact[0].rest_length | must be in [0, 2e+06] m (got 3e+06)");
   EXPECT_EQ(error("[simulation]\nintegrator = \"implicit_euler\"\n[simulation.implicit]\n"
                   "acceleration = 1\n"),
             "simulation.implicit.acceleration | must be in [0, 0.999999] (got 1)");
-  auto s = parse(two + "[simulation]\nintegrator = \"implicit_euler\"\n[simulation.implicit]\n"
-                       "solver = \"vbd\"\niterations = 7\nacceleration = 0.5\n");
+  auto s = parse(two +
+                 "[simulation]\nintegrator = \"implicit_euler\"\n[simulation.implicit]\n"
+                 "solver = \"vbd\"\niterations = 7\nacceleration = 0.5\n");
   ASSERT_TRUE(s) << s.error().to_string();
   EXPECT_EQ(s->settings.implicit.solver, ImplicitSolver::vbd);
   EXPECT_EQ(s->settings.implicit.iterations, 7);

@@ -2,6 +2,7 @@
 // (cell size tuned by measurement when "auto"), remove topological neighbours, and apply the
 // conditional spring-damper per pair. See include/maille/self_collision.hpp.
 #include "maille/self_collision.hpp"
+#include "maille/intersections.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -486,11 +487,21 @@ namespace {
 // State: it is a performance cache that changes no result (every cell size yields the same
 // pairs, summed in the same order), so a copied or resumed State re-tunes and still continues
 // bit-identically.
+// The surface faces whose three corners belong to the self-colliding groups.
+std::vector<Triangle> group_faces(const Model& m, const std::vector<std::string>& groups) {
+  const std::vector<std::uint8_t> mask = group_mask(m, groups);
+  std::vector<Triangle> out;
+  for (const auto& t : m.surface.triangles)
+    if (mask[t[0]] && mask[t[1]] && mask[t[2]]) out.push_back(t);
+  return out;
+}
+
 class SelfCollisionStage final : public Stage {
  public:
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s)
       : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {
     anchored_ = anchored_triangles(m);
+    faces_ = group_faces(m, settings_.groups);
   }
   std::string name() const override { return std::string(kSelfCollisionStage); }
   Phase phase() const override { return kSelfCollisionPhase; }
@@ -500,7 +511,28 @@ class SelfCollisionStage final : public Stage {
     engine_ = SelfCollision(m, settings_);
     warnings_ = leak_warnings(m, engine_.settings());
     anchored_ = anchored_triangles(m);
+    faces_ = group_faces(m, settings_.groups);
     last_cell_ = 0;
+  }
+
+  // [self_collision] check: the pairs of the groups' faces that cross (intersections.hpp), at
+  // the stats cadence or every step; every_step stops the run at the first.
+  std::string inspect(const Model&, const State& s, Profile& p, bool sampled) override {
+    const IntersectionCheck check = settings_.check;
+    if (check == IntersectionCheck::off || faces_.empty()) return {};
+    if (check == IntersectionCheck::stats && !sampled) return {};
+    if (crossing_id_ < 0) crossing_id_ = p.counter("intersecting_pairs");
+    crossings_.keep_pairs(1);
+    const std::size_t n = crossings_.count(s.x(), faces_);
+    p.set_count(crossing_id_, n);
+    if (check != IntersectionCheck::every_step || n == 0) return {};
+    const auto& pair = crossings_.pairs().front();
+    const Triangle &a = faces_[pair[0]], &b = faces_[pair[1]];
+    std::ostringstream why;
+    why << n << " pair" << (n == 1 ? "" : "s") << " of triangles of the self-colliding groups "
+        << "cross (check = \"every_step\"), the first: points " << a[0] << "-" << a[1] << "-"
+        << a[2] << " and " << b[0] << "-" << b[1] << "-" << b[2];
+    return why.str();
   }
   std::vector<std::string> warnings(const SimulationSettings& s) const override {
     std::vector<std::string> out = warnings_;
@@ -623,6 +655,9 @@ class SelfCollisionStage final : public Stage {
   }
 
  private:
+  std::vector<Triangle> faces_;  // the groups' surface faces (check)
+  IntersectionCount crossings_;
+  int crossing_id_ = -1;
   SelfCollisionSettings settings_;
   SelfCollision engine_;
   std::vector<std::string> warnings_;  // leak_warnings of the resolved settings

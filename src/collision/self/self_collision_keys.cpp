@@ -10,7 +10,7 @@ namespace maille {
 
 std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
   using S = SelfCollisionSettings;
-  static const std::array<StageKey<S>, 10> keys{
+  static const std::array<StageKey<S>, 11> keys{
       custom<S>("groups", KeyType::texts,
                 {.doc = "which points collide, with themselves and with each other",
                  .default_doc = "every group",
@@ -58,6 +58,10 @@ std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
                             {.doc = "`points`: particle-particle contacts; `triangles`: also "
                                     "particle-triangle proximity with the groups' surface faces "
                                     "(below)"}),
+      choice<&S::check>("check",
+                        {.doc = "how often the pairs of the groups' faces that cross each other "
+                                "are counted (stats.csv `intersecting_pairs`, an exact test); "
+                                "`every_step` stops the run (exit 3) at the first"}),
   };
   return keys;
 }
