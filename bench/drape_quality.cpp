@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth_measures.hpp"
 #include "intersections.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
@@ -75,15 +76,7 @@ std::size_t crossing_pairs(std::span<const Vec3> x,
   return count;
 }
 
-double largest_stretch(const Simulator& sim) {
-  const auto* pool = sim.model().links.find("spring_damper");
-  double worst = 0;
-  for (std::size_t l = 0; pool && l < pool->size(); ++l) {
-    const auto [a, b] = pool->ends(l);
-    worst = std::max(worst, norm(sim.state().x()[b] - sim.state().x()[a]) / pool->param(l, 1) - 1);
-  }
-  return worst;
-}
+using test::largest_stretch;  // cloth_measures.hpp
 
 int usage() {
   std::fprintf(stderr,

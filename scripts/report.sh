@@ -111,6 +111,17 @@ if "$maille" info --backend gpu >/dev/null 2>&1; then
        --out "$data.new/gpu/flags.csv" 2>/dev/null; then gpu_status=ran; else gpu_status=failed; fi
   gpu_s=$(since "$t")
 fi
+# The largest live model per kind (issue 37): `maille play --benchmark` on one thread by size,
+# string, square drum and lattice bar (scripts/bench_live.sh).
+t=$(now)
+live_status=failed
+mkdir -p "$data.new/live"
+if in_child scripts/bench_live.sh --maille "$maille" "${quick[@]}" --out "$data.new/live/live.csv"; then
+  live_status=ran
+else
+  rm -f "$data.new/live/live.csv"
+fi
+live_s=$(since "$t")
 # The new data replaces the old only once every study has finished; an interrupt between the
 # two moves puts the old back (see interrupted).
 rm -rf "$data.old"
@@ -140,6 +151,8 @@ fi
   echo "peer,$peer_status"
   echo "gpu_s,$gpu_s"
   echo "gpu,$gpu_status"
+  echo "live_s,$live_s"
+  echo "live,$live_status"
   echo "gallery_s,$gallery_s"
   echo "total_s,$(since "$start")"
 } >"$data/run.csv.tmp"

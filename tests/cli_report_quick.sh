@@ -3,7 +3,8 @@
 # each with its documented columns and plausible values (integrator orders near theory, the
 # validity cases within their tolerances, leapfrog's limit at h omega = 2, ...), and
 # scripts/report/report.py draws every figure and fills the whole template from that data, and
-# (when `maille render` is built) every example renders for the quick gallery.
+# (when `maille render` is built) every example renders for the quick gallery; the live section
+# (scripts/bench_live.sh --quick) is measured and fills its table.
 # It holds the checks of the former cli.study_csv_columns and cli.study_obstacles_tables, which
 # ran the same quick studies on their own.
 # Usage: cli_report_quick.sh MAILLE OUT SOURCE_DIR
@@ -148,8 +149,15 @@ if ! /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
   echo "matplotlib missing (scripts/setup.sh python3-matplotlib): figures not checked"
   exit 77
 fi
+# The live section's data (scripts/bench_live.sh --quick: six short `maille play --benchmark`).
+mkdir -p "$out/data/live"
+timeout 120 "$src/scripts/bench_live.sh" --maille "$maille" --quick --out "$out/data/live/live.csv" ||
+  { echo "scripts/bench_live.sh --quick failed"; exit 1; }
+[ "$(grep -c ',ok$' "$out/data/live/live.csv")" = 6 ] ||
+  { cat "$out/data/live/live.csv"; echo "live.csv: 6 rows measured without a blow-up expected"; exit 1; }
 /usr/bin/python3 "$src/scripts/report/report.py" --data "$out/data" --figures "$out/figures" \
   --template "$src/scripts/report/report.md.in" --md "$out/report.md" || exit 1
+grep -q '^| square drum' "$out/report.md" || { echo "report.md: no live table"; exit 1; }
 for f in $(/usr/bin/python3 -c "import sys; sys.path.insert(0, '$src/scripts/report'); import report; print(' '.join(report.FIGURES))"); do
   [ -s "$out/figures/$f" ] || { echo "figure $f not written"; exit 1; }
 done

@@ -424,6 +424,8 @@ int run(const RunOptions& o) {
   std::optional<audio::Recorder> sound;  // --audio: the listeners' stage, installed last
   try {
     built.emplace(std::move(scene->model), settings);
+    // stats.csv reads the timings of the sampled steps only: the others read no clock.
+    built->set_stage_timing(Simulator::StageTiming::sampled_steps);
     if (!o.audio.empty()) sound.emplace(scene->audio, settings.step).attach(*built);
   } catch (const std::invalid_argument& e) {
     std::cerr << o.scene << ": error: " << e.what() << '\n';

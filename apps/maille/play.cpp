@@ -22,6 +22,11 @@ namespace {
 
 std::atomic<bool> g_stop_play{false};
 
+// Steps between the simulator's health checks while playing: every sample is checked finite
+// (LiveSource), so a pass over every point per step is not needed to stop a blow-up's sound;
+// within 64 steps the model is stopped and the summary says when.
+constexpr int kHealthEvery = 64;
+
 // Ctrl-C and SIGTERM are blocked before any thread starts (JACK's, RtMidi's, the OSC server's:
 // they inherit the mask, so a signal never interrupts one of them in a system call) and taken
 // by the main thread alone, which waits for them (stopped_by_signal) while the model plays.
@@ -133,6 +138,8 @@ int play(const PlayOptions& o) {
       in.engine.reset();
       in.source.reset();
       in.sim.emplace(scene.model, settings);
+      in.sim->set_stage_timing(Simulator::StageTiming::sampled_steps);  // no clock per step
+      in.sim->set_health_every(kHealthEvery);
       in.source.emplace(*in.sim, scene.audio, rate, tables, buffer);
       const std::uint64_t limit =
           o.duration ? static_cast<std::uint64_t>(std::llround(*o.duration * rate)) : 0;

@@ -7,6 +7,7 @@
 
 #ifdef MAILLE_WITH_JACK
 #include <jack/jack.h>
+#include <pthread.h>
 
 #include <cstdlib>
 #include <string>
@@ -112,11 +113,19 @@ class JackOutput final : public AudioOutput {
     jack_free(physical);
   }
 
+  // JACK's deactivation (stop()) cancels this thread asynchronously, wherever it is: inside the
+  // model's step, the forced unwind met a frame that may not throw and std::terminate aborted
+  // the program at Ctrl-C (cli.play_jack_osc, about one run in five; the core showed the cancel
+  // inside the link loop). Cancellation is held off while the model runs, and a pending one is
+  // taken when it is allowed again, here, outside the engine's frames.
   static int process(jack_nframes_t frames, void* self) {
+    int cancel = PTHREAD_CANCEL_ENABLE;
+    pthread_setcancelstate(PTHREAD_CANCEL_DISABLE, &cancel);
     auto* me = static_cast<JackOutput*>(self);
     for (std::size_t c = 0; c < me->ports_.size(); ++c)
       me->buffers_[c] = static_cast<float*>(jack_port_get_buffer(me->ports_[c], frames));
     me->engine_->process(me->buffers_.data(), frames);
+    pthread_setcancelstate(cancel, nullptr);
     return 0;
   }
   static int xrun(void* self) {

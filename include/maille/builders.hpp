@@ -120,6 +120,7 @@ struct NetParams {
   Real mass = 1;  // kg, total
   LinkMaterial material{500, Real(0.05)};
   NetFixed fixed = NetFixed::corners;
+  Real pretension = 0;  // rest lengths (1 - pretension) x built: a square drum skin, fixed edges
 };
 Group build_net(Model& m, const NetParams& p, const std::string& name);
 

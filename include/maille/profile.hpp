@@ -36,6 +36,10 @@ class Profile {
   void add_count(int counter, std::uint64_t value);
   void set_gauge(int gauge, double value) { gauges_[gauge].last = value; }
   void begin_step();  // zeroes the `last` values
+  // Whether this step's stages are timed (Simulator::set_stage_timing): a step not timed reads
+  // no clock and leaves its stages' last_ns at 0.
+  void set_timing(bool on) { timing_ = on; }
+  bool timing() const { return timing_; }
 
   const std::vector<Stage>& stages() const { return stages_; }
   const std::vector<Counter>& counters() const { return counters_; }
@@ -48,6 +52,7 @@ class Profile {
   std::vector<Counter> counters_;
   std::vector<Gauge> gauges_;
   std::uint64_t steps_ = 0;
+  bool timing_ = true;
 };
 
 }  // namespace maille

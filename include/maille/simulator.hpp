@@ -159,6 +159,18 @@ class Simulator : private ForceEvaluator {
     double retrial = 10;              // s of wall-clock time between trials at one free count
   };
   void set_core_sampling(CoreSampling sampling);
+  // Which steps time their stages into profile() (two clock reads per stage, a quarter of a
+  // small model's step at audio rate): every step (the default), or only the steps that sample
+  // energies (sample_every), whose stats rows keep complete timings; the profile's totals then
+  // sum those steps only. docs/sound.md, "A lean step".
+  enum class StageTiming { every_step, sampled_steps };
+  void set_stage_timing(StageTiming timing) { stage_timing_ = timing; }
+  StageTiming stage_timing() const { return stage_timing_; }
+  // Steps between two health checks (non-finite positions or velocities, the kinetic bound of
+  // a runaway): 1 (the default) checks every step, so a blow-up is reported at the step it
+  // starts; n > 1 checks the steps that are multiples of n, so it is found within n steps (a
+  // pass over every point less per step; `maille play`, whose every sample is checked finite).
+  void set_health_every(int n) { health_every_ = n < 1 ? 1 : n; }
   bool follows_cores() const { return follows_cores_; }
   // The compute backend, or nullptr on the CPU path.
   const Backend* backend() const { return backend_.get(); }
@@ -243,6 +255,8 @@ class Simulator : private ForceEvaluator {
   };
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
+  // The first stage of a list that needs a finite state (not reads_only), or null.
+  static const Stage* first_checked(const std::vector<Installed>& stages);
   bool stop_requested() override;
   bool failed() const override { return blow_up_.has_value(); }
   std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
@@ -347,8 +361,10 @@ class Simulator : private ForceEvaluator {
   DeviceSolverIds device_ids_;
   double energy_scale_ = 0;
   int threads_ = 1;
-  int cores_ = 1;               // those OpenMP may use (omp_get_num_procs)
-  int free_at_start_ = 1;       // the cores free when the simulator was built
+  int cores_ = 1;          // those OpenMP may use (omp_get_num_procs)
+  int free_at_start_ = 1;  // the cores free when the simulator was built
+  StageTiming stage_timing_ = StageTiming::every_step;  // the lean step's cadences
+  int health_every_ = 1;
   bool follows_cores_ = false;  // the thread count is the default: it follows the free cores
   CoreSampling core_sampling_;
   std::unique_ptr<detail::ThreadChooser> chooser_;  // built at the first step

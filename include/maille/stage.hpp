@@ -160,6 +160,9 @@ class Stage {
   virtual std::string name() const = 0;  // also the profile's stage name
   virtual Phase phase() const = 0;
   virtual void apply(const Model& m, State& s, const StageContext& ctx) = 0;
+  // A stage that only reads the state (a listener) and never hashes positions: the simulator
+  // skips its O(points) finiteness check before such a stage (a step's fixed cost at audio rate).
+  virtual bool reads_only() const { return false; }
   // Called after the model's structure changed (Simulator::edit_model) or after a reset:
   // drop anything sized or derived from the old model.
   virtual void model_changed(const Model&) {}

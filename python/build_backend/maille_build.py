@@ -38,7 +38,19 @@ def _tag():
 
 def _run(cmd):
     print("maille_build: " + " ".join(str(c) for c in cmd), flush=True)
-    subprocess.run([str(c) for c in cmd], check=True)
+    # pip runs this backend in an isolated environment whose PYTHONPATH hides the site-packages;
+    # CMake's interpreter must see its own (NumPy's headers are found through it).
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONNOUSERSITE")}
+    subprocess.run([str(c) for c in cmd], check=True, env=env)
+
+
+def _interpreter():
+    """The interpreter the module is built for: the running one, or, in a virtual environment,
+    its base interpreter (the same ABI; a venv made with --system-site-packages sees its NumPy)."""
+    base = getattr(sys, "_base_executable", None)
+    if sys.prefix != sys.base_prefix and base and Path(base).exists():
+        return str(Path(base).resolve())
+    return sys.executable
 
 
 def _build_module():
@@ -51,7 +63,8 @@ def _build_module():
               "-DCMAKE_BUILD_TYPE=Release",
               "-DMAILLE_ARCH=" + os.environ.get("MAILLE_ARCH", "portable"),
               "-DMAILLE_BUILD_TESTS=OFF", "-DMAILLE_BUILD_BENCH=OFF",
-              "-DMAILLE_BUILD_PYTHON=ON", "-DPython3_EXECUTABLE=" + sys.executable])
+              "-DMAILLE_BUILD_PYTHON=ON", "-DPython3_EXECUTABLE=" + _interpreter(),
+              "-DPYTHON_EXECUTABLE=" + _interpreter()])
     jobs = os.environ.get("MAILLE_JOBS") or str(os.cpu_count() or 1)
     _run(["cmake", "--build", build, "--parallel", jobs,
           "--target", "maille_python", "maille_python_cores"])

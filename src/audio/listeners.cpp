@@ -79,6 +79,7 @@ class ListenStage final : public ForceStage {
  public:
   explicit ListenStage(std::shared_ptr<Recorder::Tap> tap) : tap_(std::move(tap)) {}
   std::string name() const override { return "listen"; }
+  bool reads_only() const override { return true; }
   void apply(const Model& m, State& s, const StageContext& ctx) override { tap_->hear(m, s, ctx); }
 
  private:

@@ -165,6 +165,7 @@ class LiveListenStage final : public ForceStage {
  public:
   explicit LiveListenStage(LiveSource::Impl* impl) : impl_(impl) {}
   std::string name() const override { return "listen"; }
+  bool reads_only() const override { return true; }
   void apply(const Model& m, State& s, const StageContext& ctx) override { impl_->hear(m, s, ctx); }
 
  private:

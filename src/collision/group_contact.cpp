@@ -94,10 +94,9 @@ class GroupContact {
   void apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) const {
     const auto n = static_cast<std::int64_t>(near_.size());
     const Real k = spec_.stiffness, z = spec_.damping, s = spec_.threshold, l0 = spec_.rest_length;
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
-    for (std::int64_t a = 0; a < n; ++a) {
+    const auto one = [&](std::int64_t a) {
       const std::size_t qa = std::size_t(a);
-      if (start_[qa] == start_[qa + 1]) continue;
+      if (start_[qa] == start_[qa + 1]) return;
       const std::uint32_t pa = set_[near_[qa]];
       const bool b_side = (qtag_[qa] & kSideB) != 0;
       Vec3 sum{};
@@ -109,7 +108,14 @@ class GroupContact {
           sum += law::conditional_law(x[pa], x[pb], v[pa], v[pb], k, z, s, l0);
       }
       f[pa] += sum;
+    };
+    // One thread: no parallel construct (even `if (false)` starts a team: a futex call a step).
+    if (threads <= 1) {
+      for (std::int64_t a = 0; a < n; ++a) one(a);
+      return;
     }
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::int64_t a = 0; a < n; ++a) one(a);
   }
 
   // Every pair of the rows once, as (A's point, B's point).

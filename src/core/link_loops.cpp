@@ -1,6 +1,7 @@
 // The force loops over a pool's links (maille/link_loops.hpp): the structured kernel's rows and
 // the general schedule's chunks, the kind's law called per batch (a row segment, a chunk).
 #include <algorithm>
+#include <bit>
 
 #include "maille/link_loops.hpp"
 #include "schedule_loops.hpp"
@@ -21,6 +22,8 @@ void link_row(const LinkPoolBase& pool, std::size_t g, std::uint32_t j, const Ve
   const std::size_t w = stencil.width();
   const std::uint32_t row_first = grid.first + j * grid.nx;
   for (std::size_t fam = 0; fam < StructuredGrid::kFamilies.size(); ++fam) {
+    // An absent family's buffers are not written: they hold zeros (cut_segments).
+    if (!(stencil.families(g) >> fam & 1)) continue;
     Real* bx = out + fam * 3 * w + 2;  // column c at c + 2
     Real* by = bx + w;
     Real* bz = by + w;
@@ -39,6 +42,17 @@ void link_row(const LinkPoolBase& pool, std::size_t g, std::uint32_t j, const Ve
     }
     zero_to(std::int64_t(grid.nx) + 2);
   }
+}
+
+// The same with two families (a net's, a flag's without shear and bending).
+[[gnu::always_inline]] inline Real gathered(const Real* const (&p)[2], const Real* const (&q)[2],
+                                            std::size_t i) {
+  Real s = 0;
+  s += p[0][i];
+  s += p[1][i];
+  s -= q[0][i];
+  s -= q[1][i];
+  return s;
 }
 
 // One coordinate of point i's sum (gather_row), written out so that the loop vectorises (inlined
@@ -61,8 +75,8 @@ void link_row(const LinkPoolBase& pool, std::size_t g, std::uint32_t j, const Ve
   return s;
 }
 
-template <bool kAssign>
-void gather(const Real* const (&p)[3][6], const Real* const (&q)[3][6], std::size_t nx, Vec3* f) {
+template <bool kAssign, std::size_t N>
+void gather(const Real* const (&p)[3][N], const Real* const (&q)[3][N], std::size_t nx, Vec3* f) {
 #pragma omp simd
   for (std::size_t i = 0; i < nx; ++i) {
     const Real sx = gathered(p[0], q[0], i), sy = gathered(p[1], q[1], i),
@@ -82,8 +96,11 @@ void gather(const Real* const (&p)[3][6], const Real* const (&q)[3][6], std::siz
 // Row j's points sum their links' forces in one fixed order: as first end (row j's buffers,
 // families in order), then as second end (the buffers of rows j - dj at column i - di).
 // `assign`: f = the sum (the fused step, f not cleared), else f += the sum.
+// `present`: the grid's families (StructuredGrid::families); with two (a net's, a flag's
+// without shear and bending) only theirs are summed: the same sums, since an absent family's
+// +0 leaves a sum that starts at +0 (hence is never -0) as it is.
 void gather_row(const StructuredGrid& stencil, const Real* r0, const Real* r1, const Real* r2,
-                std::uint32_t nx, Vec3* f, bool assign) {
+                std::uint32_t nx, Vec3* f, bool assign, std::uint8_t present) {
   constexpr std::size_t families = StructuredGrid::kFamilies.size();
   static_assert(families == 6);
   const std::size_t w = stencil.width();
@@ -96,6 +113,20 @@ void gather_row(const StructuredGrid& stencil, const Real* r0, const Real* r1, c
       first[c][fam] = r0 + (fam * 3 + c) * w + 2;
       second[c][fam] = rows[dj] + (fam * 3 + c) * w + 2 - di;
     }
+  }
+  if (std::popcount(present) == 2) {
+    const Real* p[3][2];
+    const Real* q[3][2];
+    for (std::size_t fam = 0, k = 0; fam < families; ++fam)
+      if (present >> fam & 1) {
+        for (std::size_t c = 0; c < 3; ++c) p[c][k] = first[c][fam], q[c][k] = second[c][fam];
+        ++k;
+      }
+    if (assign)
+      gather<true>(p, q, nx, f);
+    else
+      gather<false>(p, q, nx, f);
+    return;
   }
   if (assign)
     gather<true>(first, second, nx, f);
@@ -177,7 +208,7 @@ void structured_forces(const LinkPoolBase& pool, const Vec3* x, const Vec3* v, V
       if (row < r1 - 2) link_row(pool, g, std::uint32_t(row), x, v, ring[row % 3]);
       const std::uint32_t first = grid.first + std::uint32_t(row) * grid.nx;
       gather_row(stencil, buffer(row), buffer(row - 1), buffer(row - 2), grid.nx, f + first,
-                 hook != nullptr);
+                 hook != nullptr, stencil.families(g));
       if (hook) hook->run(hook->context, g, std::uint32_t(row));
     }
   }

@@ -238,6 +238,8 @@ bool Simulator::step() {
   if (blow_up_) return false;
   if (threads_ > 1 || follows_cores_) keep_to_usable_threads();
   if (follows_cores_) follow_cores();
+  profile_.set_timing(stage_timing_ == StageTiming::every_step ||
+                      state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0);
   if (backend_) return step_on_backend();
   keep_for_stop();
   profile_.begin_step();
@@ -268,14 +270,14 @@ bool Simulator::step() {
     Timed t(profile_, ids.after);
     stages::drive(model_, state_, state_.time);
   }
-  if (!after_stages_.empty() && !stage_input_finite(state_, *after_stages_.front().stage))
-    return false;
+  if (const Stage* checked = first_checked(after_stages_))
+    if (!stage_input_finite(state_, *checked)) return false;
   const StageContext ctx = context(state_);
   for (auto& st : after_stages_) {
     Timed t(profile_, st.profile_id);
     st.stage->apply(model_, state_, ctx);
   }
-  {
+  if (health_every_ == 1 || state_.step % static_cast<std::uint64_t>(health_every_) == 0) {
     Timed t(profile_, ids.health);
     check_health();
   }
@@ -377,6 +379,12 @@ bool Simulator::run_steps(std::uint64_t n) {
   return true;
 }
 
+const Stage* Simulator::first_checked(const std::vector<Installed>& stages) {
+  for (const auto& st : stages)
+    if (!st.stage->reads_only()) return st.stage.get();
+  return nullptr;
+}
+
 StageContext Simulator::context(const State& s) const {
   StageContext ctx;
   ctx.h = settings_.step;
@@ -413,7 +421,8 @@ void Simulator::evaluate(State& s) {
   point_contacts_.clear();
   triangle_contacts_.clear();
   if (force_stages_.empty()) return;
-  if (!stage_input_finite(s, *force_stages_.front().stage)) return;
+  if (const Stage* checked = first_checked(force_stages_))
+    if (!stage_input_finite(s, *checked)) return;
   const StageContext ctx = context(s);
   for (auto& st : force_stages_) {
     Timed t(profile_, st.profile_id);

@@ -34,6 +34,7 @@ void StructuredGrid::clear() {
   grids_.clear();
   row_base_.clear();
   row_segment_.clear();
+  present_.clear();
   width_ = 0;
 }
 
@@ -175,6 +176,14 @@ void StructuredGrid::cut_segments(std::span<const LinkEnds> ends) {
     ++row_segment_[(row_base_[key.grid] + key.row) * families + key.family + 1];
   }
   for (std::size_t r = 0; r + 1 < row_segment_.size(); ++r) row_segment_[r + 1] += row_segment_[r];
+  present_.assign(grids_.size(), 0);
+  for (const Segment& segment : segments_) {
+    const Key& key = keys_[segment.slot];
+    present_[key.grid] = std::uint8_t(present_[key.grid] | (1u << key.family));
+  }
+  // The kernel no longer writes an absent family's row buffers, which the six-family sum reads:
+  // they must hold zeros, not a former structure's forces.
+  std::fill(scratch_.begin(), scratch_.end(), Real(0));
   colour_begin_.assign(1, 0);
   for (std::uint32_t colour = 0; colour < 2; ++colour) {
     for (std::size_t k = 0; k < by_block.size(); ++k)

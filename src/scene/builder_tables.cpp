@@ -124,6 +124,8 @@ Group net(TomlCursor& t, Model& m, const std::string& name) {
   p.mass = mass(t, p.mass);
   p.material = material(t, p.material);
   p.fixed = t.choice("fixed", p.fixed);
+  p.pretension = t.real("pretension", p.pretension, Bound::non_negative);
+  if (p.pretension >= 1) t.fail("pretension", "must be < 1");
   return guarded(t, [&] { return build_net(m, p, name); });
 }
 

@@ -1,5 +1,6 @@
 // Net: a grid of knots joined by cords along the two grid directions only, so it has no
-// shear stiffness and drapes freely; no faces (wind passes through a net).
+// shear stiffness and drapes freely; no faces (wind passes through a net). With a pretension and
+// its edges fixed it is a square drum skin (the live period budget's drum, docs/sound.md).
 #include <stdexcept>
 
 #include "build_helpers.hpp"
@@ -41,9 +42,11 @@ Group build_net(Model& m, const NetParams& p, const std::string& name) {
   for (std::uint32_t j = 0; j < p.ny; ++j)
     for (std::uint32_t i = 0; i < p.nx; ++i) {
       if (i + 1 < p.nx)
-        build::link(m, id(i, j), id(i + 1, j), p.material.stiffness, p.material.damping);
+        build::link(m, id(i, j), id(i + 1, j), p.material.stiffness, p.material.damping,
+                    1 - p.pretension);
       if (j + 1 < p.ny)
-        build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping);
+        build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping,
+                    1 - p.pretension);
     }
   Group g = build::group(m, name, "net", first);
   m.groups.back().grid_nx = g.grid_nx = p.nx;

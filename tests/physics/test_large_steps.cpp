@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "../intersections.hpp"
+#include "cloth_measures.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
@@ -74,16 +75,7 @@ struct Outcome {
   double stretch = 0;         // the largest |x_b - x_a| / L0 - 1 of a spring-damper, sampled
 };
 
-// The largest stretch of the model's spring-dampers (every kind: structural, shear, bending).
-double largest_stretch(const Simulator& sim) {
-  const auto* pool = sim.model().links.find("spring_damper");
-  double worst = 0;
-  for (std::size_t l = 0; pool && l < pool->size(); ++l) {
-    const auto [a, b] = pool->ends(l);
-    worst = std::max(worst, norm(sim.state().x()[b] - sim.state().x()[a]) / pool->param(l, 1) - 1);
-  }
-  return worst;
-}
+using test::largest_stretch;  // cloth_measures.hpp
 
 Outcome run(const std::string& name, double h, int sweeps, double duration = 1.0,
             std::span<const std::string> overrides = {}, int threads = 1) {

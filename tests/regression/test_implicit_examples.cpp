@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../intersections.hpp"
+#include "cloth_measures.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 
@@ -30,16 +31,7 @@ std::vector<std::filesystem::path> implicit_examples() {
   return out;
 }
 
-// The largest |x_b - x_a| / L0 - 1 over the model's spring-dampers (structural, shear, bending).
-double largest_stretch(const Simulator& sim) {
-  const auto* pool = sim.model().links.find("spring_damper");
-  double worst = 0;
-  for (std::size_t l = 0; pool && l < pool->size(); ++l) {
-    const auto [a, b] = pool->ends(l);
-    worst = std::max(worst, norm(sim.state().x()[b] - sim.state().x()[a]) / pool->param(l, 1) - 1);
-  }
-  return worst;
-}
+using test::largest_stretch;  // cloth_measures.hpp
 
 class ImplicitExample : public ::testing::TestWithParam<std::filesystem::path> {};
 

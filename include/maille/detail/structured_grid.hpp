@@ -106,6 +106,9 @@ class StructuredGrid {
     const std::size_t r = (std::size_t(row_base_[g]) + j) * kFamilies.size() + f;
     return {row_segment_[r], row_segment_[r + 1]};
   }
+  // Bit f set: family f has links in grid g. The kernel neither writes nor sums an absent
+  // family's row buffers (a net has two families of the six).
+  std::uint8_t families(std::size_t g) const { return present_[g]; }
   // Row buffers: a link row holds, per family and coordinate, width() values for the columns
   // -2 .. nx + 1 of the widest grid (column c at c + 2).
   std::size_t width() const { return width_; }
@@ -153,6 +156,7 @@ class StructuredGrid {
   std::vector<PointGrid> grids_;             // the grids kept, by first point
   std::vector<std::uint32_t> row_base_;      // [grids] rows of the grids before
   std::vector<std::uint32_t> row_segment_;   // [rows x families + 1] segments by row, family
+  std::vector<std::uint8_t> present_;        // [grids] bit f: family f has a link there
   std::size_t width_ = 0;
   // Row buffers: a zero link row, then kRowsPerThread link rows per thread.
   mutable std::vector<Real> scratch_;
