@@ -16,10 +16,10 @@
 
 #include "maille/backend.hpp"
 #include "maille/checkpoint.hpp"
+#include "maille/intersections.hpp"
 #include "maille/io.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
-#include "maille/intersections.hpp"
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"

@@ -89,8 +89,8 @@ struct FlagParams {
   std::uint32_t nx = 30, ny = 20;  // points along width and height, >= 2
   Real mass = Real(0.3);           // kg, total
   LinkMaterial material{200, Real(0.05)};
-  Real shear_stiffness = 100;   // N/m
-  Real bending_stiffness = 20;  // N/m (0: no bending links)
+  Real shear_stiffness = 100;         // N/m
+  Real bending_stiffness = 20;        // N/m (0: no bending links)
   FlagFixed fixed = FlagFixed::pole;  // which points are fixed
 };
 Group build_flag(Model& m, const FlagParams& p, const std::string& name);
@@ -103,7 +103,7 @@ struct RopeParams {
   std::uint32_t points = 20;  // >= 2
   Real mass = 1;              // kg, total
   LinkMaterial material{1000, Real(0.1)};
-  Real bending_stiffness = 0;   // N/m
+  Real bending_stiffness = 0;  // N/m
   RopeFixed fixed = RopeFixed::start;
   Real pretension = 0;  // relative: rest lengths are (1 - pretension) times the built distance
                         // (a string fixed at both ends is then under tension k pretension L)
@@ -144,7 +144,7 @@ struct LatticeParams {
   Vec3 size{1, 1, 1};                                // m
   std::array<std::uint32_t, 3> resolution{5, 5, 5};  // points per axis, >= 2
   LatticeShape shape = LatticeShape::box;
-  Real mass = 1;                                     // kg, total
+  Real mass = 1;  // kg, total
   LinkMaterial material{2000, Real(0.5)};
   Real shear_stiffness = 1000;  // N/m, face and body diagonals
   Vec3 velocity{};              // m/s, initial velocity of every point

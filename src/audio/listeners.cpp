@@ -11,9 +11,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "listen_value.hpp"
 #include "maille/audio.hpp"
 #include "maille/simulator.hpp"
-#include "listen_value.hpp"
 
 namespace maille::audio {
 
