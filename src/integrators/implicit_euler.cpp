@@ -197,11 +197,11 @@ class ImplicitEuler final : public Integrator {
   // and moved to t_n+1; continuous detection from x_n.
   void start_contacts(const Model& m, const State& s, Real h, ForceEvaluator& forces) {
     const auto contacts = forces.point_contacts();
-    for (PointContacts* c : contacts) c->set_time(s.time);
-    residual_.begin(m, s, h, forces);
     free_.clear();
     for (std::uint32_t i = 0; i < s.size(); ++i)
       if (m.points.inv_mass[i] > 0) free_.push_back(i);
+    for (PointContacts* c : contacts) c->set_time(s.time);
+    residual_.begin(m, s, h, forces, free_);
     for (PointContacts* c : contacts) c->lag(free_, s.x().data(), s.v().data(), s.time + h);
     entry_.begin(contacts, x0_.data(), s.size());
   }

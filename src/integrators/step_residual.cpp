@@ -24,11 +24,10 @@ void StepResidual::implicit_forces(const Model& m, const State& s, Real h,
     c->add_terms(free_, x, v, Real(1) / h, f.data(), blocks_.data(), nullptr);
 }
 
-void StepResidual::begin(const Model& m, const State& s, Real h, const ForceEvaluator& forces) {
+void StepResidual::begin(const Model& m, const State& s, Real h, const ForceEvaluator& forces,
+                         std::span<const std::uint32_t> free) {
   const std::size_t n = s.size();
-  free_.clear();
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (m.points.inv_mass[i] > 0) free_.push_back(i);
+  free_ = free;
   vn_.assign(s.v().begin(), s.v().end());
   implicit_forces(m, s, h, forces, work_);
   explicit_.resize(n);

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "maille/integrator.hpp"
@@ -24,7 +25,9 @@ class StepResidual {
  public:
   // At the step's start (s holds x_n, v_n and the forces of t_n), with the point contacts
   // placed at t_n (before they lag): the explicit forces, s.f() minus those taken implicitly.
-  void begin(const Model& m, const State& s, Real h, const ForceEvaluator& forces);
+  // `free`: the free points (the caller's list, read until end()).
+  void begin(const Model& m, const State& s, Real h, const ForceEvaluator& forces,
+             std::span<const std::uint32_t> free);
   // After the solve (s holds x_n+1, v_n+1, with the contacts as the solve saw them).
   double end(const Model& m, const State& s, Real h, const ForceEvaluator& forces);
 
@@ -33,7 +36,7 @@ class StepResidual {
   void implicit_forces(const Model& m, const State& s, Real h, const ForceEvaluator& forces,
                        std::vector<Vec3>& f);
 
-  std::vector<std::uint32_t> free_;  // free points
+  std::span<const std::uint32_t> free_;  // free points (the caller's)
   std::vector<Vec3> vn_, explicit_, work_;
   std::vector<Mat3> blocks_;  // point contacts' stiffness (unused)
 };

@@ -21,6 +21,18 @@ struct Batch {
   std::uint8_t active[kBatch];
   std::size_t n = 0;
 
+  // Appends the links of point i (slots[row[i]] .. slots[row[i + 1] - 1]), running `flush`
+  // each time the batch is full.
+  template <class Flush>
+  void add_point(std::uint32_t i, const std::uint32_t* row, const std::uint32_t* slots,
+                 Flush& flush) {
+    for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) {
+      slot[n] = slots[k];
+      owner[n] = i;
+      if (++n == kBatch) flush();
+    }
+  }
+
   // Keeps the active links of the batch (in order); returns how many.
   std::size_t keep_active(const LinkPoolBase& pool, const Vec3* x) {
     if (!pool.conditional()) return n;
@@ -88,12 +100,7 @@ void axial_point_terms(const LinkPoolBase& pool, std::span<const std::uint32_t> 
     }
     batch.n = 0;
   };
-  for (const std::uint32_t i : points)
-    for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) {
-      batch.slot[batch.n] = slots[k];
-      batch.owner[batch.n] = i;
-      if (++batch.n == kBatch) flush();
-    }
+  for (const std::uint32_t i : points) batch.add_point(i, row, slots, flush);
   flush();
   sum.commit(f, hessian);
 }
@@ -134,11 +141,7 @@ void block_point_terms(const LinkPoolBase& pool, std::span<const std::uint32_t> 
       sum.to(i, f, hessian);
       continue;
     }
-    for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) {
-      batch.slot[batch.n] = slots[k];
-      batch.owner[batch.n] = i;
-      if (++batch.n == kBatch) flush();
-    }
+    batch.add_point(i, row, slots, flush);
   }
   flush();
   sum.commit(f, hessian);
