@@ -40,9 +40,9 @@ namespace {
 std::atomic<bool> g_stop{false};
 
 // The first stats row where the self-colliding cloth crosses itself (stats.csv
-// `intersecting_pairs`, [self_collision] check): said once, with its step and time.
-void warn_first_crossing(const EnergySample& e, const Profile& p) {
-  static bool said = false;
+// `intersecting_pairs`, [self_collision] check): said once per run (`said`), with its step and
+// time.
+void warn_first_crossing(const EnergySample& e, const Profile& p, bool& said) {
   if (said) return;
   for (const Profile::Counter& c : p.counters())
     if (c.name == "intersecting_pairs" && c.last > 0) {
@@ -461,9 +461,10 @@ int run(const RunOptions& o) {
     FrameWriter frames(out, *format, sim.model(), o.smooth ? o.lod : 0);
     StatsWriter stats(out / "stats.csv", kept);
     if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
+    bool crossing_said = false;
     sim.on_sample([&](const EnergySample& e, const Profile& p) {
       stats.write(e, p);
-      warn_first_crossing(e, p);
+      warn_first_crossing(e, p, crossing_said);
     });
     // Ctrl-C inside a long implicit step abandons it: the state of the last whole step stays.
     sim.on_stop_request([] { return g_stop.load(); });
