@@ -13,7 +13,9 @@
 //   response      per close pair, the conditional spring-damper (rest length s, so the force is
 //                 continuous at s) and optional Coulomb-like friction on the tangential velocity
 //   triangles     optionally, particles also repel from the surface's triangles closer than s
-//                 (not their own neighbourhood): coarse cloth cannot pass between its particles
+//                 (not their own neighbourhood), and the triangles' edges from each other
+//                 (edge_proximity.hpp): coarse cloth cannot pass between its particles, nor an
+//                 edge through an edge when a wrung cloth crosses itself
 //
 // Determinism: each particle sums its contacts in the order of its partners' indices, whatever
 // the broad phase, the cell size or the thread count: trajectories are bit-identical across
@@ -62,7 +64,7 @@ struct NameTable<Primitive> {
   static constexpr std::string_view what = "primitive";
   static constexpr std::array<Name<Primitive>, 2> names{{
       {Primitive::points, "points", "particle-particle contacts"},
-      {Primitive::triangles, "triangles", "also particle-triangle proximity (the groups' faces)"},
+      {Primitive::triangles, "triangles", "also particle-triangle and edge-edge proximity"},
   }};
 };
 
@@ -101,6 +103,7 @@ struct SelfCollisionStats {
   std::uint64_t excluded = 0;           // pairs closer than s removed by the exclusion
   std::uint64_t skipped_cells = 0;      // cell pairs skipped whole by signatures
   std::uint64_t triangle_contacts = 0;  // particle-triangle contacts (primitive = triangles)
+  std::uint64_t edge_contacts = 0;      // edge-edge contacts (primitive = triangles)
   std::uint64_t occupied_cells = 0;
   double cell_size = 0;  // m, the resolution used (0 for brute force)
 };

@@ -3,7 +3,9 @@
 // include/maille/detail/wind_law.glsl (float). A link kind that has such a law names it in
 // `shared_law` (link_kind.hpp); the GPU backend then runs the kind too. Also
 // include/maille/detail/obstacle_laws.glsl: the canonical shapes' distances and the geometric
-// contact law (shapes.cpp, the geometric obstacle stage and the GPU's obstacle kernels).
+// contact law (shapes.cpp, the geometric obstacle stage and the GPU's obstacle kernels); and
+// include/maille/detail/contact_laws.glsl: self-collision's point-triangle and edge-edge
+// contacts (closest points, penalty, force and block).
 #pragma once
 
 #include <algorithm>
@@ -40,6 +42,7 @@ inline Real largest_real() {
 #define MAILLE_UNUSED(x) static_cast<void>(x)
 #define MAILLE_OUT(T) T&
 #define MAILLE_INOUT(T) T&
+#include "maille/detail/contact_laws.glsl"
 #include "maille/detail/link_laws.glsl"
 #include "maille/detail/obstacle_laws.glsl"
 #include "maille/detail/wind_law.glsl"

@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -249,9 +250,12 @@ void VertexBlockDescent::compact(const Vec3* x) {
     const Real radius = t.contacts->radius();
     t.kept.assign(cand.size(), 0);
     for (std::size_t e = 0; e < cand.size(); ++e) {
+      // A candidate's gap changes by at most the two largest moves among its four points
+      // (a particle and a triangle's corner, or a corner of each edge).
       const auto& c = cand[e];
-      const Real reach =
-          radius + allow_[c[0]] + std::max({allow_[c[1]], allow_[c[2]], allow_[c[3]]});
+      std::array<Real, 4> a{allow_[c[0]], allow_[c[1]], allow_[c[2]], allow_[c[3]]};
+      std::partial_sort(a.begin(), a.begin() + 2, a.end(), std::greater<>());
+      const Real reach = radius + a[0] + a[1];
       t.kept[e] = t.contacts->held(e) || t.contacts->distance(e, xn) < reach;
     }
     candidate_rows(t, &t.kept, t.swept_row, t.swept_entries);

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "broad_phase.hpp"
+#include "edge_proximity.hpp"
 #include "maille/limits.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/spring_damper.hpp"
@@ -144,11 +145,18 @@ class SelfCollision {
     xs_.resize(set_.size());
     model_ = &m;
     rebuild_exclusion();
-    if (s_.primitive == Primitive::triangles)
+    if (s_.primitive == Primitive::triangles) {
       triangles_ = std::make_unique<collision::TriangleProximity>(
           m, set_, mask,
           std::size_t(limits::memory_budget_bytes() /
                       collision::TriangleProximity::kBytesPerContact));
+      std::vector<std::array<std::uint32_t, 3>> faces;
+      for (const auto& t : m.surface.triangles)
+        if (mask[t[0]] && mask[t[1]] && mask[t[2]]) faces.push_back(t);
+      edges_ = std::make_unique<collision::EdgeProximity>(
+          m, set_, faces,
+          std::size_t(limits::memory_budget_bytes() / collision::EdgeProximity::kBytesPerContact));
+    }
   }
 
   const SelfCollisionSettings& settings() const { return s_; }
@@ -256,15 +264,22 @@ class SelfCollision {
     return out;
   }
 
-  // Point-triangle candidates within `radius` (primitive = "triangles"; none otherwise).
+  // Point-triangle candidates within `radius` plus their margins, then from `edge_begin` on the
+  // edge-edge ones (primitive = "triangles"; none otherwise).
   void triangle_candidates(const Vec3* x, const Vec3* v, Real h, Real max_margin, int threads,
-                           std::vector<std::array<std::uint32_t, 4>>& out) {
+                           std::vector<std::array<std::uint32_t, 4>>& out, std::size_t& edge_begin,
+                           std::vector<std::uint8_t>& edge_particles) {
     out.clear();
-    if (triangles_)
-      triangles_->candidates(x, v, s_.radius, h, max_margin,
-                             s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads,
-                             out);
-    if (triangles_ && triangles_->full()) refuse_triangle_contacts();
+    edge_particles.clear();
+    edge_begin = 0;
+    if (!triangles_) return;
+    const collision::TopologicalExclusion* ex =
+        s_.exclusion == Exclusion::none ? nullptr : exclusion_.get();
+    triangles_->candidates(x, v, s_.radius, h, max_margin, ex, threads, out);
+    if (triangles_->full()) refuse_triangle_contacts();
+    edge_begin = out.size();
+    edges_->candidates(x, v, s_.radius, h, max_margin, ex, threads, out, edge_particles);
+    if (edges_->full()) refuse_edge_contacts();
   }
 
   // The contacts' potential at x: 1/2 k (s - d)^2 per close pair (in a < b order) and per
@@ -283,7 +298,10 @@ class SelfCollision {
     triangles_->apply(x, v, scratch.data(), {s_.radius, s_.stiffness, s_.damping, s_.friction},
                       s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
     if (triangles_->full()) refuse_triangle_contacts();
-    return e + triangles_->energy(s_.stiffness);
+    edges_->apply(x, v, scratch.data(), {s_.radius, s_.stiffness, s_.damping, s_.friction},
+                  s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
+    if (edges_->full()) refuse_edge_contacts();
+    return e + triangles_->energy(s_.stiffness) + edges_->energy(s_.stiffness);
   }
 
   // Each particle sums its own contacts in its partners' order: no atomics, and the same sums
@@ -312,6 +330,10 @@ class SelfCollision {
         triangles_->apply(x, v, f, {r, k, z, mu},
                           s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
     if (triangles_->full()) refuse_triangle_contacts();
+    out.edge_contacts =
+        edges_->apply(x, v, f, {r, k, z, mu},
+                      s_.exclusion == Exclusion::none ? nullptr : exclusion_.get(), threads);
+    if (edges_->full()) refuse_edge_contacts();
     return out;
   }
 
@@ -404,6 +426,17 @@ class SelfCollision {
     throw std::invalid_argument(why.str());
   }
 
+  // And for its edge pairs (edge_proximity.hpp).
+  [[noreturn]] void refuse_edge_contacts() const {
+    std::ostringstream why;
+    why << "self_collision: more than " << edges_->max_contacts() << " edge-edge contact pairs ("
+        << collision::EdgeProximity::kBytesPerContact << " bytes each, above the memory budget of "
+        << double(limits::memory_budget_bytes()) / double(1 << 30) << " GiB) among "
+        << edges_->edges() << " edges: the radius " << s_.radius
+        << " m takes in most of them; lower [self_collision] radius";
+    throw std::invalid_argument(why.str());
+  }
+
   void build_rows() {
     const std::size_t n = set_.size();
     start_.assign(n + 1, 0);
@@ -437,6 +470,7 @@ class SelfCollision {
   collision::HashedGrid hashed_;
   collision::Octree octree_;
   std::unique_ptr<collision::TriangleProximity> triangles_;
+  std::unique_ptr<collision::EdgeProximity> edges_;       // with triangles_: the faces' edge pairs
   std::vector<collision::Sink> sinks_;                    // one per thread
   std::vector<std::uint32_t> start_, cursor_, partners_;  // close partners per particle (CSR)
   std::vector<SelfCollisionEngine::TuneRecord> tuning_;
@@ -569,7 +603,8 @@ class SelfCollisionStage final : public Stage {
       ids_ = {p.counter("self_candidate_pairs"),   p.counter("self_contacts"),
               p.counter("self_occupied_cells"),    p.counter("self_excluded_pairs"),
               p.counter("self_skipped_cells"),     p.gauge("self_cell_size"),
-              p.counter("self_triangle_contacts"), p.gauge("self_model_Pn2")};
+              p.counter("self_triangle_contacts"), p.gauge("self_model_Pn2"),
+              p.counter("self_edge_contacts")};
     }
     p.set_count(ids_[0], st.candidate_pairs);
     p.set_count(ids_[1], st.contacts);
@@ -578,6 +613,7 @@ class SelfCollisionStage final : public Stage {
     p.set_count(ids_[4], st.skipped_cells);
     p.set_gauge(ids_[5], st.cell_size);
     p.set_count(ids_[6], st.triangle_contacts);
+    p.set_count(ids_[8], st.edge_contacts);
     // The brief's cost model at the resolution used, beside the stage's measured time
     // (ns_self_collision) in every stats.csv row: P n^2 with P occupied cells, n per cell.
     const double per_cell =
@@ -661,7 +697,7 @@ class SelfCollisionStage final : public Stage {
   SelfCollisionSettings settings_;
   SelfCollision engine_;
   std::vector<std::string> warnings_;  // leak_warnings of the resolved settings
-  std::array<int, 8> ids_{-1, -1, -1, -1, -1, -1, -1, -1};
+  std::array<int, 9> ids_{-1, -1, -1, -1, -1, -1, -1, -1, -1};
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
   std::vector<Vec3> energy_scratch_;  // energy(): the triangles' forces, discarded
   int threads_ = 1;                   // of the last apply()
@@ -747,8 +783,11 @@ class SelfCollisionStage final : public Stage {
     });
     contacts_.prepare(std::uint32_t(s.size()));
     triangle_terms_.set_law(st.radius, st.stiffness, st.damping, st.friction);
+    std::size_t edge_begin = 0;
     engine_.triangle_candidates(s.x().data(), s.v().data(), Real(ctx.h), wide_margin_, ctx.threads,
-                                triangle_terms_.storage());
+                                triangle_terms_.storage(), edge_begin,
+                                triangle_terms_.edge_particles());
+    triangle_terms_.set_edge_begin(edge_begin);
     triangle_terms_.lag(x, v);
   }
   double last_cell_ = 0;

@@ -57,7 +57,7 @@ std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
       choice<&S::primitive>("primitive",
                             {.doc = "`points`: particle-particle contacts; `triangles`: also "
                                     "particle-triangle proximity with the groups' surface faces "
-                                    "(below)"}),
+                                    "and edge-edge proximity between their edges (below)"}),
       choice<&S::check>("check",
                         {.doc = "how often the pairs of the groups' faces that cross each other "
                                 "are counted (stats.csv `intersecting_pairs`, an exact test); "

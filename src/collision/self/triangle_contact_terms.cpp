@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "maille/self_collision.hpp"
+#include "maille/shared_laws.hpp"
 #include "triangle_proximity.hpp"
 
 namespace maille::collision {
@@ -21,11 +22,29 @@ bool has_corner(const std::array<std::uint32_t, 4>& c, std::uint32_t p) {
   return c[1] == p || c[2] == p || c[3] == p;
 }
 
+// An edge pair's coefficients (1 - s, s, -(1 - t), -t) at x and its gap vector; `acts`: the
+// pair pushes there (law::edge_edge_acts, `particles` its corners' bits).
+Vec3 edge_gap(const std::array<std::uint32_t, 4>& c, const Vec3* x, std::uint8_t particles,
+              std::array<Real, 4>& coef, bool& acts) {
+  Real s = 0, t = 0;
+  law::edge_edge_params(x[c[0]], x[c[1]], x[c[2]], x[c[3]], s, t);
+  coef = {1 - s, s, -(1 - t), -t};
+  acts = law::edge_edge_acts(s, t, particles & 1, particles & 2, particles & 4, particles & 8);
+  return x[c[0]] * coef[0] + x[c[1]] * coef[1] + x[c[2]] * coef[2] + x[c[3]] * coef[3];
+}
+
 }  // namespace
 
 bool TriangleContactTerms::evaluate(std::size_t e, const Vec3* x, const Vec3* v, Eval& out) const {
   const auto& c = candidates_[e];
   const bool rubbing = friction_ > 0 && e < lag_force_.size() && lag_force_[e] > 0;
+  if (e >= edge_begin_) {  // an edge pair: its own contact only inside both segments
+    bool acts = false;
+    const Vec3 d = edge_gap(c, x, edge_particles_[e - edge_begin_], out.c, acts);
+    const Real d2 = dot(d, d);
+    out.touching = acts && d2 < radius_ * radius_ && d2 != 0;
+    return finish(e, d, d2, rubbing, v, out);
+  }
   const std::array<Real, 3> w = closest_weights(x[c[0]], x[c[1]], x[c[2]], x[c[3]]);
   const Vec3 d = x[c[0]] - (x[c[1]] * w[0] + x[c[2]] * w[1] + x[c[3]] * w[2]);
   const Real d2 = dot(d, d);
@@ -46,15 +65,22 @@ bool TriangleContactTerms::evaluate(std::size_t e, const Vec3* x, const Vec3* v,
         }
       }
   }
-  if (!out.touching && !rubbing) return false;
   out.c = {1, -w[0], -w[1], -w[2]};
+  return finish(e, d, d2, rubbing, v, out);
+}
+
+// The force at gap d (d2 = |d|^2) with out.c and out.touching set: the penalty and damper while
+// touching, the lagged friction while rubbing.
+bool TriangleContactTerms::finish(std::size_t e, const Vec3& d, Real d2, bool rubbing,
+                                  const Vec3* v, Eval& out) const {
+  if (!out.touching && !rubbing) return false;
+  const auto& c = candidates_[e];
   Vec3 dv{};
   for (std::size_t j = 0; j < 4; ++j) dv += v[c[j]] * out.c[j];
   out.force = Vec3{};
   if (out.touching) {
-    const Real dist = std::sqrt(d2);
-    out.n = d / dist;
-    out.force = out.n * (stiffness_ * (radius_ - dist) - damping_ * dot(dv, out.n));
+    out.n = d / std::sqrt(d2);
+    out.force = law::stencil_contact_force(d, dv, stiffness_, damping_, radius_);
   }
   out.friction = 0;
   if (rubbing) {  // the explicit law's (triangle_proximity.cpp), its normal and F_n held
@@ -80,6 +106,11 @@ void TriangleContactTerms::lag(const Vec3* x, const Vec3* v) {
 
 Real TriangleContactTerms::distance(std::size_t e, const Vec3* x) const {
   const auto& c = candidates_[e];
+  if (e >= edge_begin_) {  // the segments' distance, wherever their closest points lie
+    std::array<Real, 4> coef{};
+    bool acts = false;
+    return norm(edge_gap(c, x, 0, coef, acts));
+  }
   const std::array<Real, 3> w = closest_weights(x[c[0]], x[c[1]], x[c[2]], x[c[3]]);
   return norm(x[c[0]] - (x[c[1]] * w[0] + x[c[2]] * w[1] + x[c[3]] * w[2]));
 }

@@ -1,10 +1,12 @@
-// Self-collision's point-triangle contacts inside implicit solves (TriangleContacts, stage.hpp):
-// the candidates the stage found at the step's start, and the contact's energy terms evaluated
-// at any iterate, with the closest point found again each time.
+// Self-collision's point-triangle and edge-edge contacts inside implicit solves
+// (TriangleContacts, stage.hpp): the candidates the stage found at the step's start, and the
+// contact's energy terms evaluated at any iterate, with the closest points found again each time
+// (include/maille/detail/contact_laws.glsl).
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -30,8 +32,14 @@ class TriangleContactTerms final : public TriangleContacts {
   // c^2 mu F_n / max(|v_t|, slip) (I - n n^T) / h, its scale held. A candidate that acted at
   // the step's start keeps its friction through the step.
   void lag(const Vec3* x, const Vec3* v);
-  // Filled by the stage each step ({particle, corners}, sorted by particle).
+  // Filled by the stage each step: the point-triangle candidates ({particle, corners}, sorted
+  // by particle), then from edge_begin() on the edge-edge ones ({a0, a1, b0, b1}).
   std::vector<std::array<std::uint32_t, 4>>& storage() { return candidates_; }
+  void set_edge_begin(std::size_t e) { edge_begin_ = e; }
+  // The edge pairs' corners that are colliding particles, bit j for corner j (from edge_begin()
+  // on: law::edge_edge_acts), filled with them.
+  std::vector<std::uint8_t>& edge_particles() { return edge_particles_; }
+  std::size_t edge_begin() const { return edge_begin_; }
 
   std::span<const std::array<std::uint32_t, 4>> candidates() const override { return candidates_; }
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f) const override;
@@ -57,9 +65,13 @@ class TriangleContactTerms final : public TriangleContacts {
     Real friction = 0;      // the friction's scale mu F_n / max(|v_t|, slip), held
   };
   bool evaluate(std::size_t e, const Vec3* x, const Vec3* v, Eval& out) const;
+  bool finish(std::size_t e, const Vec3& d, Real d2, bool rubbing, const Vec3* v, Eval& out) const;
 
   Real radius_ = 0, stiffness_ = 0, damping_ = 0, friction_ = 0;
   std::vector<std::array<std::uint32_t, 4>> candidates_;
+  // candidates_ from here on are edge pairs (none until the stage says where they start)
+  std::size_t edge_begin_ = std::numeric_limits<std::size_t>::max();
+  std::vector<std::uint8_t> edge_particles_;  // [candidates - edge_begin_]
   std::vector<Real> lag_force_;   // [candidates] |F_n| at the step's start (0: no friction)
   std::vector<Vec3> lag_normal_;  // [candidates] n at the step's start
   struct Active {

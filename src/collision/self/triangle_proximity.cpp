@@ -8,39 +8,14 @@
 #include "../thread_lists.hpp"
 #include "broad_phase.hpp"
 #include "maille/self_collision.hpp"
+#include "maille/shared_laws.hpp"
 
 namespace maille::collision {
 
-// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5): the Voronoi regions of the corners, the edges, then the face.
+// The shared law's weights (include/maille/detail/contact_laws.glsl), as an array.
 std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const Real d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-  const Vec3 bp = p - b;
-  const Real d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-  const Real vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const Real t = d1 / (d1 - d3);
-    return {1 - t, t, 0};
-  }
-  const Vec3 cp = p - c;
-  const Real d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-  const Real vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const Real t = d2 / (d2 - d6);
-    return {1 - t, 0, t};
-  }
-  const Real va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const Real t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {0, 1 - t, t};
-  }
-  const Real denom = 1 / (va + vb + vc);
-  const Real v = vb * denom, w = vc * denom;
-  return {1 - v - w, v, w};
+  const Vec3 w = law::triangle_closest_weights(p, a, b, c);
+  return {w.x, w.y, w.z};
 }
 
 Feature feature_of(const std::array<std::uint32_t, 3>& tri, std::uint32_t triangle,
@@ -278,10 +253,10 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
       const Vec3 nrm = d / dist;
       const Vec3 vq = v[tri[0]] * w[0] + v[tri[1]] * w[1] + v[tri[2]] * w[2];
       const Vec3 dv = v[p] - vq;
-      const Real vn = dot(dv, nrm);
-      Vec3 force = nrm * (r.stiffness * (r.radius - dist) - r.damping * vn);
+      // The shared law (contact_laws.glsl), as the implicit solvers' terms evaluate it.
+      Vec3 force = law::stencil_contact_force(d, dv, r.stiffness, r.damping, r.radius);
       if (r.friction > 0) {
-        const Vec3 vt = dv - nrm * vn;
+        const Vec3 vt = dv - nrm * dot(dv, nrm);
         const Real speed = norm(vt);
         force -=
             vt * (r.friction * std::abs(dot(force, nrm)) / std::max(speed, kSelfCollisionSlip));

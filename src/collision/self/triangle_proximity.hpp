@@ -28,8 +28,8 @@
 
 namespace maille::collision {
 
-// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5): exact zeros outside the touched feature.
+// Closest point of triangle abc to p, as barycentric weights (law::triangle_closest_weights,
+// include/maille/detail/contact_laws.glsl): exact zeros outside the touched feature.
 std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 // The feature of a triangle that a closest point lies on: a face (kind 2, a = the triangle's

@@ -1,0 +1,153 @@
+// Self-collision's contact laws between the primitives of a surface, written once and compiled
+// twice like link_laws.glsl (its rules hold here, and obstacle_laws.glsl's for MAILLE_OUT):
+// include/maille/shared_laws.hpp includes this file in namespace maille::law (`real` = Real),
+// and the GPU backend's shaders paste its text with `real` = float (tests/gpu compares the two).
+//
+// A contact joins two points, one on each primitive, each a weighted sum of the primitives'
+// corners: a *stencil* of four points with coefficients c (sum c_j x_j = d, the gap vector from
+// the second primitive to the first):
+//   point-triangle  {p, a, b, c}:     c = (1, -w_a, -w_b, -w_c), w the closest point's weights
+//   edge-edge       {a0, a1, b0, b1}: c = (1 - s, s, -(1 - t), -t), s and t the closest points'
+//                                     parameters on the two segments
+// With d = |d| < s (the contact radius, the layer's thickness) the energy is the penalty
+// E = k (s - d)^2 / 2, the force on the first side F = n (k (s - d) - z n.dv) (n = d / d, dv =
+// sum c_j v_j: a damper along n), and stencil point j takes c_j F. The weights are the closest
+// points', so dE/dw = 0 there (the gap is stationary in them): F's elastic part is exactly
+// -dE/dx_p on the particle and c_j times it on the others (tests/unit/test_contact_laws.cpp checks
+// it by finite differences). The block each solver adds per stencil point is the energy's
+// Gauss-Newton Hessian c_j^2 (k + z / h) n n^T: the exact Hessian adds k (s - d) / d times the
+// transverse projector's change, negative for a pressed pair, which would cost definiteness.
+
+// Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
+// Detection, 5.1.5): the Voronoi regions of the corners, the edges, then the face. Weights are
+// exact zeros outside the touched feature (callers name the feature from them).
+MAILLE_SHARED vec3 triangle_closest_weights(vec3 p, vec3 a, vec3 b, vec3 c) {
+  vec3 ab = b - a;
+  vec3 ac = c - a;
+  vec3 ap = p - a;
+  real d1 = dot(ab, ap);
+  real d2 = dot(ac, ap);
+  if (d1 <= real(0) && d2 <= real(0)) return vec3(real(1), real(0), real(0));
+  vec3 bp = p - b;
+  real d3 = dot(ab, bp);
+  real d4 = dot(ac, bp);
+  if (d3 >= real(0) && d4 <= d3) return vec3(real(0), real(1), real(0));
+  real vc = d1 * d4 - d3 * d2;
+  if (vc <= real(0) && d1 >= real(0) && d3 <= real(0)) {
+    real t = d1 / (d1 - d3);
+    return vec3(real(1) - t, t, real(0));
+  }
+  vec3 cp = p - c;
+  real d5 = dot(ab, cp);
+  real d6 = dot(ac, cp);
+  if (d6 >= real(0) && d5 <= d6) return vec3(real(0), real(0), real(1));
+  real vb = d5 * d2 - d1 * d6;
+  if (vb <= real(0) && d2 >= real(0) && d6 <= real(0)) {
+    real t = d2 / (d2 - d6);
+    return vec3(real(1) - t, real(0), t);
+  }
+  real va = d3 * d6 - d5 * d4;
+  if (va <= real(0) && (d4 - d3) >= real(0) && (d5 - d6) >= real(0)) {
+    real t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return vec3(real(0), real(1) - t, t);
+  }
+  real denom = real(1) / (va + vb + vc);
+  real v = vb * denom;
+  real w = vc * denom;
+  return vec3(real(1) - v - w, v, w);
+}
+
+// Below this sin^2 of the angle between two edges, their closest points are blended toward the
+// middle of their overlap (edge_edge_params): the closest points of two nearly parallel segments
+// slide along them at the slightest turn, and exactly parallel ones have none in particular.
+const real kParallelSin2 = real(1e-3);
+
+// The parameters s on segment a0a1 and t on b0b1 of the segments' closest points (Ericson,
+// 5.1.9), both in [0, 1]. Nearly parallel edges (sin^2 of their angle below kParallelSin2) take
+// a blend, by sin^2 / kParallelSin2, of that answer and the middle of the part of a0a1 facing
+// b0b1 (t then the projection of that point on b0b1, clamped): continuous as the edges turn
+// through parallel, and symmetric for parallel ones (no torque from where the force lands).
+// Degenerate segments (a point) take parameter 0.
+MAILLE_SHARED void edge_edge_params(vec3 a0, vec3 a1, vec3 b0, vec3 b1, MAILLE_OUT(real) s,
+                                    MAILLE_OUT(real) t) {
+  vec3 da = a1 - a0;
+  vec3 db = b1 - b0;
+  vec3 r = a0 - b0;
+  real aa = dot(da, da);
+  real bb = dot(db, db);
+  real f = dot(db, r);
+  s = real(0);
+  t = real(0);
+  if (aa <= real(1e-30) && bb <= real(1e-30)) return;
+  if (aa <= real(1e-30)) {
+    t = clamp(f / bb, real(0), real(1));
+    return;
+  }
+  real c = dot(da, r);
+  if (bb <= real(1e-30)) {
+    s = clamp(-c / aa, real(0), real(1));
+    return;
+  }
+  real ab = dot(da, db);
+  real denom = aa * bb - ab * ab;  // |da|^2 |db|^2 sin^2
+  real exact = denom > real(0) ? clamp((ab * f - c * bb) / denom, real(0), real(1)) : real(0);
+  real blend = clamp(denom / (kParallelSin2 * aa * bb), real(0), real(1));
+  if (blend < real(1)) {
+    // b0 and b1 projected on a0a1, clamped: the middle of the part of a0a1 facing b0b1.
+    real p0 = clamp(dot(b0 - a0, da) / aa, real(0), real(1));
+    real p1 = clamp(dot(b1 - a0, da) / aa, real(0), real(1));
+    exact = blend * exact + (real(1) - blend) * real(0.5) * (p0 + p1);
+  }
+  s = exact;
+  t = (ab * s + f) / bb;
+  if (t < real(0)) {
+    t = real(0);
+    s = clamp(-c / aa, real(0), real(1));
+  } else if (t > real(1)) {
+    t = real(1);
+    s = clamp((ab - c) / aa, real(0), real(1));
+  }
+}
+
+// Whether an edge-edge contact at parameters s, t is the edges' own: both closest points inside
+// their segments.
+MAILLE_SHARED bool edge_edge_interior(real s, real t) {
+  return s > real(0) && s < real(1) && t > real(0) && t < real(1);
+}
+
+// Whether the edge pair pushes at s, t, given which of its corners a0, a1, b0, b1 are colliding
+// particles. At an end, the closest points are a corner and the other edge: a distance the
+// point-triangle contacts of that corner already push along when it is a particle (each shared
+// edge and corner counts once), and the force passes from one to the other at the same distance
+// and direction (continuous). A corner that is no particle (a fixed border) has no such contact:
+// the edge pair keeps it.
+MAILLE_SHARED bool edge_edge_acts(real s, real t, bool a0, bool a1, bool b0, bool b1) {
+  bool by_corner = (s <= real(0) && a0) || (s >= real(1) && a1) || (t <= real(0) && b0) ||
+                   (t >= real(1) && b1);
+  return !by_corner;
+}
+
+// The penalty energy of a contact at distance `dist` with radius s: k (s - d)^2 / 2 while closer.
+MAILLE_SHARED real contact_energy(real dist, real k, real s) {
+  real gap = s - dist;
+  return dist < s ? real(0.5) * k * gap * gap : real(0);
+}
+
+// The force on the first side of a stencil contact of gap vector d (from the second side's point
+// to the first's) and relative velocity dv: n (k (s - |d|) - z n.dv) while 0 < |d| < s, else 0.
+MAILLE_SHARED vec3 stencil_contact_force(vec3 d, vec3 dv, real k, real z, real s) {
+  real d2 = dot(d, d);
+  if (!(d2 < s * s) || d2 == real(0)) return zero3();
+  real dist = sqrt(d2);
+  vec3 n = d / dist;
+  return n * (k * (s - dist) - z * dot(dv, n));
+}
+
+// Its block per unit c_j^2: (k + z / h) n n^T while touching (the Gauss-Newton Hessian of the
+// penalty with the damper through v = (x - x_n) / h), else 0.
+MAILLE_SHARED mat3 stencil_contact_block(vec3 d, real k, real z, real s, real inv_h) {
+  real d2 = dot(d, d);
+  if (!(d2 < s * s) || d2 == real(0)) return identity3() * real(0);
+  vec3 n = d / sqrt(d2);
+  return outer3(n, n) * (k + z * inv_h);
+}

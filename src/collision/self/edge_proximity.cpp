@@ -1,0 +1,268 @@
+#include "edge_proximity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+
+#include "../thread_lists.hpp"
+#include "broad_phase.hpp"
+#include "maille/self_collision.hpp"
+#include "maille/shared_laws.hpp"
+
+namespace maille::collision {
+
+namespace {
+
+// The closest points of edges a and b at x: the parameters and the gap vector between them.
+struct Closest {
+  Real s = 0, t = 0;
+  Vec3 d{};
+};
+Closest closest(const std::array<std::uint32_t, 2>& a, const std::array<std::uint32_t, 2>& b,
+                const Vec3* x) {
+  Closest c;
+  law::edge_edge_params(x[a[0]], x[a[1]], x[b[0]], x[b[1]], c.s, c.t);
+  c.d = x[a[0]] * (1 - c.s) + x[a[1]] * c.s - (x[b[0]] * (1 - c.t) + x[b[1]] * c.t);
+  return c;
+}
+
+}  // namespace
+
+EdgeProximity::EdgeProximity(const Model& m, const std::vector<std::uint32_t>& set,
+                             const std::vector<std::array<std::uint32_t, 3>>& faces,
+                             std::size_t max_contacts)
+    : local_(m.points.size(), -1), max_contacts_(max_contacts) {
+  for (std::size_t k = 0; k < set.size(); ++k) local_[set[k]] = std::int32_t(k);
+  for (const auto& t : faces)
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
+      edges_.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+  for (const auto& e : edges_) corners_.insert(corners_.end(), e.begin(), e.end());
+  std::sort(corners_.begin(), corners_.end());
+  corners_.erase(std::unique(corners_.begin(), corners_.end()), corners_.end());
+}
+
+std::size_t EdgeProximity::cell_of(const Vec3& p) const {
+  const Vec3 q = (p - lo_) / cell_;
+  auto clampi = [](Real v, std::int64_t n) {
+    return std::clamp<std::int64_t>(std::int64_t(std::floor(v)), 0, n - 1);
+  };
+  return std::size_t((clampi(q.z, nz_) * ny_ + clampi(q.y, ny_)) * nx_ + clampi(q.x, nx_));
+}
+
+// Cells of about the longest edge (at least the reach); each edge goes into the cells its box
+// grown by `grow` overlaps (counting sort, two passes), as TriangleProximity::bin does.
+void EdgeProximity::bin(const Vec3* x, Real grow) {
+  Vec3 lo = x[corners_.front()], hi = lo;
+  for (const std::uint32_t c : corners_) {
+    lo = {std::min(lo.x, x[c].x), std::min(lo.y, x[c].y), std::min(lo.z, x[c].z)};
+    hi = {std::max(hi.x, x[c].x), std::max(hi.y, x[c].y), std::max(hi.z, x[c].z)};
+  }
+  Real cell = grow;
+  for (const auto& e : edges_) cell = std::max(cell, norm(x[e[1]] - x[e[0]]));
+  const Vec3 ext = hi - lo;
+  while ((ext.x / cell + 1) * (ext.y / cell + 1) * (ext.z / cell + 1) >
+         Real(8 * edges_.size() + 4096))
+    cell = std::max(cell * Real(1.25), std::numeric_limits<Real>::min());
+  lo_ = lo;
+  cell_ = cell;
+  nx_ = std::int64_t(ext.x / cell) + 1;
+  ny_ = std::int64_t(ext.y / cell) + 1;
+  nz_ = std::int64_t(ext.z / cell) + 1;
+  const auto cells = std::size_t(nx_ * ny_ * nz_);
+  cell_start_.assign(cells + 1, 0);
+  const Vec3 g{grow, grow, grow};
+  auto each_cell = [&](std::size_t e, auto&& fn) {
+    const Vec3 &p = x[edges_[e][0]], &q = x[edges_[e][1]];
+    const Vec3 a = Vec3{std::min(p.x, q.x), std::min(p.y, q.y), std::min(p.z, q.z)} - g;
+    const Vec3 b = Vec3{std::max(p.x, q.x), std::max(p.y, q.y), std::max(p.z, q.z)} + g;
+    const std::size_t c0 = cell_of(a), c1 = cell_of(b);
+    const auto i0 = std::int64_t(c0) % nx_, j0 = std::int64_t(c0) / nx_ % ny_,
+               k0 = std::int64_t(c0) / (nx_ * ny_);
+    const auto i1 = std::int64_t(c1) % nx_, j1 = std::int64_t(c1) / nx_ % ny_,
+               k1 = std::int64_t(c1) / (nx_ * ny_);
+    for (std::int64_t k = k0; k <= k1; ++k)
+      for (std::int64_t j = j0; j <= j1; ++j)
+        for (std::int64_t i = i0; i <= i1; ++i) fn(std::size_t((k * ny_ + j) * nx_ + i));
+  };
+  for (std::size_t e = 0; e < edges_.size(); ++e)
+    each_cell(e, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_edges_.resize(cell_start_[cells]);
+  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t e = 0; e < edges_.size(); ++e)
+    each_cell(e, [&](std::size_t c) { cell_edges_[cursor_[c]++] = std::uint32_t(e); });
+}
+
+// Whether a corner of the pair is a colliding particle (two fixed edges never meet).
+bool EdgeProximity::moves(const std::array<std::uint32_t, 2>& a,
+                          const std::array<std::uint32_t, 2>& b) const {
+  return local_[a[0]] >= 0 || local_[a[1]] >= 0 || local_[b[0]] >= 0 || local_[b[1]] >= 0;
+}
+
+bool EdgeProximity::excluded(std::uint32_t a, std::uint32_t b,
+                             const TopologicalExclusion* exclusion) const {
+  const auto &ea = edges_[a], &eb = edges_[b];
+  for (const std::uint32_t p : ea)
+    for (const std::uint32_t q : eb)
+      if (p == q) return true;  // a shared corner: the faces' own fold, never a contact
+  if (!exclusion) return false;
+  for (const std::uint32_t p : ea)
+    for (const std::uint32_t q : eb)
+      if (local_[p] >= 0 && local_[q] >= 0 &&
+          exclusion->excluded(std::uint32_t(local_[p]), std::uint32_t(local_[q])))
+        return true;
+  return false;
+}
+
+bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
+                               int threads, std::vector<std::array<std::uint32_t, 2>>& out) {
+  Real longest = 0;
+  for (const auto& e : edges_) longest = std::max(longest, norm(x[e[1]] - x[e[0]]));
+  // A pair within `reach` has a's midpoint within reach + |a| / 2 of b: in b's grown cells.
+  bin(x, reach + longest / 2);
+  per_thread_pairs_.resize(std::size_t(std::max(threads, 1)));
+  for (auto& list : per_thread_pairs_) list.clear();
+  thread_full_.assign(per_thread_pairs_.size(), 0);
+  const std::size_t cap = max_contacts_ / per_thread_pairs_.size();
+  const auto n = static_cast<std::int64_t>(edges_.size());
+  // Each edge's box: a pair whose boxes are farther apart than the reach along an axis is
+  // farther than the reach (six compares before the closest points' divisions; most of a cell's
+  // edges fail them).
+  boxes_.resize(edges_.size());
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    const Vec3 &p = x[edges_[e][0]], &q = x[edges_[e][1]];
+    boxes_[e] = {{std::min(p.x, q.x), std::min(p.y, q.y), std::min(p.z, q.z)},
+                 {std::max(p.x, q.x), std::max(p.y, q.y), std::max(p.z, q.z)}};
+  }
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
+  for (std::int64_t a = 0; a < n; ++a) {
+    auto& list = per_thread_pairs_[std::size_t(thread_id())];
+    const auto& ea = edges_[std::size_t(a)];
+    const Box& ba = boxes_[std::size_t(a)];
+    const std::size_t c = cell_of((x[ea[0]] + x[ea[1]]) * Real(0.5));
+    for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+      const std::uint32_t b = cell_edges_[k];
+      if (b <= std::uint32_t(a)) continue;
+      const Box& bb = boxes_[b];
+      if (ba.lo.x > bb.hi.x + reach || bb.lo.x > ba.hi.x + reach || ba.lo.y > bb.hi.y + reach ||
+          bb.lo.y > ba.hi.y + reach || ba.lo.z > bb.hi.z + reach || bb.lo.z > ba.hi.z + reach)
+        continue;
+      if (!moves(ea, edges_[b]) || excluded(std::uint32_t(a), b, exclusion)) continue;
+      const Closest cl = closest(ea, edges_[b], x);
+      if (!(dot(cl.d, cl.d) < reach * reach)) continue;
+      if (list.size() >= cap) {
+        thread_full_[std::size_t(thread_id())] = 1;
+        break;
+      }
+      list.push_back({std::uint32_t(a), b});
+    }
+  }
+  for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
+  if (full_) return false;
+  room_for_any_split(per_thread_pairs_, cap);
+  out.clear();
+  for (const auto& list : per_thread_pairs_) out.insert(out.end(), list.begin(), list.end());
+  std::sort(out.begin(), out.end());
+  return true;
+}
+
+bool EdgeProximity::pairs_hold(const Vec3* x, Real radius, Real reach,
+                               const TopologicalExclusion* exclusion) const {
+  if (pairs_reach_ != reach || pairs_exclusion_ != exclusion) return false;
+  Real moved2 = 0;
+  for (std::size_t i = 0; i < corners_.size(); ++i)
+    moved2 = std::max(moved2, norm2(x[corners_[i]] - anchor_[i]));
+  // Each closest point moves no farther than its edge's corners: the gap by at most twice that.
+  return 2 * std::sqrt(moved2) <= reach - radius;
+}
+
+std::uint64_t EdgeProximity::apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
+                                   const TopologicalExclusion* exclusion, int threads) {
+  full_ = false;
+  all_.clear();
+  if (edges_.size() < 2) return 0;
+  const Real reach = r.radius * (1 + TriangleProximity::kSkinFraction);
+  if (!pairs_hold(x, r.radius, reach, exclusion)) {
+    pairs_reach_ = -1;
+    if (!find_pairs(x, reach, exclusion, threads, pairs_)) return 0;
+    anchor_.resize(corners_.size());
+    for (std::size_t i = 0; i < corners_.size(); ++i) anchor_[i] = x[corners_[i]];
+    pairs_reach_ = reach;
+    pairs_exclusion_ = exclusion;
+  }
+  per_thread_.resize(std::size_t(std::max(threads, 1)));
+  for (auto& list : per_thread_) list.clear();
+  const auto n = static_cast<std::int64_t>(pairs_.size());
+  // At most one contact per listed pair: the lists hold at most the pairs (within the budget).
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const std::uint32_t a = pairs_[std::size_t(i)][0], b = pairs_[std::size_t(i)][1];
+    const auto &ea = edges_[a], &eb = edges_[b];
+    const Closest cl = closest(ea, eb, x);
+    if (!law::edge_edge_acts(cl.s, cl.t, local_[ea[0]] >= 0, local_[ea[1]] >= 0, local_[eb[0]] >= 0,
+                             local_[eb[1]] >= 0))
+      continue;
+    const Real d2 = dot(cl.d, cl.d);
+    if (!(d2 < r.radius * r.radius) || d2 == 0) continue;
+    const Vec3 dv =
+        v[ea[0]] * (1 - cl.s) + v[ea[1]] * cl.s - (v[eb[0]] * (1 - cl.t) + v[eb[1]] * cl.t);
+    Vec3 force = law::stencil_contact_force(cl.d, dv, r.stiffness, r.damping, r.radius);
+    if (r.friction > 0) {  // Coulomb-like, as the point-triangle contacts
+      const Vec3 nrm = cl.d / std::sqrt(d2);
+      const Vec3 vt = dv - nrm * dot(dv, nrm);
+      force -=
+          vt * (r.friction * std::abs(dot(force, nrm)) / std::max(norm(vt), kSelfCollisionSlip));
+    }
+    per_thread_[std::size_t(thread_id())].push_back(
+        {a, b, force, cl.s, cl.t, r.radius - std::sqrt(d2)});
+  }
+  room_for_any_split(per_thread_, max_contacts_ / per_thread_.size());
+  for (const auto& list : per_thread_) all_.insert(all_.end(), list.begin(), list.end());
+  // (edge, edge) order: the same sums whatever the threads.
+  std::sort(all_.begin(), all_.end(), [](const Contact& p, const Contact& q) {
+    return std::tie(p.a, p.b) < std::tie(q.a, q.b);
+  });
+  for (const Contact& c : all_) {
+    const auto &ea = edges_[c.a], &eb = edges_[c.b];
+    f[ea[0]] += c.force * (1 - c.s);
+    f[ea[1]] += c.force * c.s;
+    f[eb[0]] -= c.force * (1 - c.t);
+    f[eb[1]] -= c.force * c.t;
+  }
+  return all_.size();
+}
+
+void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h, Real max_margin,
+                               const TopologicalExclusion* exclusion, int threads,
+                               std::vector<std::array<std::uint32_t, 4>>& out,
+                               std::vector<std::uint8_t>& particles) {
+  full_ = false;
+  if (edges_.size() < 2) return;
+  if (!find_pairs(x, radius + max_margin, exclusion, threads, wide_pairs_)) return;
+  for (const auto& pair : wide_pairs_) {
+    const auto &ea = edges_[pair[0]], &eb = edges_[pair[1]];
+    Real closing2 = 0;  // the largest speed of a corner of a relative to a corner of b, squared
+    for (const std::uint32_t p : ea)
+      for (const std::uint32_t q : eb) closing2 = std::max(closing2, norm2(v[p] - v[q]));
+    const Real margin = std::min(
+        max_margin, std::max(kMinMarginFraction * radius, kMotionFactor * h * std::sqrt(closing2)));
+    const Vec3 d = closest(ea, eb, x).d;
+    if (!(dot(d, d) < (radius + margin) * (radius + margin))) continue;
+    out.push_back({ea[0], ea[1], eb[0], eb[1]});
+    particles.push_back(std::uint8_t((local_[ea[0]] >= 0) | (local_[ea[1]] >= 0) << 1 |
+                                     (local_[eb[0]] >= 0) << 2 | (local_[eb[1]] >= 0) << 3));
+  }
+}
+
+double EdgeProximity::energy(Real stiffness) const {
+  double e = 0;
+  for (const Contact& c : all_) e += 0.5 * double(stiffness) * double(c.gap) * double(c.gap);
+  return e;
+}
+
+}  // namespace maille::collision
