@@ -120,7 +120,8 @@ bool EdgeProximity::excluded(std::uint32_t a, std::uint32_t b,
 }
 
 bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
-                               int threads, std::vector<std::array<std::uint32_t, 2>>& out) {
+                               int threads, std::vector<std::array<std::uint32_t, 2>>& out,
+                               const Real* grow) {
   Real longest = 0;
   for (const auto& e : edges_) longest = std::max(longest, norm(x[e[1]] - x[e[0]]));
   // A pair within `reach` has a's midpoint within reach + |a| / 2 of b: in b's grown cells.
@@ -149,8 +150,9 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
       const std::uint32_t b = cell_edges_[k];
       if (b <= std::uint32_t(a)) continue;
       const Box& bb = boxes_[b];
-      if (ba.lo.x > bb.hi.x + reach || bb.lo.x > ba.hi.x + reach || ba.lo.y > bb.hi.y + reach ||
-          bb.lo.y > ba.hi.y + reach || ba.lo.z > bb.hi.z + reach || bb.lo.z > ba.hi.z + reach)
+      const Real g = grow ? grow[a] + grow[b] : reach;
+      if (ba.lo.x > bb.hi.x + g || bb.lo.x > ba.hi.x + g || ba.lo.y > bb.hi.y + g ||
+          bb.lo.y > ba.hi.y + g || ba.lo.z > bb.hi.z + g || bb.lo.z > ba.hi.z + g)
         continue;
       if (!moves(ea, edges_[b]) || excluded(std::uint32_t(a), b, exclusion)) continue;
       const Closest cl = closest(ea, edges_[b], x);
@@ -167,7 +169,7 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
   room_for_any_split(per_thread_pairs_, cap);
   out.clear();
   for (const auto& list : per_thread_pairs_) out.insert(out.end(), list.begin(), list.end());
-  std::sort(out.begin(), out.end());
+  if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());  // threads
   return true;
 }
 
@@ -243,7 +245,21 @@ void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h
                                std::vector<std::uint8_t>& particles) {
   full_ = false;
   if (edges_.size() < 2) return;
-  if (!find_pairs(x, radius + max_margin, exclusion, threads, wide_pairs_)) return;
+  // Each edge's share of a pair's reach: half the radius and of the smallest margin, and its
+  // corners' largest speed relative to the colliding corners' mean velocity times kMotionFactor
+  // h (two corners close at most at the sum of their speeds relative to any common velocity,
+  // so a pair's margin is at most the sum of its edges' shares: the boxes grown by them are a
+  // necessary test, and the candidates are those of a search at the full reach).
+  Vec3 mean{};
+  for (const std::uint32_t c : corners_) mean += v[c];
+  mean = mean * (Real(1) / Real(corners_.size()));
+  grow_.resize(edges_.size());
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    const Real speed =
+        std::sqrt(std::max(norm2(v[edges_[e][0]] - mean), norm2(v[edges_[e][1]] - mean)));
+    grow_[e] = Real(0.5) * (radius + kMinMarginFraction * radius) + kMotionFactor * h * speed;
+  }
+  if (!find_pairs(x, radius + max_margin, exclusion, threads, wide_pairs_, grow_.data())) return;
   for (const auto& pair : wide_pairs_) {
     const auto &ea = edges_[pair[0]], &eb = edges_[pair[1]];
     Real closing2 = 0;  // the largest speed of a corner of a relative to a corner of b, squared

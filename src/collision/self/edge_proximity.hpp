@@ -63,8 +63,10 @@ class EdgeProximity {
     Real s, t, gap;      // the closest points' parameters; radius - distance
   };
   // Every pair (a < b) closer than `reach` into `out` (sorted); false when over the budget.
+  // `grow` (may be null): per edge, a share of the reach such that a pair farther than the sum
+  // of its edges' shares is not wanted (boxes farther apart are skipped before any distance).
   bool find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion, int threads,
-                  std::vector<std::array<std::uint32_t, 2>>& out);
+                  std::vector<std::array<std::uint32_t, 2>>& out, const Real* grow = nullptr);
   void bin(const Vec3* x, Real grow);
   std::size_t cell_of(const Vec3& p) const;
   bool moves(const std::array<std::uint32_t, 2>& a, const std::array<std::uint32_t, 2>& b) const;
@@ -84,6 +86,7 @@ class EdgeProximity {
   std::int64_t nx_ = 1, ny_ = 1, nz_ = 1;
   std::vector<std::uint32_t> cell_start_, cell_edges_, cursor_;
   std::vector<Box> boxes_;  // [edges] each edge's box at the last search
+  std::vector<Real> grow_;  // [edges] candidates(): each edge's share of a pair's reach
   std::vector<std::vector<std::array<std::uint32_t, 2>>> per_thread_pairs_;
   std::vector<std::array<std::uint32_t, 2>> pairs_;       // apply's Verlet list
   std::vector<std::array<std::uint32_t, 2>> wide_pairs_;  // candidates' search
