@@ -13,6 +13,8 @@
 
 #include <pybind11/pybind11.h>
 
+#include "maille/clock.hpp"
+
 namespace maille::python {
 
 class SignalPoll {
@@ -52,7 +54,7 @@ class SignalPoll {
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
+  using Clock = WallClock;
   struct Raised {
     PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
   };
