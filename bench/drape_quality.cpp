@@ -21,7 +21,6 @@
 // hanging in the air, within every other bound).
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -30,6 +29,7 @@
 
 #include "cloth_measures.hpp"
 #include "intersections.hpp"
+#include "maille/clock.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 
@@ -132,9 +132,9 @@ int main(int argc, char** argv) {
   bool stable = true;
   std::uint64_t done = 0;
   for (std::uint64_t k = 1; k <= steps; ++k) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = WallClock::now();
     const bool ok = sim.step();
-    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    wall += seconds_since(t0);
     if (!ok) {
       stable = false;
       break;

@@ -1,13 +1,9 @@
 #include "commands.hpp"
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -15,16 +11,17 @@
 #include <unistd.h>
 
 #include "maille/backend.hpp"
-#include "maille/checkpoint.hpp"
+#include "maille/clock.hpp"
+#include "maille/interrupt.hpp"
 #include "maille/intersections.hpp"
 #include "maille/io.hpp"
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
+#include "maille/scene_run.hpp"
 #include "maille/simulator.hpp"
 #include "maille/smooth_surface.hpp"
 #include "maille/stability.hpp"
 #include "maille/sweep.hpp"
-#include "maille/temporary_files.hpp"
 #include "sound.hpp"
 #ifdef MAILLE_WITH_RENDER
 #include <cstdlib>
@@ -37,47 +34,12 @@ namespace maille::app {
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-
-// The first stats row where the self-colliding cloth crosses itself (stats.csv
-// `intersecting_pairs`, [self_collision] check): said once per run (`said`), with its step and
-// time.
-void warn_first_crossing(const EnergySample& e, const Profile& p, bool& said) {
-  if (said) return;
-  for (const Profile::Counter& c : p.counters())
-    if (c.name == "intersecting_pairs" && c.last > 0) {
-      said = true;
-      std::cerr << "maille: warning: " << c.last << " pair" << (c.last == 1 ? "" : "s")
-                << " of triangles of the self-colliding cloth cross at step " << e.step
-                << " (t = " << e.time
-                << " s): the cloth passes through itself (stats.csv intersecting_pairs; "
-                   "[self_collision] check = \"every_step\" stops at the first)\n";
-    }
-}
-// While a scene loads and its simulator is set up, nothing of this run is written yet and no
-// loop polls g_stop: an interrupt then ends the process at once (exit 130), whatever step of
-// the loading it is in (a long sampling, a large build).
-std::atomic<bool> g_loading{false};
-extern "C" void on_signal(int) {
-  g_stop = true;
-  if (!g_loading) return;
-  remove_open_temporaries();
-  constexpr char msg[] = "interrupted while loading the scene: nothing written\n";
-  [[maybe_unused]] const auto n = ::write(2, msg, sizeof msg - 1);
-  ::_exit(interrupted);
-}
-
-// Installed first thing by the commands, in the loading state; the commands that write files
-// leave it (loading_done) once their simulator is built, so that an interrupt while frame 0 is
-// written or during the run ends with complete files (and exit 130).
-void install_interrupt_handler() {
-  g_loading = true;
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
-}
-void loading_done() {
-  g_loading = false;
-}
+// What an interrupt says while a scene loads and its simulator is set up: nothing of the run is
+// written yet and no loop polls, so it ends the process at once (exit 130), whatever step of
+// the loading it is in (a long sampling, a large build). The commands that write files count
+// interrupts instead once their simulator is built (interrupt::counted), so that an interrupt
+// while frame 0 is written or during the run ends with complete files (and exit 130).
+constexpr char kLoadingInterrupted[] = "interrupted while loading the scene: nothing written\n";
 
 std::optional<Scene> load_or_report(const std::string& path,
                                     const std::vector<std::string>& sets = {}) {
@@ -92,17 +54,6 @@ std::optional<Scene> load_or_report(const std::string& path,
     std::cerr << path << ": error: out of memory while building the scene\n";
     return std::nullopt;
   }
-}
-
-// Creates the output directory; on failure says which and why ("Permission denied", "No space
-// left on device", "Not a directory") and returns false (exit 4).
-bool make_output_directory(const std::filesystem::path& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (!ec && std::filesystem::is_directory(dir, ec)) return true;
-  std::cerr << "error: cannot create the output directory " << dir.string() << ": "
-            << (ec ? ec.message() : std::string("a file of that name exists")) << '\n';
-  return false;
 }
 
 // The number of steps a run of `duration` seconds takes, refused (usage error) above
@@ -121,64 +72,8 @@ std::uint64_t points_of(const Model& m, PointKind k) {
   return m.points.count(k);
 }
 
-void warn_if_unstable(const Simulator& sim) {
-  const auto& st = sim.stability();
-  if (sim.settings().step > st.max_step)
-    std::cerr << "warning: step " << sim.settings().step << " s exceeds the "
-              << sim.integrator().name() << " stability estimate " << st.max_step << " s (set by "
-              << st.link_kind << " links at point " << st.point << "); expect a blow-up\n";
-}
-
-// What the stages find doubtful in their settings (self-collision that can leak).
-void warn_stages(const Simulator& sim) {
-  for (const std::string& w : sim.stage_warnings()) std::cerr << "warning: " << w << '\n';
-}
-
-// The header and the first `rows` rows of a previous stats.csv (resuming from a checkpoint taken
-// after those rows). Throws std::invalid_argument when the file has fewer.
-std::vector<std::string> kept_stats(const std::filesystem::path& path, std::uint64_t rows) {
-  std::ifstream in(path);
-  std::vector<std::string> lines;
-  std::string line;
-  while (lines.size() < rows + 1 && std::getline(in, line)) lines.push_back(line);
-  if (lines.size() < rows + 1)
-    throw std::invalid_argument(path.string() + " has fewer rows than the checkpoint recorded (" +
-                                std::to_string(rows) + "): cannot resume its statistics");
-  return lines;
-}
-
-Checkpoint checkpoint_of(const Simulator& sim, std::uint64_t stats_rows) {
-  return {sim.state(),         sim.settings().integrator,
-          sim.settings().step, sim.frames_published(),
-          stats_rows,          model_fingerprint(sim.model(), sim.settings())};
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// What makes `--audio` name a file the run reads or writes otherwise (the scene, the output
-// directory, its stats.csv, checkpoint.bin or a frame), or "" when it names none: a WAV written
-// there would silently replace it.
-std::string audio_clash(const std::filesystem::path& audio, const std::filesystem::path& scene,
-                        const std::filesystem::path& out) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path a = fs::weakly_canonical(audio, ec);
-  if (ec) return {};
-  if (a == fs::weakly_canonical(scene, ec) || fs::equivalent(audio, scene, ec))
-    return "it is the scene file";
-  const fs::path dir = fs::weakly_canonical(out, ec);
-  if (a == dir) return "it is the output directory";
-  if (a.parent_path() != dir) return {};
-  const std::string name = a.filename().string();
-  if (name == "stats.csv" || name == "checkpoint.bin" || name == "stats.csv.tmp" ||
-      name == "checkpoint.bin.tmp")
-    return "the run writes its " + name + " there";
-  if (name.rfind("frame_", 0) == 0)
-    for (const auto& f : name_strings<FrameFormat>())
-      if (a.extension() == "." + f) return "the run writes its frames under that name";
-  return {};
+void print_warnings(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings) std::cerr << "warning: " << w << '\n';
 }
 
 }  // namespace
@@ -226,14 +121,13 @@ static void warn_initial_crossings(const Simulator& sim) {
 }
 
 int validate(const std::string& path, const std::vector<std::string>& sets) {
-  install_interrupt_handler();  // writes nothing: an interrupt ends it at once
+  interrupt::at_once(kLoadingInterrupted);  // writes nothing: an interrupt ends it at once
   if (is_sweep_file(path)) return validate_sweep(path, sets);
   auto scene = load_or_report(path, sets);
   if (!scene) return bad_input;
   try {
     Simulator sim(std::move(scene->model), scene->settings);
-    warn_if_unstable(sim);
-    warn_stages(sim);
+    print_warnings(setup_warnings(sim));
     warn_initial_crossings(sim);
     std::cout << path << ": ok (" << sim.model().points.size() << " points, "
               << sim.model().links.total() << " links";
@@ -275,7 +169,7 @@ int describe_backend(const std::string& name, std::optional<int> device) {
 
 int info(const std::string& path, const std::vector<std::string>& sets, const std::string& backend,
          std::optional<int> gpu_device) {
-  install_interrupt_handler();  // writes nothing: an interrupt ends it at once
+  interrupt::at_once(kLoadingInterrupted);  // writes nothing: an interrupt ends it at once
   if (!backend.empty())
     if (const int code = describe_backend(backend, gpu_device); code != ok) return code;
   if (path.empty()) return ok;
@@ -293,7 +187,7 @@ int info(const std::string& path, const std::vector<std::string>& sets, const st
   Simulator& sim = *built;
   const Model& m = sim.model();
   const auto& s = sim.settings();
-  warn_stages(sim);
+  print_warnings(sim.stage_warnings());
   std::cout << "scene        " << scene->name << '\n';
   if (!scene->description.empty()) std::cout << "description  " << scene->description << '\n';
   std::cout << "points       " << m.points.size() << "  (masses " << points_of(m, PointKind::free)
@@ -341,17 +235,66 @@ int info(const std::string& path, const std::vector<std::string>& sets, const st
   return ok;
 }
 
+namespace {
+
+// The summary lines of a run that got to its loop: what was simulated and written, then how it
+// ended (the final energy, or why not).
+int report_run(const SceneRun& run, bool sound) {
+  const SceneRunReport& r = run.report();
+  const double particle_steps = double(r.steps_run) * double(r.points);
+  std::printf(
+      "maille: %s: %llu steps (%.4g s simulated) in %.3g s wall, %.3g ns per particle-step, "
+      "%llu frames and %llu stats rows in %s\n",
+      run.scene().name.c_str(), static_cast<unsigned long long>(r.steps_run),
+      double(r.steps_run) * run.settings().step, r.wall,
+      particle_steps > 0 ? r.wall * 1e9 / particle_steps : 0.0,
+      static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.stats_rows),
+      run.out().string().c_str());
+  if (!r.unconverged.empty()) std::cerr << "warning: " << r.unconverged << '\n';
+  if (r.exit == interrupted) {
+    std::cerr << "interrupted at step " << r.steps_taken << "; the frames and stats"
+              << (sound ? " written so far and the audio of the simulated time" : " written so far")
+              << " are complete\n";
+    return interrupted;
+  }
+  if (r.exit != ok) {
+    std::cerr << r.error << '\n';
+    return r.exit;
+  }
+  const Energies& e = *r.energies;
+  std::printf(
+      "maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g, contact %.6g)\n",
+      e.total(), e.kinetic, e.elastic, e.gravity, e.contact);
+  return ok;
+}
+
+}  // namespace
+
 int run(const RunOptions& o) {
-  install_interrupt_handler();
-  auto scene = load_or_report(o.scene, o.sets);
-  if (!scene) return bad_input;
-  SimulationSettings settings = scene->settings;
-  if (o.no_self_collision) settings.disabled_stages.push_back("self_collision");
-  if (o.every) settings.publish_every = *o.every;
-  if (o.threads) settings.threads = *o.threads;
-  if (!o.backend.empty()) settings.backend = o.backend;
-  if (o.gpu_device) settings.backend_options.device = *o.gpu_device;
+  interrupt::at_once(kLoadingInterrupted);
   const auto format = parse_frame_format(o.format);
+  SceneRunOptions so;
+  so.scene = o.scene;
+  so.sets = o.sets;
+  so.steps = o.steps;
+  so.duration = o.duration;
+  so.duration_name = o.duration ? "--duration" : "the scene's duration";
+  so.threads = o.threads;
+  so.every = o.every;
+  so.backend = o.backend;
+  so.gpu_device = o.gpu_device;
+  so.no_self_collision = o.no_self_collision;
+  so.out = o.out;
+  so.frames = !o.no_frames;
+  so.format = format.value_or(FrameFormat::ply);
+  so.smooth_lod = o.smooth ? o.lod : 0;
+  so.checkpoint_every = o.checkpoint_every;
+  so.resume = o.resume;
+  SceneRun run(std::move(so));
+  if (!run.load() && run.report().exit == bad_input) {
+    std::cerr << run.report().error << '\n';
+    return bad_input;
+  }
   if (!format) {
     std::cerr << "unknown format '" << o.format << "'\n";
     return usage;
@@ -360,173 +303,56 @@ int run(const RunOptions& o) {
     std::cerr << "--smooth writes OBJ frames: add --format obj\n";
     return usage;
   }
-  const std::optional<std::uint64_t> steps =
-      o.steps ? o.steps
-              : steps_for(o.duration ? *o.duration : settings.duration, settings.step,
-                          o.duration ? "--duration" : "the scene's duration");
-  if (!steps) return usage;
-  if (o.audio.empty() && !scene->audio.listeners.empty())
+  if (run.report().exit != ok) {  // the steps to take: refused beyond the limit
+    std::cerr << run.report().error << '\n';
+    return run.report().exit;
+  }
+  const Scene& scene = run.scene();
+  if (o.audio.empty() && !scene.audio.listeners.empty())
     std::printf(
         "maille: the scene has %zu [[listen]] channel%s: add --audio FILE.wav to write them\n",
-        scene->audio.listeners.size(), scene->audio.listeners.size() == 1 ? "" : "s");
-  if (!o.audio.empty()) {  // --audio: the scene must say what to listen to
-    if (scene->audio.listeners.empty()) {
-      std::cerr << o.scene
-                << ": error: --audio: the scene has no [[listen]] table (docs/sound.md)\n";
-      return bad_input;
-    }
-    if (!o.resume.empty()) {
-      std::cerr << "error: --audio records from t = 0: it cannot be combined with --resume\n";
-      return usage;
-    }
-    if (planned_wav_bytes(scene->audio, double(*steps) * settings.step) > max_wav_data_bytes) {
-      std::cerr << "error: --audio: " << double(*steps) * settings.step << " s of "
-                << scene->audio.listeners.size()
-                << " channels is beyond the 4 GiB a WAV file can hold\n";
-      return usage;
-    }
-    // The channels are held in memory until the end (the gain is set from their peaks): a
-    // recording beyond the memory budget would die of it after minutes, losing everything.
-    const double held =
-        double(planned_audio_memory_bytes(scene->audio, double(*steps) * settings.step));
-    if (held > double(limits::memory_budget_bytes())) {
-      std::cerr << "error: --audio: " << double(*steps) * settings.step << " s of "
-                << scene->audio.listeners.size() << " channels at " << scene->audio.settings.rate
-                << " Hz are held in memory until the end, about " << held / double(1 << 30)
-                << " GiB, beyond the memory budget of "
-                << double(limits::memory_budget_bytes()) / double(1 << 30)
-                << " GiB (half the physical memory): shorten the run (--duration) or listen to "
-                   "fewer points\n";
-      return usage;
-    }
-  }
+        scene.audio.listeners.size(), scene.audio.listeners.size() == 1 ? "" : "s");
+  if (!o.audio.empty())
+    if (const int code = check_audio(o.scene, scene.audio,
+                                     double(run.steps()) * run.settings().step, !o.resume.empty());
+        code != ok)
+      return code;
   // Refused before the output directory is made: nothing is left behind.
-  if (o.smooth && SmoothSurface(scene->model).empty()) {
+  if (o.smooth && SmoothSurface(scene.model).empty()) {
     std::cerr << o.scene << ": error: --smooth: the scene has no surface to smooth\n";
     return bad_input;
   }
-  const std::filesystem::path out = !o.out.empty() ? std::filesystem::path(o.out)
-                                    : !o.resume.empty()
-                                        ? std::filesystem::path(o.resume)
-                                        : std::filesystem::path("out") / scene->name;
-
   if (!o.audio.empty()) {
-    const std::string clash = audio_clash(o.audio, o.scene, out);
+    const std::string clash = audio_clash(o.audio, o.scene, run.out());
     if (!clash.empty()) {
       std::cerr << "error: --audio " << o.audio << ": " << clash
                 << "; name another file (nothing was written)\n";
       return usage;
     }
   }
-  // The simulator first: a set-up it refuses (a stage the GPU backend lacks, a device that
-  // cannot start) leaves no output directory behind.
-  std::optional<Simulator> built;
   std::optional<audio::Recorder> sound;  // --audio: the listeners' stage, installed last
-  try {
-    built.emplace(std::move(scene->model), settings);
-    // stats.csv reads the timings of the sampled steps only: the others read no clock.
-    built->set_stage_timing(Simulator::StageTiming::sampled_steps);
-    if (!o.audio.empty()) sound.emplace(scene->audio, settings.step).attach(*built);
-  } catch (const std::invalid_argument& e) {
-    std::cerr << o.scene << ": error: " << e.what() << '\n';
-    return bad_input;
-  }
-  loading_done();  // from here on the loop polls g_stop and the files end complete
-  if (g_stop) {
-    std::cerr << "interrupted while loading the scene: nothing written\n";
-    return interrupted;
-  }
-  if (!make_output_directory(out)) return output_error;
-  try {
-    Simulator& sim = *built;
-    warn_if_unstable(sim);
-    warn_stages(sim);
-    // Resuming: the state, the frame count and the statistics rows continue from the
-    // checkpoint; `--steps`/`--duration` still count from the start of the simulation.
-    std::vector<std::string> kept;
-    if (!o.resume.empty()) {
-      const auto path = std::filesystem::path(o.resume) / "checkpoint.bin";
-      Result<Checkpoint> c = read_checkpoint(path, model_fingerprint(sim.model(), sim.settings()));
-      if (!c) {
-        std::cerr << c.error().to_string() << '\n';
-        return bad_input;
-      }
-      if (c->integrator != settings.integrator || c->step != settings.step)
-        throw std::invalid_argument(path.string() + ": " +
-                                    scheme_mismatch(c->integrator, c->step, "the scene now says",
-                                                    settings.integrator, settings.step));
-      kept = kept_stats(std::filesystem::path(o.resume) / "stats.csv", c->stats_rows);
-      sim.restore(std::move(c->state), c->frames_published);
-    }
-    FrameWriter frames(out, *format, sim.model(), o.smooth ? o.lod : 0);
-    StatsWriter stats(out / "stats.csv", kept);
-    if (!o.no_frames) sim.on_publish([&](const Snapshot& s) { frames(s); });
-    bool crossing_said = false;
-    sim.on_sample([&](const EnergySample& e, const Profile& p) {
-      stats.write(e, p);
-      warn_first_crossing(e, p, crossing_said);
-    });
-    // Ctrl-C inside a long implicit step abandons it: the state of the last whole step stays.
-    sim.on_stop_request([] { return g_stop.load(); });
-    if (o.resume.empty() && !g_stop) sim.publish_now();  // frame 0: the initial state
-    auto checkpoint = [&] {
-      write_checkpoint(out / "checkpoint.bin", checkpoint_of(sim, stats.rows()));
+  SceneRunHooks hooks;
+  hooks.stop = [] { return interrupt::received() > 0; };
+  hooks.warn = [](const std::string& w) { std::cerr << "warning: " << w << '\n'; };
+  if (!o.audio.empty())
+    hooks.attach = [&](Simulator& sim) {
+      sound.emplace(scene.audio, run.settings().step).attach(sim);
     };
-
-    const auto t0 = std::chrono::steady_clock::now();
-    std::uint64_t done = 0;
-    while (sim.steps_taken() < *steps && !g_stop && sim.step()) {
-      ++done;
-      if (o.checkpoint_every && sim.steps_taken() % *o.checkpoint_every == 0) checkpoint();
-    }
-    if (!sim.blow_up()) sim.check_energy();  // a runaway since the last check
-    const double wall = seconds_since(t0);
-    if (o.checkpoint_every && !sim.blow_up() && sim.steps_taken() % *o.checkpoint_every != 0)
-      checkpoint();              // where this run stopped (the end, or an interrupt)
-    stats.close(sim.profile());  // the header is there even when no row is
-    // What was simulated, whole: after a blow-up up to it, after Ctrl-C up to the last step.
+  // From here on the loop polls the interrupts and the files end complete.
+  hooks.loaded = [] { interrupt::counted(); };
+  hooks.finish = [&](const Simulator&) {
     if (sound) write_sound(*sound, o.audio);
-
-    const double particle_steps = double(done) * sim.model().points.size();
-    std::printf(
-        "maille: %s: %llu steps (%.4g s simulated) in %.3g s wall, %.3g ns per particle-step, "
-        "%llu frames and %llu stats rows in %s\n",
-        scene->name.c_str(), static_cast<unsigned long long>(done), double(done) * settings.step,
-        wall, particle_steps > 0 ? wall * 1e9 / particle_steps : 0.0,
-        static_cast<unsigned long long>(frames.written()),
-        static_cast<unsigned long long>(stats.rows()), out.string().c_str());
-    if (const std::string note = unconverged_text(sim); !note.empty())
-      std::cerr << "warning: " << note << '\n';
-    if (sim.blow_up()) {
-      std::cerr << "error: " << sim.blow_up()->message << '\n';
-      return blow_up;
-    }
-    if (g_stop) {
-      std::cerr << "interrupted at step " << sim.steps_taken() << "; the frames and stats"
-                << (sound ? " written so far and the audio of the simulated time"
-                          : " written so far")
-                << " are complete\n";
-      return interrupted;
-    }
-    const Energies e = sim.energies();
-    if (!std::isfinite(e.total())) {  // check_energy catches it; never exit 0 with one
-      std::cerr << "error: the final energy is not finite\n";
-      return blow_up;
-    }
-    std::printf(
-        "maille: final energy %.6g J (kinetic %.6g, elastic %.6g, gravity %.6g, contact %.6g)\n",
-        e.total(), e.kinetic, e.elastic, e.gravity, e.contact);
-  } catch (const std::runtime_error& e) {
-    std::cerr << "error: " << e.what() << '\n';
-    return output_error;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << o.scene << ": error: " << e.what() << '\n';
-    return bad_input;
-  } catch (const std::bad_alloc&) {
-    std::cerr << o.scene << ": error: out of memory\n";
-    return bad_input;
+  };
+  const SceneRunReport& r = run.run(hooks);
+  if (!r.written) {  // refused or interrupted before the output folder was made
+    std::cerr << r.error << '\n';
+    return r.exit;
   }
-  return ok;
+  if (r.exit != ok && r.exit != blow_up && r.exit != interrupted) {  // an output or a checkpoint
+    std::cerr << r.error << '\n';
+    return r.exit;
+  }
+  return report_run(run, sound.has_value());
 }
 
 namespace {
@@ -565,7 +391,7 @@ std::optional<BenchRow> bench_backend(const Scene& scene, SimulationSettings set
     sim.wait();
     std::map<std::string, double> before;  // stage times of the warm-up, not reported
     for (const auto& s : sim.profile().stages()) before[s.name] = s.total_ns;
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = WallClock::now();
     bool fine = sim.run_steps(o.steps);
     sim.wait();
     const double wall = seconds_since(t0);
@@ -644,7 +470,7 @@ namespace {
 // tests get the summary line alone).
 class ProgressBar {
  public:
-  ProgressBar() : tty_(isatty(STDERR_FILENO) == 1), t0_(std::chrono::steady_clock::now()) {}
+  ProgressBar() : tty_(isatty(STDERR_FILENO) == 1), t0_(WallClock::now()) {}
   ~ProgressBar() {
     if (drawn_) std::fputc('\n', stderr);
   }
@@ -670,7 +496,7 @@ class ProgressBar {
  private:
   bool tty_;
   bool drawn_ = false;
-  std::chrono::steady_clock::time_point t0_;
+  WallClock::time_point t0_;
   double last_ = -1;
 };
 
@@ -698,10 +524,10 @@ bool set_camera(const std::vector<double>& v, render::MovieSettings& m) {
 }  // namespace
 
 int render(const RenderCommandOptions& o) {
-  install_interrupt_handler();
+  interrupt::at_once(kLoadingInterrupted);
   auto scene = load_or_report(o.scene, o.sets);
   if (!scene) return bad_input;
-  loading_done();  // the movie's loop polls g_stop (its simulator is built inside it)
+  interrupt::counted();  // the movie's loop polls them (its simulator is built inside it)
   if (o.no_self_collision) scene->settings.disabled_stages.push_back("self_collision");
   if (!o.backend.empty()) scene->settings.backend = o.backend;
   if (o.gpu_device) scene->settings.backend_options.device = *o.gpu_device;
@@ -757,14 +583,14 @@ int render(const RenderCommandOptions& o) {
       sink = render::png_sequence(out);
     }
     // Ctrl-C inside a long implicit step abandons it (render_movie's stop request).
-    m.stop_requested = [] { return g_stop.load(); };
-    const auto t0 = std::chrono::steady_clock::now();
+    m.stop_requested = [] { return interrupt::received() > 0; };
+    const auto t0 = WallClock::now();
     render::MovieReport r;
     {
       ProgressBar bar;
       r = render::render_movie(*scene, m, *sink, [&](std::uint64_t done, std::uint64_t total) {
         bar.update(done, total);
-        return !g_stop;
+        return interrupt::received() == 0;
       });
     }
     const double wall = seconds_since(t0);

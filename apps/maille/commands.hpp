@@ -7,16 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "maille/exit_codes.hpp"
+
 namespace maille::app {
 
-enum Exit : int {
-  ok = 0,
-  bad_input = 1,
-  usage = 2,
-  blow_up = 3,
-  output_error = 4,
-  interrupted = 130
-};
+// The exit codes, named once in the library (maille/exit_codes.hpp): ok, bad_input, usage,
+// blow_up, output_error, interrupted.
+using enum exit_code::Exit;
 
 struct RunOptions {
   std::string scene;
@@ -71,10 +68,10 @@ struct RenderCommandOptions {
   std::optional<double> duration;  // simulated seconds (default: the scene's)
   // yaw, pitch[, zoom]: degrees, degrees, distance factor (CLI11 splits "--camera 25,15,1")
   std::vector<double> camera{25, 15, 1};
-  int samples = 4;                 // antialiasing samples per pixel
-  bool mesh = false;               // draw the links inside cloth surfaces too
-  bool smooth = false;             // cloth faces as a smooth surface (smooth_surface.hpp)
-  int lod = 4;                     // its sub-segments per physical edge, 1 to 16
+  int samples = 4;      // antialiasing samples per pixel
+  bool mesh = false;    // draw the links inside cloth surfaces too
+  bool smooth = false;  // cloth faces as a smooth surface (smooth_surface.hpp)
+  int lod = 4;          // its sub-segments per physical edge, 1 to 16
   std::optional<int> threads;
   bool no_self_collision = false;
   std::vector<std::string>

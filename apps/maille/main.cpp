@@ -198,6 +198,10 @@ int main(int argc, char** argv) {
                    "subdirectory per study and durations.csv)")
       ->check(kOutputPath);
   study_cmd->add_option("--threads", so.threads, "Threads for the cost table")->check(kThreads);
+  so.examples = MAILLE_EXAMPLES_DIR;
+  study_cmd->add_option("--examples", so.examples,
+                        "Directory of the example scenes the studies run (default: the source "
+                        "tree's examples/)");
   study_cmd->add_flag("--quick", so.quick,
                       "Shorter runs (integrators: two stiffnesses in the crossover; obstacles: "
                       "a third of the simulated time)");

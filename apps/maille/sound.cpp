@@ -2,9 +2,14 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iostream>
 #include <ostream>
 #include <sstream>
 #include <string>
+
+#include "maille/exit_codes.hpp"
+#include "maille/io.hpp"
+#include "maille/limits.hpp"
 
 namespace maille::app {
 
@@ -96,6 +101,57 @@ WavReport write_sound(audio::Recorder& recorder, const std::filesystem::path& pa
       r.clipped ? (", " + std::to_string(r.clipped) + " samples clipped").c_str() : "",
       recorder.plan().describe().c_str(), each.str().c_str());
   return r;
+}
+
+std::string audio_clash(const std::filesystem::path& audio, const std::filesystem::path& scene,
+                        const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(audio, ec);
+  if (ec) return {};
+  if (a == fs::weakly_canonical(scene, ec) || fs::equivalent(audio, scene, ec))
+    return "it is the scene file";
+  const fs::path dir = fs::weakly_canonical(out, ec);
+  if (a == dir) return "it is the output directory";
+  if (a.parent_path() != dir) return {};
+  const std::string name = a.filename().string();
+  if (name == "stats.csv" || name == "checkpoint.bin" || name == "stats.csv.tmp" ||
+      name == "checkpoint.bin.tmp")
+    return "the run writes its " + name + " there";
+  if (name.rfind("frame_", 0) == 0)
+    for (const auto& f : name_strings<FrameFormat>())
+      if (a.extension() == "." + f) return "the run writes its frames under that name";
+  return {};
+}
+
+int check_audio(const std::string& scene, const audio::AudioSpec& spec, double seconds,
+                bool resuming) {
+  if (spec.listeners.empty()) {
+    std::cerr << scene << ": error: --audio: the scene has no [[listen]] table (docs/sound.md)\n";
+    return exit_code::bad_input;
+  }
+  if (resuming) {
+    std::cerr << "error: --audio records from t = 0: it cannot be combined with --resume\n";
+    return exit_code::usage;
+  }
+  if (planned_wav_bytes(spec, seconds) > max_wav_data_bytes) {
+    std::cerr << "error: --audio: " << seconds << " s of " << spec.listeners.size()
+              << " channels is beyond the 4 GiB a WAV file can hold\n";
+    return exit_code::usage;
+  }
+  // A recording beyond the memory budget would die of it after minutes, losing everything.
+  const double held = double(planned_audio_memory_bytes(spec, seconds));
+  if (held > double(limits::memory_budget_bytes())) {
+    std::cerr << "error: --audio: " << seconds << " s of " << spec.listeners.size()
+              << " channels at " << spec.settings.rate
+              << " Hz are held in memory until the end, about " << held / double(1 << 30)
+              << " GiB, beyond the memory budget of "
+              << double(limits::memory_budget_bytes()) / double(1 << 30)
+              << " GiB (half the physical memory): shorten the run (--duration) or listen to "
+                 "fewer points\n";
+    return exit_code::usage;
+  }
+  return exit_code::ok;
 }
 
 }  // namespace maille::app

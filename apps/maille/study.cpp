@@ -12,12 +12,8 @@
 // `maille study all` runs the four studies into OUT/<study>/ and writes OUT/durations.csv.
 #include "study.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -29,10 +25,12 @@
 #include <vector>
 
 #include "maille/builders.hpp"
+#include "maille/clock.hpp"
+#include "maille/exit_codes.hpp"
+#include "maille/interrupt.hpp"
 #include "maille/io.hpp"
 #include "maille/links/spring.hpp"
 #include "maille/simulator.hpp"
-#include "maille/temporary_files.hpp"
 
 namespace maille::app {
 
@@ -57,10 +55,6 @@ Model oscillator(double m, double k, double rest, double amplitude) {
   const auto bob = model.points.add(PointKind::free, Real(m), {Real(rest + amplitude), 0, 0});
   model.links.pool<Spring>().add({anchor, bob}, {Real(k), Real(rest)});
   return model;
-}
-
-double seconds(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // One mass of 1 g on a spring (a cloth particle), with and without a damper.
@@ -140,9 +134,9 @@ void cost(std::ostream& out, int threads) {
     const int steps = 40;
     std::vector<double> block_ns;
     for (int b = 0; b < 5; ++b) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = WallClock::now();
       sim.run_steps(steps);
-      block_ns.push_back(seconds(t0) * 1e9 / steps);
+      block_ns.push_back(seconds_since(t0) * 1e9 / steps);
     }
     std::sort(block_ns.begin(), block_ns.end());
     const double ns = block_ns[block_ns.size() / 2];
@@ -189,9 +183,9 @@ Run run_flag(double stiffness, const std::string& scheme, double h) {
   double wall = 0;
   for (double t = 0; r.stable && t < duration - 1e-9; t += sample) {
     const auto steps = std::max<std::uint64_t>(1, std::llround(sample / h));
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = WallClock::now();
     r.stable = sim.run_steps(steps);
-    wall += seconds(t0);  // quality sampling is not charged to the scheme
+    wall += seconds_since(t0);  // quality sampling is not charged to the scheme
     if (r.stable) r.q.peak_stretch = std::max(r.q.peak_stretch, structural_stretch(sim, 1.5 / 23));
   }
   r.wall_per_simulated_second = wall / sim.state().time;
@@ -269,14 +263,9 @@ const char* const kStudies[] = {"validity", "integrators", "self-collision", "ob
                                 "large-steps"};
 
 // Ctrl-C or SIGTERM: the studies' loops poll nothing, so the process ends at once (exit 130),
-// after removing the temporary of the CSV being written: the files already written stay
-// complete, and no NAME.tmp is left.
-extern "C" void on_study_signal(int) {
-  remove_open_temporaries();
-  constexpr char msg[] = "interrupted: the CSV files written so far are complete\n";
-  [[maybe_unused]] const auto n = ::write(2, msg, sizeof msg - 1);
-  ::_exit(130);
-}
+// after removing the temporary of the CSV being written (interrupt.hpp, at once): the files
+// already written stay complete, and no NAME.tmp is left.
+constexpr char kInterrupted[] = "interrupted: the CSV files written so far are complete\n";
 
 // `maille study all`: every study into OUT/<study>/, in the order of the report, and the wall
 // time of each into OUT/durations.csv (the report quotes them). Stops at the first failure.
@@ -286,9 +275,9 @@ int study_all(const StudyOptions& o) {
     StudyOptions one = o;
     one.topic = topic;
     one.out = o.out / topic;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (const int rc = study(one); rc != 0) return rc;
-    durations.emplace_back(topic, seconds(t0));
+    const auto t0 = WallClock::now();
+    if (const int rc = study(one); rc != exit_code::ok) return rc;
+    durations.emplace_back(topic, seconds_since(t0));
   }
   try {
     AtomicFile f(o.out / "durations.csv");
@@ -299,23 +288,22 @@ int study_all(const StudyOptions& o) {
     f.commit();
   } catch (const std::runtime_error& e) {
     std::cerr << "error: " << e.what() << '\n';
-    return 4;
+    return exit_code::output_error;
   }
   for (const auto& [topic, s] : durations) std::printf("  %-15s %8.1f s\n", topic.c_str(), s);
-  return 0;
+  return exit_code::ok;
 }
 
 }  // namespace
 
 int study(const StudyOptions& o) {
-  std::signal(SIGINT, on_study_signal);
-  std::signal(SIGTERM, on_study_signal);
+  interrupt::at_once(kInterrupted);
   if (o.topic == "all") return study_all(o);
   if (o.topic != "integrators" && o.topic != "self-collision" && o.topic != "validity" &&
       o.topic != "obstacles" && o.topic != "large-steps") {
     std::cerr << "unknown study '" << o.topic
               << "' (known: integrators, self-collision, validity, obstacles, large-steps, all)\n";
-    return 2;
+    return exit_code::usage;
   }
   // Output errors (an unwritable or full directory) end the study with exit 4 and the cause.
   try {
@@ -331,26 +319,26 @@ int study(const StudyOptions& o) {
       study_validity(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
         write(name, body);
       });
-      return 0;
+      return exit_code::ok;
     }
     if (o.topic == "obstacles") {
       study_obstacles(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
         write(name, body);
       });
-      return 0;
+      return exit_code::ok;
     }
     if (o.topic == "large-steps") {
       study_large_steps(o, [&](const char* name, const std::function<void(std::ostream&)>& body) {
         write(name, body);
       });
-      return 0;
+      return exit_code::ok;
     }
     if (o.topic == "self-collision") {
       study_self_collision(o,
                            [&](const char* name, const std::function<void(std::ostream&)>& body) {
                              write(name, body);
                            });
-      return 0;
+      return exit_code::ok;
     }
     std::printf("maille study integrators -> %s\n", o.out.string().c_str());
     write("stability.csv", [](std::ostream& f) { stability(f); });
@@ -362,12 +350,12 @@ int study(const StudyOptions& o) {
   } catch (const std::filesystem::filesystem_error& e) {
     std::cerr << "error: cannot write the study to " << o.out.string() << ": " << e.code().message()
               << '\n';
-    return 4;
+    return exit_code::output_error;
   } catch (const std::runtime_error& e) {
     std::cerr << "error: " << e.what() << '\n';
-    return 4;
+    return exit_code::output_error;
   }
-  return 0;
+  return exit_code::ok;
 }
 
 // The largest stretch of a cloth's structural spring-dampers (rest length within 0.1 % of the

@@ -18,6 +18,9 @@ struct StudyOptions {
   std::filesystem::path out = "out/study";
   int threads = 1;     // for the cost table
   bool quick = false;  // shorter sweeps and runs in every study (for CI)
+  // Where the studies read the examples they run (large-steps: cloth_on_sphere.toml); main.cpp
+  // defaults it to the source tree's examples/.
+  std::filesystem::path examples;
 };
 int study(const StudyOptions& o);
 

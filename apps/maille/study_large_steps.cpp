@@ -9,7 +9,8 @@
 //           contacts: primitive = "triangles", radius a third of the spacing, no topological
 //           exclusion; with radius = the spacing and the default exclusion, VBD at 1/60 s
 //           with 10 sweeps crossed 544 triangle pairs at 32^2 and stretched 29 %)
-//   drape   examples/cloth_on_sphere.toml at 64^2: a 1 m, 0.25 kg cloth (400 N/m, bending
+//   drape   examples/cloth_on_sphere.toml (read from the file, `--examples`) at 64^2: a 1 m, 0.25
+//   kg cloth (400 N/m, bending
 //           2 N/m) dropped on a ball standing on the ground, with self-collision (the
 //           example's thin layer: particle-face contacts 8 mm thick); the real-time
 //           case, on two threads, VBD only (leapfrog at its limit with self-collision is
@@ -32,7 +33,6 @@
 // minutes), eleven settings (matrix_free with 3 Newton iterations at 32^2 only), 1 s; then the
 // drape at 64^2 (four settings, 3 s).
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <ostream>
 #include <sstream>
@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "maille/clock.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 #include "study.hpp"
@@ -84,37 +85,28 @@ std::string heap_text(int n) {
   return t.str();
 }
 
-// The body of examples/cloth_on_sphere.toml (its ball, ground, cloth and self-collision) at
-// n x n.
-std::string drape_text(int n) {
-  std::ostringstream t;
-  t << "[fields]\ngravity = [0.0, -9.81, 0.0]\nair_drag = 0.3\n"
-    << "[[flag]]\nname = \"cloth\"\norigin = [-0.5, 0.8, -0.5]\nalong = [1.0, 0.0, 0.0]\n"
-    << "up = [0.0, 0.0, 1.0]\nwidth = 1.0\nheight = 1.0\nresolution = [" << n << ", " << n
-    << "]\nmass = 0.25\nstiffness = 400.0\nshear_stiffness = 120.0\nbending_stiffness = 2.0\n"
-    << "damping = 0.02\nfixed = \"none\"\n"
-    << "[[obstacle]]\nname = \"ball\"\nshape = \"sphere\"\nmethod = \"geometric\"\n"
-    << "position = [0.0, 0.2, 0.0]\nscale = [0.3, 0.3, 0.3]\nstiffness = 2000.0\n"
-    << "damping = 0.5\ncollides_with = [\"cloth\"]\n"
-    << "[[obstacle]]\nname = \"ground\"\nshape = \"plane\"\nmethod = \"geometric\"\n"
-    << "position = [0.0, 0.0, 0.0]\nstiffness = 2000.0\ndamping = 0.5\n"
-    << "collides_with = [\"cloth\"]\n"
-    << "[self_collision]\ngroups = [\"cloth\"]\nprimitive = \"triangles\"\nradius = 0.008\n"
-    << "topological_radius = 0\nstiffness = 400.0\ndamping = 0.05\nfriction = 0.3\n";
-  return t.str();
-}
-
 struct Outcome {
   bool stable = true;
   double wall_per_sim = 0, max_stretch = 0, max_penetration = 0, final_kinetic = 0,
          max_residual = 0, step = 0, sim_s = 0;
 };
 
-Outcome run(const std::string& text, double spacing, const Setting& set, double duration) {
-  auto scene = parse_scene(text, "large_steps.toml", LinkKindRegistry::with_builtins(),
-                           StageRegistry::with_builtins());
+// A study scene: sphere and heap from their text, the drape from examples/cloth_on_sphere.toml
+// with its resolution overridden (its [simulation] is replaced by each setting's).
+Scene study_scene(const std::string& name, int n, const std::filesystem::path& examples) {
+  Result<Scene> scene =
+      name == "drape"
+          ? load_scene(examples / "cloth_on_sphere.toml",
+                       std::vector<std::string>{"flag[0].resolution=[" + std::to_string(n) + ", " +
+                                                std::to_string(n) + "]"})
+          : parse_scene(name == "sphere" ? sphere_text(n) : heap_text(n), "large_steps.toml",
+                        LinkKindRegistry::with_builtins(), StageRegistry::with_builtins());
   if (!scene) throw std::runtime_error("study scene: " + scene.error().to_string());
-  SimulationSettings s = scene->settings;
+  return std::move(scene.value());
+}
+
+Outcome run(Scene scene, double spacing, const Setting& set, double duration) {
+  SimulationSettings s = scene.settings;
   s.threads = set.threads;
   s.publish_every = kNeverEvery;
   s.sample_every = kNeverEvery;
@@ -128,18 +120,18 @@ Outcome run(const std::string& text, double spacing, const Setting& set, double 
   s.step = set.step > 0 ? set.step : 1e-4;
   Outcome o;
   {
-    Simulator probe(scene->model, s);
+    Simulator probe(scene.model, s);
     if (set.step <= 0) s.step = 0.9 * double(probe.stability().max_step);
   }
   o.step = s.step;
-  Simulator sim(std::move(scene->model), s);
+  Simulator sim(std::move(scene.model), s);
   const auto per_sample = std::max<std::uint64_t>(1, std::uint64_t(1.0 / 240 / s.step));
   const auto steps = std::uint64_t(duration / s.step + 0.5);
   double wall = 0;
   for (std::uint64_t done = 0; o.stable && done < steps; done += per_sample) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = WallClock::now();
     o.stable = sim.run_steps(std::min(per_sample, steps - done));
-    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    wall += seconds_since(t0);
     if (!o.stable) break;
     o.max_stretch = std::max(o.max_stretch, structural_stretch(sim, spacing));
     for (const auto& g : sim.profile().gauges()) {
@@ -195,15 +187,13 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
     for (const Case& c : cases) {
       const std::string scene = c.scene;
       const bool drape = scene == "drape";
-      const std::string text = scene == "sphere" ? sphere_text(c.n)
-                               : drape           ? drape_text(c.n)
-                                                 : heap_text(c.n);
       const double spacing = (scene == "heap" ? 0.8 : 1.0) / (c.n - 1);
       for (const Setting& set : drape ? drape_settings : settings) {
         // matrix_free with 3 Newton iterations only at 32^2: at 64^2 it took 398 s per simulated
         // second on the heap (session 29's data), minutes of study for a row known to lose.
         if (set.solver == "matrix_free" && set.iterations > 1 && c.n > 32) continue;
-        const Outcome r = run(text, spacing, set, drape ? 3.0 : duration);
+        const Outcome r =
+            run(study_scene(scene, c.n, o.examples), spacing, set, drape ? 3.0 : duration);
         const std::string coarse = set.solver == "vbd" ? std::string(to_string(set.coarse)) : "";
         out << c.scene << ',' << c.n * c.n << ',' << set.solver << ',' << r.step << ','
             << set.iterations << ',' << r.wall_per_sim << ',' << r.max_stretch << ','

@@ -13,12 +13,12 @@
 //   flag_wind.csv  a 128^2 flag in gusty wind, ns per particle-step without and with
 //                  self-collision
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <ostream>
 #include <vector>
 
 #include "maille/builders.hpp"
+#include "maille/clock.hpp"
 #include "maille/self_collision.hpp"
 #include "maille/simulator.hpp"
 #include "study.hpp"
@@ -52,9 +52,9 @@ double median_ns(SelfCollisionEngine& e, Cloth& c, int threads, int repeat,
   SelfCollisionStats st = e.apply(c.x.data(), c.v.data(), c.f.data(), threads);
   std::vector<double> t;
   for (int r = 0; r < repeat; ++r) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = WallClock::now();
     st = e.apply(c.x.data(), c.v.data(), c.f.data(), threads);
-    t.push_back(double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count()));
+    t.push_back(seconds_since(t0) * 1e9);
   }
   std::sort(t.begin(), t.end());
   if (last) *last = st;
@@ -219,10 +219,9 @@ void flag_wind(std::ostream& out, bool quick) {
     Simulator sim(std::move(m), st);
     const std::uint64_t steps = quick ? 100 : 1000;
     sim.run_steps(20);  // warm-up
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = WallClock::now();
     sim.run_steps(steps);
-    const double ns =
-        double(std::chrono::nanoseconds(std::chrono::steady_clock::now() - t0).count());
+    const double ns = seconds_since(t0) * 1e9;
     const double pps = ns / double(steps) / double(n * n);
     std::fprintf(stderr, "  flag 128^2 in wind, self-collision %s: %.0f ns per particle-step\n",
                  on ? "on " : "off", pps);

@@ -8,7 +8,6 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <deque>
@@ -22,6 +21,8 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "maille/clock.hpp"
+#include "maille/interrupt.hpp"
 #include "maille/io.hpp"
 #include "maille/sweep.hpp"
 #include "sweep_case.hpp"
@@ -33,18 +34,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Ctrl-C (SIGINT) or SIGTERM: the first stops handing out cases (the running ones finish), the
-// second abandons the running ones between two steps (a rerun runs them again).
-std::atomic<int> g_stop{0};
-static_assert(std::atomic<int>::is_always_lock_free);
-int g_rank = 0;
-extern "C" void on_sweep_signal(int) {
-  if (g_stop.fetch_add(1) == 0 && g_rank == 0) {  // write(2) is async-signal-safe
-    const char m[] =
-        "\nmaille sweep: stopping after the current cases (a second Ctrl-C abandons them)\n";
-    [[maybe_unused]] const auto n = ::write(STDERR_FILENO, m, sizeof m - 1);
-  }
-}
+// Ctrl-C (SIGINT) or SIGTERM (interrupt.hpp, counted): the first stops handing out cases (the
+// running ones finish), the second abandons the running ones between two steps (a rerun runs
+// them again).
+constexpr char kStopping[] =
+    "\nmaille sweep: stopping after the current cases (a second Ctrl-C abandons them)\n";
 
 // A rank bound to fewer cores than it has threads (mpirun binds each rank to one core when it
 // starts two or fewer) runs its threads on top of each other: say so.
@@ -59,10 +53,6 @@ void warn_if_bound(int rank, std::optional<int> threads) {
        "ppr:1:node:pe="
     << *threads << "; srun --cpus-per-task=" << *threads << "\n";
   std::cerr << m.str();
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 std::string csv_field(const std::string& s) {
@@ -139,7 +129,7 @@ class Ledger {
 
   std::optional<std::uint64_t> take() {
     std::lock_guard lock(m_);
-    if (g_stop.load() >= 1 || todo_.empty()) return std::nullopt;
+    if (interrupt::received().load() >= 1 || todo_.empty()) return std::nullopt;
     const std::uint64_t i = todo_.front();
     todo_.pop_front();
     return i;
@@ -152,7 +142,7 @@ class Ledger {
 
   void record(CaseResult r) {
     std::lock_guard lock(m_);
-    if (r.exit_code == 130) {  // abandoned at a second Ctrl-C: not done, a rerun runs it
+    if (r.exit_code == interrupted) {  // abandoned at a second Ctrl-C: not done, a rerun runs it
       std::printf("maille sweep: case %s interrupted on rank %d\n", sweep_.case_id(r.index).c_str(),
                   r.rank);
       std::fflush(stdout);
@@ -190,7 +180,7 @@ class Ledger {
  private:
   void flush_locked(bool force) {
     if (!dirty_ && !force) return;
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = WallClock::now();
     if (!force && now - last_write_ < std::chrono::seconds(1)) return;
     try {
       write_summary();
@@ -245,7 +235,7 @@ class Ledger {
   std::map<std::uint64_t, CaseResult> results_;  // by case number: the summary's order
   bool dirty_ = true;
   bool output_failed_ = false, summary_failed_ = false;
-  std::chrono::steady_clock::time_point last_write_{};
+  WallClock::time_point last_write_{};
 };
 
 // Rank 0, before any case runs: DIR and DIR/cases, the lock that keeps a second sweep out, the
@@ -306,14 +296,12 @@ int prepare(const Sweep& sweep, const fs::path& out, Ledger& ledger, int& lock_f
 }  // namespace
 
 int sweep(const SweepOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   std::unique_ptr<World> world = World::start();
   if (!world) return usage;
   const int rank = world->rank();
-  g_rank = rank;
   warn_if_bound(rank, o.threads);
-  std::signal(SIGINT, on_sweep_signal);
-  std::signal(SIGTERM, on_sweep_signal);
+  interrupt::counted(rank == 0 ? kStopping : nullptr);  // one rank says it
 
   // Every rank reads the sweep file (a few lines); rank 0 alone checks it against the scene,
   // and every rank ends with rank 0's verdict. Nothing is written before it.
@@ -342,11 +330,11 @@ int sweep(const SweepOptions& o) {
     return code;
   }
   auto run = [&](std::uint64_t i) {
-    return run_case(sw, i, out / "cases" / sw.case_id(i), o.threads, rank, g_stop);
+    return run_case(sw, i, out / "cases" / sw.case_id(i), o.threads, rank, interrupt::received());
   };
 
   if (rank != 0) {
-    world->work(run, g_stop);
+    world->work(run, interrupt::received());
     return world->broadcast(ok);
   }
 
@@ -362,7 +350,7 @@ int sweep(const SweepOptions& o) {
              [&] {
                // A stop: the summary of the cases done goes to disk now (mpirun kills the
                // ranks a second after Ctrl-C).
-               const bool stopping = g_stop.load() >= 1;
+               const bool stopping = interrupt::received().load() >= 1;
                ledger.flush(stopping && !stop_seen.exchange(stopping));
              }};
   std::thread dispatcher;
@@ -374,7 +362,7 @@ int sweep(const SweepOptions& o) {
     world->serve(d);
   }
   while (auto i = ledger.take()) ledger.record(run(*i));
-  if (g_stop.load() >= 1) ledger.flush(true);
+  if (interrupt::received().load() >= 1) ledger.flush(true);
   if (dispatcher.joinable()) dispatcher.join();
   ledger.flush(true);
   ::close(lock_fd);

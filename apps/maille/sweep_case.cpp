@@ -1,16 +1,12 @@
 #include "sweep_case.hpp"
 
 #include <charconv>
-#include <chrono>
-#include <cmath>
 #include <fstream>
 #include <sstream>
-#include <vector>
 
+#include "maille/clock.hpp"
 #include "maille/io.hpp"
-#include "maille/limits.hpp"
-#include "maille/scene.hpp"
-#include "maille/simulator.hpp"
+#include "maille/scene_run.hpp"
 
 namespace maille::app {
 
@@ -74,67 +70,45 @@ void read_stats(const std::filesystem::path& path, CaseResult& r) {
   r.stats_last = last;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-CaseResult failed(CaseResult r, int exit_code, std::string message) {
+CaseResult failed(CaseResult r, int code, std::string message) {
   r.status = "error";
-  r.exit_code = exit_code;
+  r.exit_code = code;
   r.message = std::move(message);
-  r.retry = exit_code == 4;  // the disk, not the case: run it again next time
+  r.retry = code == exit_code::output_error;  // the disk, not the case: run it again
   return r;
 }
 
-// The case itself, as `maille run` runs a scene (apps/maille/commands.cpp, run()): the same
-// settings, frame 0 published, the energy samples to stats.csv, the final runaway check.
+// The case itself, as `maille run SCENE --set ... --duration D --no-frames` runs it: the same
+// SceneRun, with frames when the sweep asks for them. A second Ctrl-C (or mpirun's SIGTERM
+// after its SIGINT) abandons it between two steps, or inside a long implicit step.
 CaseResult simulate(const Sweep& sweep, std::uint64_t index, const std::filesystem::path& dir,
                     std::optional<int> threads, CaseResult r, const std::atomic<int>& stop) {
-  Result<Scene> scene = load_scene(sweep.scene, sweep.overrides(index));
-  if (!scene) return failed(std::move(r), 1, scene.error().to_string());
-  SimulationSettings settings = scene->settings;
-  if (threads) settings.threads = *threads;
-  const double duration = sweep.duration ? *sweep.duration : settings.duration;
-  const double n = std::round(duration / settings.step);
-  if (!(n <= double(limits::max_steps))) {
-    std::ostringstream m;
-    m << "the duration " << duration << " s at a step of " << settings.step << " s is " << n
-      << " steps, more than the limit of " << double(limits::max_steps);
-    return failed(std::move(r), 2, m.str());
-  }
-  const auto steps = static_cast<std::uint64_t>(n);
-  std::optional<Simulator> built;
-  try {
-    built.emplace(std::move(scene->model), settings);
-  } catch (const std::invalid_argument& e) {
-    return failed(std::move(r), 1, sweep.scene.string() + ": error: " + e.what());
-  }
-  Simulator& sim = *built;
-  std::optional<FrameWriter> frames;
-  if (sweep.frames) frames.emplace(dir, FrameFormat::ply, sim.model());
-  StatsWriter stats(dir / "stats.csv");
-  if (frames) sim.on_publish([&](const Snapshot& s) { (*frames)(s); });
-  sim.on_sample([&](const EnergySample& e, const Profile& p) { stats.write(e, p); });
-  // A second Ctrl-C (or mpirun's SIGTERM after its SIGINT) abandons a long implicit step too.
-  sim.on_stop_request([&stop] { return stop.load() >= 2; });
-  sim.publish_now();  // frame 0: the initial state
-  while (sim.steps_taken() < steps && stop.load() < 2 && sim.step()) {
-  }
-  if (!sim.blow_up()) sim.check_energy();  // a runaway since the last check
-  stats.close(sim.profile());
-  r.simulated_seconds = sim.time();
-  if (sim.blow_up()) {
+  SceneRunOptions o;
+  o.scene = sweep.scene;
+  o.sets = sweep.overrides(index);
+  o.duration = sweep.duration;
+  o.duration_name = sweep.duration ? "the sweep's duration" : "the scene's duration";
+  o.threads = threads;
+  o.out = dir;
+  o.frames = sweep.frames;
+  SceneRun run(std::move(o));
+  if (!run.load()) return failed(std::move(r), run.report().exit, run.report().error);
+  SceneRunHooks hooks;
+  hooks.stop = [&stop] { return stop.load() >= 2; };
+  const SceneRunReport& done = run.run(hooks);
+  r.simulated_seconds = done.simulated;
+  if (done.exit == exit_code::blow_up) {
     r.status = "blowup";
-    r.exit_code = 3;
-    r.message = sim.blow_up()->message;
-  } else if (sim.steps_taken() < steps) {
-    r.retry = true;  // abandoned by a second Ctrl-C
-    r.status = "error";
-    r.exit_code = 130;
-    r.message = "interrupted";
+    r.exit_code = exit_code::blow_up;
+    r.message = done.blow_up ? done.blow_up->message : done.error;
+  } else if (done.exit == exit_code::interrupted) {
+    r = failed(std::move(r), exit_code::interrupted, "interrupted");
+    r.retry = true;  // abandoned by a second Ctrl-C: a rerun runs it
+  } else if (done.exit != exit_code::ok) {
+    return failed(std::move(r), done.exit, done.error);
   } else {
     r.status = "ok";
-    r.final_energy = sim.energies().total();
+    r.final_energy = done.energies->total();
   }
   read_stats(dir / "stats.csv", r);
   return r;
@@ -210,7 +184,7 @@ std::optional<CaseResult> CaseResult::parse(const std::string& text) {
 
 CaseResult run_case(const Sweep& sweep, std::uint64_t index, const std::filesystem::path& dir,
                     std::optional<int> threads, int rank, const std::atomic<int>& stop) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   CaseResult r;
   r.index = index;
   r.rank = rank;
@@ -223,11 +197,11 @@ CaseResult run_case(const Sweep& sweep, std::uint64_t index, const std::filesyst
     if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
     r = simulate(sweep, index, dir, threads, std::move(r), stop);
   } catch (const std::runtime_error& e) {  // output: the frames, stats.csv, the folder
-    r = failed(std::move(r), 4, std::string("error: ") + e.what());
+    r = failed(std::move(r), exit_code::output_error, std::string("error: ") + e.what());
   } catch (const std::invalid_argument& e) {
-    r = failed(std::move(r), 1, sweep.scene.string() + ": error: " + e.what());
+    r = failed(std::move(r), exit_code::bad_input, sweep.scene.string() + ": error: " + e.what());
   } catch (const std::bad_alloc&) {
-    r = failed(std::move(r), 1, sweep.scene.string() + ": error: out of memory");
+    r = failed(std::move(r), exit_code::bad_input, sweep.scene.string() + ": error: out of memory");
   }
   r.wall_seconds = seconds_since(t0);
   if (r.retry) return r;
@@ -237,7 +211,7 @@ CaseResult run_case(const Sweep& sweep, std::uint64_t index, const std::filesyst
     marker.stream() << r.serialize();
     marker.commit();
   } catch (const std::runtime_error& e) {
-    r = failed(std::move(r), 4, std::string("error: ") + e.what());
+    r = failed(std::move(r), exit_code::output_error, std::string("error: ") + e.what());
   }
   return r;
 }

@@ -97,6 +97,24 @@ class FrameWriter {
 // The smooth surface of a frame as an OBJ file: v, vn and f a//a lines.
 void write_smooth_obj(const std::filesystem::path& path, const SmoothMesh& mesh, const Snapshot& s);
 
+// stats.csv's columns, in order: time, step, the energies (for_each_energy), ns_<stage> (each
+// stage's time during the step, ns), the counters, the gauges. The one list: StatsWriter writes
+// it and the Python module's Simulation.stats() reads it. `column(prefix, name, value)` is
+// called once per column, value a double, or a std::uint64_t for step and the counters (which
+// are integers in the file).
+template <class Column>
+void for_each_stats_column(const EnergySample& e, const Profile& p, Column&& column) {
+  column(std::string_view(), std::string_view("time"), e.time);
+  column(std::string_view(), std::string_view("step"), e.step);
+  for_each_energy(e.energies, [&](const char* name, double value) {
+    column(std::string_view(), std::string_view(name), value);
+  });
+  for (const auto& s : p.stages())
+    column(std::string_view("ns_"), std::string_view(s.name), s.last_ns);
+  for (const auto& c : p.counters()) column(std::string_view(), std::string_view(c.name), c.last);
+  for (const auto& g : p.gauges()) column(std::string_view(), std::string_view(g.name), g.last);
+}
+
 // stats.csv: one row per energy sample: time, step, energies, ns per stage during that step,
 // counters. The header is written with the first row (stages plugged in before then appear),
 // or by close() when no row was (a blow-up at step 1): the file always has its header.

@@ -103,5 +103,6 @@ py::dict model_groups(const Model& m);
 
 void bind_model(py::module_& m);
 void bind_simulation(py::module_& m);
+void bind_run(py::module_& m);  // maille.run(): a scene file run as `maille run` runs it
 
 }  // namespace maille::python

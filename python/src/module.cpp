@@ -1,5 +1,5 @@
 // The module `maille`: its exception classes, the translation of the engine's errors into them,
-// and the two classes (Model, Simulation).
+// the two classes (Model, Simulation) and run().
 #include <pybind11/eval.h>
 
 #include "bindings.hpp"
@@ -96,6 +96,7 @@ PYBIND11_MODULE(_maille, m) {
 #endif
   bind_model(m);
   bind_simulation(m);
+  bind_run(m);
   m.attr("__version__") = MAILLE_VERSION;
   m.attr("render_available") = render_available();
 #ifdef MAILLE_SINGLE_PRECISION

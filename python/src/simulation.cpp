@@ -16,7 +16,6 @@
 // The GIL is released while stepping and taken back for callbacks and, every 0.1 s, to let
 // Python handle signals (Ctrl-C raises KeyboardInterrupt between two steps).
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -25,13 +24,14 @@
 
 #include "bindings.hpp"
 #include "maille/checkpoint.hpp"
+#include "maille/io.hpp"
 #include "maille/limits.hpp"
+#include "maille/live_settings.hpp"
+#include "signal_poll.hpp"
 
 namespace maille::python {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 class Simulation {
  public:
@@ -84,7 +84,7 @@ class Simulation {
       fail(from_code_ ? "<maille.Model>" : source_.string(), "", e.what());
     }
     sim_->on_sample([this](const EnergySample& e, const Profile& p) { record(e, p); });
-    sim_->on_stop_request([this] { return signal_pending(); });
+    sim_->on_stop_request([this] { return signals_.pending(); });
     // What `maille validate` and `maille run` print as warnings (a key the solver does not
     // read, a stage's advice), as Python warnings.
     for (const std::string& w : sim_->stage_warnings())
@@ -173,14 +173,9 @@ class Simulation {
     Busy busy(*this);  // a sample being recorded by a stepping thread is not read half-written
     // Step and counters are integers in stats.csv: ints here too.
     py::dict d;
-    for (std::size_t i = 0; i < stat_names_.size(); ++i) {
-      const std::size_t counters = 2 + kEnergyColumns + stages_;  // the first counter column
-      const bool integer = i == 1 || (i >= counters && i < counters + counters_);
-      if (integer)
-        d[py::str(stat_names_[i])] = static_cast<std::uint64_t>(stat_values_[i]);
-      else
-        d[py::str(stat_names_[i])] = stat_values_[i];
-    }
+    for (const StatColumn& c : stats_)
+      d[py::str(c.name)] =
+          c.integer ? py::object(py::int_(c.count)) : py::object(py::float_(c.value));
     return d;
   }
 
@@ -202,14 +197,13 @@ class Simulation {
     } else {
       scene = value_or_throw(load_scene(source_, sets));
     }
-    const std::string changed = fixed_setting_changed(loaded_, scene.settings);
+    const std::string_view changed = fixed_setting_changed(loaded_, scene.settings);
     if (!changed.empty())
       fail("--set", key,
-           "simulation." + changed +
+           "simulation." + std::string(changed) +
                " cannot change while the simulation runs: give it in overrides= when making "
-               "the Simulation (live: simulation.step, simulation.integrator, "
-               "simulation.implicit.*, simulation.duration, fields, links' and builders' "
-               "parameters)");
+               "the Simulation (live: " +
+               live_setting_keys() + ", fields, links' and builders' parameters)");
     const std::uint32_t n = sim_->model().points.size();
     if (!from_code_ && scene.model.points.size() != n)
       fail("--set", key,
@@ -227,12 +221,7 @@ class Simulation {
         // drive, a stage's table): the model read replaces the running one, state kept.
         sim_->edit_model([&](Model& m) { m = std::move(scene.model); });
       }
-      // [simulation.implicit] before the scheme: a switch to implicit_euler builds it with them.
-      if (!(scene.settings.implicit == sim_->settings().implicit))
-        sim_->set_implicit(scene.settings.implicit);
-      if (scene.settings.integrator != sim_->settings().integrator)
-        sim_->set_integrator(scene.settings.integrator);
-      if (scene.settings.step != sim_->settings().step) sim_->set_step(scene.settings.step);
+      apply_live_settings(*sim_, scene.settings);  // step, scheme, implicit solver
     } catch (const std::invalid_argument& e) {
       fail("--set", key, e.what());
     }
@@ -280,8 +269,7 @@ class Simulation {
     const State fresh = sim_->state();
     sim_->restore(std::move(kept));
     replace_state(fresh, 0);
-    stat_names_.clear();
-    stat_values_.clear();
+    stats_.clear();
     stats_rows_ = 0;
   }
 
@@ -401,7 +389,7 @@ class Simulation {
   }
 
   // Steps with the GIL released. The GIL is taken back every 0.1 s (between steps, and inside
-  // long steps through the stop poll, signal_pending) to let Python run its signal handlers:
+  // long steps through the stop poll, SignalPoll::pending) to let Python run its signal handlers:
   // Ctrl-C raises KeyboardInterrupt between two steps, or abandons a step in progress (the
   // simulator puts back the state of the last whole step). The GIL is released and taken back
   // by hand rather than by gil_scoped_release, whose destructor is noexcept: a daemon thread
@@ -411,17 +399,17 @@ class Simulation {
     std::uint64_t done = 0;
     bool fine = true;
     check_written_state();
-    last_poll_ = Clock::now();
+    signals_.start();
     PyThreadState* released = PyEval_SaveThread();
     try {
       while (done < n) {
-        if (_Py_IsFinalizing()) park();  // the interpreter is going: step no more
+        if (_Py_IsFinalizing()) SignalPoll::park();  // the interpreter is going: step no more
         if (!sim_->step()) {
           fine = false;
           break;
         }
         ++done;
-        if ((done & 15) == 0 && signal_pending()) {
+        if ((done & 15) == 0 && signals_.pending()) {
           fine = false;
           break;
         }
@@ -436,42 +424,13 @@ class Simulation {
     }
     PyEval_RestoreThread(released);
     sync_for_python();
-    if (pending_signal_) {
-      PyErr_Restore(pending_signal_->type, pending_signal_->value, pending_signal_->traceback);
-      pending_signal_.reset();
-      throw py::error_already_set();
-    }
+    signals_.raise_if_pending();
     if (!fine) {
       if (sim_->blow_up()) throw BlowUpError(*sim_->blow_up());
       throw std::runtime_error("the simulation stopped");
     }
     check_before_returning();
     return done;
-  }
-
-  // The stop poll (Simulator::on_stop_request), on the stepping thread without the GIL: every
-  // 0.1 s, the GIL is taken to run Python's signal handlers; an exception they raise
-  // (KeyboardInterrupt) is kept for advance() to raise and stops the step.
-  bool signal_pending() {
-    if (pending_signal_) return true;
-    const auto now = Clock::now();
-    if (now - last_poll_ < std::chrono::milliseconds(100)) return false;
-    last_poll_ = now;
-    if (_Py_IsFinalizing()) park();
-    PyGILState_STATE gil = PyGILState_Ensure();
-    if (PyErr_CheckSignals() != 0) {
-      Raised r;
-      PyErr_Fetch(&r.type, &r.value, &r.traceback);
-      pending_signal_ = r;
-    }
-    PyGILState_Release(gil);
-    return pending_signal_.has_value();
-  }
-
-  // A thread that must not come back into an interpreter that is shutting down waits here
-  // until the process ends (a daemon thread: the interpreter does not wait for it).
-  [[noreturn]] static void park() {
-    for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
   }
 
   // Values Python wrote into the views are checked before any step sees them: a NaN or an
@@ -523,37 +482,23 @@ class Simulation {
     sync_for_python();
   }
 
-  // The columns of stats.csv (StatsWriter::write), by name, for the last sample.
+  // The columns of stats.csv (for_each_stats_column, as StatsWriter writes them), by name, for
+  // the last sample. Names are rewritten only when they change (stages plugged in later).
   void record(const EnergySample& e, const Profile& p) {
-    stages_ = p.stages().size();
-    counters_ = p.counters().size();
-    const std::size_t columns = 2 + kEnergyColumns + stages_ + counters_ + p.gauges().size();
-    stat_names_.resize(columns);
-    stat_values_.resize(columns);
     std::size_t i = 0;
-    auto put = [&](const std::string& name, double v) {
-      if (stat_names_[i] != name) stat_names_[i] = name;
-      stat_values_[i++] = v;
-    };
-    put("time", e.time);
-    put("step", double(e.step));
-    for_each_energy(e.energies, [&](const char* name, double value) { put(name, value); });
-    for (const auto& s : p.stages()) put("ns_" + s.name, s.last_ns);
-    for (const auto& c : p.counters()) put(c.name, double(c.last));
-    for (const auto& g : p.gauges()) put(g.name, g.last);
+    for_each_stats_column(e, p, [&](std::string_view prefix, std::string_view name, auto value) {
+      if (i == stats_.size()) stats_.emplace_back();
+      StatColumn& c = stats_[i++];
+      if (c.name.size() != prefix.size() + name.size() ||
+          std::string_view(c.name).substr(0, prefix.size()) != prefix ||
+          std::string_view(c.name).substr(prefix.size()) != name)
+        c.name = std::string(prefix) + std::string(name);
+      c.integer = std::is_integral_v<decltype(value)>;
+      c.value = double(value);
+      if constexpr (std::is_integral_v<decltype(value)>) c.count = value;
+    });
+    stats_.resize(i);
     ++stats_rows_;
-  }
-
-  // The settings a live edit may not change (the simulator was built with them).
-  static std::string fixed_setting_changed(const SimulationSettings& a,
-                                           const SimulationSettings& b) {
-    if (a.publish_every != b.publish_every) return "output_every";
-    if (a.sample_every != b.sample_every) return "sample_every";
-    if (a.threads != b.threads) return "threads";
-    if (a.runaway_factor != b.runaway_factor) return "runaway_factor";
-    if (a.backend != b.backend) return "backend";
-    if (a.backend_options.device != b.backend_options.device) return "gpu_device";
-    return {};
   }
 
   // The energies' runaway check with the force array and the stages' memory put back, as
@@ -585,10 +530,6 @@ class Simulation {
     if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
   }
 
-  struct Raised {
-    PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;
-  };
-
   std::unique_ptr<Simulator> sim_;
   std::filesystem::path source_;  // the scene file; empty for a model built in code
   bool from_code_ = false;
@@ -596,16 +537,19 @@ class Simulation {
   std::vector<std::string> sets_;           // overrides so far: construction, then live edits
   SimulationSettings loaded_;               // the settings as last read (before the simulator's)
   std::string name_;
-  std::vector<std::string> stat_names_;
-  std::vector<double> stat_values_;
-  std::size_t stages_ = 0, counters_ = 0;  // columns of each in the last sample
+  struct StatColumn {
+    std::string name;
+    bool integer = false;  // step and the counters
+    double value = 0;
+    std::uint64_t count = 0;  // when integer
+  };
+  std::vector<StatColumn> stats_;  // the last sample's stats.csv row
   std::uint64_t stats_rows_ = 0;
   bool capture_ = false;
   Snapshot captured_;
   std::atomic<bool> busy_{false};
   std::thread::id owner_ = std::this_thread::get_id();  // the thread that made it
-  Clock::time_point last_poll_;
-  std::optional<Raised> pending_signal_;  // raised by a signal handler during a step
+  SignalPoll signals_;  // Python's signal handlers while stepping without the GIL
   std::uint64_t energy_checked_at_ = 0;
   bool warned_unconverged_ = false;
 };

@@ -25,12 +25,11 @@ StatsWriter::~StatsWriter() {
 void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
   auto& o = file_.stream();
   if (!header_written_) header(&profile);
-  const Energies& e = sample.energies;
-  o << sample.time << ',' << sample.step;
-  for_each_energy(e, [&](const char*, double value) { o << ',' << value; });
-  for (const auto& s : profile.stages()) o << ',' << s.last_ns;
-  for (const auto& c : profile.counters()) o << ',' << c.last;
-  for (const auto& g : profile.gauges()) o << ',' << g.last;
+  const char* separator = "";
+  for_each_stats_column(sample, profile, [&](std::string_view, std::string_view, auto value) {
+    o << separator << value;
+    separator = ",";
+  });
   o << '\n';
   if (!o.good())  // a full disk shows here when a buffer is flushed
     throw std::runtime_error("cannot write " + file_.path().string() + ": " +
@@ -38,15 +37,15 @@ void StatsWriter::write(const EnergySample& sample, const Profile& profile) {
   ++rows_;
 }
 
+// With no profile (no sample was taken), the columns before the stages'.
 void StatsWriter::header(const Profile* profile) {
   auto& o = file_.stream();
-  o << "time,step";
-  for_each_energy(Energies{}, [&](const char* name, double) { o << ',' << name; });
-  if (profile) {
-    for (const auto& s : profile->stages()) o << ",ns_" << s.name;
-    for (const auto& c : profile->counters()) o << ',' << c.name;
-    for (const auto& g : profile->gauges()) o << ',' << g.name;
-  }
+  const char* separator = "";
+  for_each_stats_column(EnergySample{}, profile ? *profile : Profile{},
+                        [&](std::string_view prefix, std::string_view name, auto) {
+                          o << separator << prefix << name;
+                          separator = ",";
+                        });
   o << '\n';
   header_written_ = true;
 }

@@ -1,22 +1,13 @@
 #include "maille/render/movie.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "maille/clock.hpp"
 #include "maille/render/headless.hpp"
 #include "maille/simulator.hpp"
 
 namespace maille::render {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-}  // namespace
 
 MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& sink,
                          const std::function<bool(std::uint64_t, std::uint64_t)>& progress) {
@@ -61,7 +52,7 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
   for (std::uint64_t k = 0; k < total; ++k) {
     // Frame k shows the state at the step nearest to k / fps.
     const auto step = static_cast<std::uint64_t>(std::llround(double(k) / s.fps / settings.step));
-    auto t0 = Clock::now();
+    auto t0 = WallClock::now();
     while (sim.steps_taken() < step) {
       if (!sim.step()) {
         if (sim.blow_up())
@@ -83,14 +74,14 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
     // A still has no motion to smooth: frame everything seen so far at once.
     if (s.last_frame_only && k == first_rendered) framed.frame(auto_frame.box(), aspect);
     if (k >= first_rendered) {
-      t0 = Clock::now();
+      t0 = WallClock::now();
       Camera camera = framed;
       camera.zoom(s.zoom);
       target.bind();
       renderer.draw(camera, s.width, s.height, s.options);
       const Image image = target.read();
       report.render_seconds += seconds_since(t0);
-      t0 = Clock::now();
+      t0 = WallClock::now();
       sink.write(image);
       report.output_seconds += seconds_since(t0);
       ++report.frames;
@@ -102,7 +93,7 @@ MovieReport render_movie(const Scene& scene, const MovieSettings& s, FrameSink& 
   }
   report.steps = sim.steps_taken();
   report.simulated = sim.time();
-  const auto t0 = Clock::now();
+  const auto t0 = WallClock::now();
   if (report.frames > 0) sink.finish();
   report.output_seconds += seconds_since(t0);
   return report;
