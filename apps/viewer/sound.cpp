@@ -121,10 +121,10 @@ void Sound::set_gain(float gain) {
   if (player_) player_->set_gain(gain);
 }
 
-const Sound::Report& Sound::report() {
+const Sound::Report& Sound::report(bool refresh_now) {
   if (!player_) return report_;
   const double now = play::wall_seconds();
-  const bool refresh = now - last_wall_ >= kReportInterval;
+  const bool refresh = refresh_now || now - last_wall_ >= kReportInterval;
   report_.counters = player_->counters(refresh);
   if (refresh) {
     const std::uint64_t frames = report_.counters.rendered - last_rendered_;

@@ -56,8 +56,8 @@ class Sound {
   void stop();
   bool on() const { return bool(output_); }
   void set_gain(float gain);
-  // The report, its CPU figures refreshed at most every half second.
-  const Report& report();
+  // The report, its CPU figures refreshed at most every half second (or now: `refresh`).
+  const Report& report(bool refresh = false);
 
  private:
   Choice choice_;

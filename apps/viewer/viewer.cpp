@@ -315,7 +315,7 @@ void start_sound(Viewer& viewer, const ViewerOptions& o) {
 
 // The end of a --frames run with --sound: what played, the xruns, the CPU per period.
 void print_sound(Sound& sound, const PhysicsStatus& st) {
-  const Sound::Report& r = sound.report();
+  const Sound::Report& r = sound.report(true);
   if (!r.on) {
     std::cout << "maille-viewer: sound off\n";
     return;

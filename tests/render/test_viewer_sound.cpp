@@ -118,5 +118,41 @@ TEST(ViewerSound, GoesOnThroughResetSchemeStepAndParameters) {
   EXPECT_TRUE(physics.wait_for_step(step + 100, 30));
 }
 
+// [[control]] in the viewer: events pushed into the ControlRings (as the OSC server's and the
+// MIDI port's threads push them) reach the model through the physics thread. The small drum at
+// rest is silent; a strike sounds within the ring's lead; the tension control, with its table,
+// glides without a non-finite sample.
+TEST(ViewerSound, ControlsReachTheModel) {
+  const std::string drum = std::string(MAILLE_SOURCE_DIR) + "/examples/play_drum.toml";
+  const std::vector<std::string> small{"membrane[0].rings=6", "listen[0].point=skin:45",
+                                       "control[0].excite.point=skin:35"};
+  Scene b = scene_of(drum, small);
+  std::vector<audio::ParameterTable> tables(b.audio.controls.size());
+  Result<audio::ParameterTable> t =
+      build_parameter_table(drum, small, b.model, b.settings, b.audio.controls[1]);
+  ASSERT_TRUE(t.ok()) << t.error().to_string();
+  tables[1] = t.value();
+  render::SnapshotExchange exchange;
+  PhysicsThread physics(b.model, b.settings, exchange, /*play=*/true);
+  auto player = std::make_shared<play::RingPlayer>(1, 48000, 2 * 256 + 480, 64);
+  auto controls = std::make_shared<play::ControlRings>();
+  physics.start_sound({player, controls, b.audio, tables});
+  const auto peak = [](const std::vector<float>& x) {
+    float p = 0;
+    for (const float y : x) {
+      EXPECT_TRUE(std::isfinite(y));
+      p = std::max(p, std::abs(y));
+    }
+    return p;
+  };
+  EXPECT_EQ(peak(play_periods(*player, 4800)[0]), 0.0f);  // at rest: silence
+  controls->osc.push({0, 0, 1.0f});                       // the strike, full strength
+  controls->midi.push({1, 1.0f, 1.0f});                   // the tension to the top
+  const float struck = peak(play_periods(*player, 9600)[0]);
+  EXPECT_GT(struck, 1e-4f);
+  EXPECT_TRUE(physics.status().sound_notice.empty()) << physics.status().sound_notice;
+  physics.stop_sound();
+}
+
 }  // namespace
 }  // namespace maille::viewer

@@ -50,6 +50,18 @@ line=$(grep "maille-viewer: sound on JACK" "$out/viewer.stdout") ||
 echo "$line" | grep -Eq "played [1-9][0-9]* frames, rendered [1-9][0-9]*, xruns [0-9]+" ||
   fail "nothing was played: $line"
 echo "$line" | grep -q "client 'maille-viewer'" || fail "not the viewer's own JACK client: $line"
+# The scene's [[control]] inputs open in the viewer too: the playable drum's MIDI port (JACK
+# MIDI, the audio being on JACK) and its OSC server (on a port of this test's own).
+port=$((20000 + $$ % 20000))
+sed "s/^osc_port = .*/osc_port = $port/" "$examples/play_drum.toml" > "$out/drum.toml"
+grep -q "osc_port = $port" "$out/drum.toml" || fail "no osc_port to replace in play_drum.toml"
+timeout 120 "$xvfb" -a "$viewer" "$out/drum.toml" --sound --sound-driver jack --frames 30 \
+  --width 320 --height 240 > "$out/drum.stdout" 2> "$out/drum.stderr" ||
+  { cat "$out/drum.stdout" "$out/drum.stderr"; fail "the viewer with the drum exited non-zero"; }
+cat "$out/drum.stdout"
+grep -q "maille-viewer: controls: MIDI: virtual input port 'maille drum' (JACK MIDI)" "$out/drum.stdout" ||
+  fail "no MIDI port"
+grep -q "maille-viewer: controls: OSC: UDP 127.0.0.1:$port" "$out/drum.stdout" || fail "no OSC server"
 # The JACK client left with the viewer.
 sleep 0.2
 if jack_lsp 2>/dev/null | grep -q "maille-viewer:"; then fail "the viewer's ports outlived it"; fi
