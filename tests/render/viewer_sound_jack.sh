@@ -11,9 +11,12 @@ rm -rf "$out"
 mkdir -p "$out"
 scene="$examples/sound_plucked_string.toml"
 fail() { echo "FAIL: $*"; exit 1; }
+# xvfb-run -a looks for a free display from 99 up; two started at once (the other viewer tests)
+# may pick the same. This one starts its search elsewhere.
+display=$((200 + $$ % 500))
 
 # No server: the panel says what it tried, the viewer keeps running.
-JACK_DEFAULT_SERVER="maille_none_$$" timeout 120 "$xvfb" -a "$viewer" "$scene" --sound \
+JACK_DEFAULT_SERVER="maille_none_$$" timeout 120 "$xvfb" -a -n "$display" "$viewer" "$scene" --sound \
   --sound-driver jack --frames 10 --width 320 --height 240 > "$out/none.stdout" 2> "$out/none.stderr" ||
   { cat "$out/none.stdout" "$out/none.stderr"; fail "the viewer failed without a JACK server"; }
 cat "$out/none.stderr"
@@ -39,7 +42,7 @@ for _ in $(seq 200); do
 done
 jack_lsp 2>/dev/null | grep -q "system:playback_1" || { cat "$out/jackd.log"; fail "no server"; }
 
-timeout 120 "$xvfb" -a "$viewer" "$scene" --sound --sound-driver jack --frames 90 --width 320 \
+timeout 120 "$xvfb" -a -n "$display" "$viewer" "$scene" --sound --sound-driver jack --frames 90 --width 320 \
   --height 240 > "$out/viewer.stdout" 2> "$out/viewer.stderr" ||
   { cat "$out/viewer.stdout" "$out/viewer.stderr"; fail "the viewer with sound exited non-zero"; }
 cat "$out/viewer.stdout"
@@ -55,7 +58,7 @@ echo "$line" | grep -q "client 'maille-viewer'" || fail "not the viewer's own JA
 port=$((20000 + $$ % 20000))
 sed "s/^osc_port = .*/osc_port = $port/" "$examples/play_drum.toml" > "$out/drum.toml"
 grep -q "osc_port = $port" "$out/drum.toml" || fail "no osc_port to replace in play_drum.toml"
-timeout 120 "$xvfb" -a "$viewer" "$out/drum.toml" --sound --sound-driver jack --frames 30 \
+timeout 120 "$xvfb" -a -n "$display" "$viewer" "$out/drum.toml" --sound --sound-driver jack --frames 30 \
   --width 320 --height 240 > "$out/drum.stdout" 2> "$out/drum.stderr" ||
   { cat "$out/drum.stdout" "$out/drum.stderr"; fail "the viewer with the drum exited non-zero"; }
 cat "$out/drum.stdout"
