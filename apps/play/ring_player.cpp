@@ -37,12 +37,20 @@ RingPlayer::RingPlayer(std::size_t channels, int rate, std::size_t lead, std::si
       block_(block * channels, 0.0f),
       gain_target_(gain),
       gain_(gain),
-      ramp_to_(gain) {}
+      ramp_from_(gain),
+      ramp_to_(gain),
+      ramp_length_(std::max<std::uint32_t>(1, static_cast<std::uint32_t>(kGainRamp * rate))),
+      ramp_done_(ramp_length_) {}
 
+// Each sample of a ramp from its start (no sum of steps, whose rounding would gather), exactly
+// the target at its end.
 float RingPlayer::next_gain() {
-  if (ramp_left_ == 0) return gain_;
-  gain_ += ramp_step_;
-  if (--ramp_left_ == 0) gain_ = ramp_to_;  // exactly the target at the ramp's end
+  if (ramp_done_ == ramp_length_) return gain_;
+  ++ramp_done_;
+  gain_ = ramp_done_ == ramp_length_
+              ? ramp_to_
+              : ramp_from_ + (ramp_to_ - ramp_from_) * (static_cast<float>(ramp_done_) /
+                                                        static_cast<float>(ramp_length_));
   return gain_;
 }
 
@@ -50,9 +58,9 @@ float RingPlayer::next_gain() {
 void RingPlayer::start_period() {
   const float target = gain_target_.load(std::memory_order_relaxed);
   if (target == ramp_to_) return;
+  ramp_from_ = gain_;
   ramp_to_ = target;
-  ramp_left_ = std::max<std::uint32_t>(1, static_cast<std::uint32_t>(kGainRamp * rate_));
-  ramp_step_ = (target - gain_) / static_cast<float>(ramp_left_);
+  ramp_done_ = 0;
 }
 
 void RingPlayer::end_period(std::size_t frames, std::size_t got, std::uint64_t clipped) {

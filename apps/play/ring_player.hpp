@@ -105,8 +105,8 @@ class RingPlayer final : public AudioCallback {
   std::atomic<bool> producing_{false};
   std::atomic<float> gain_target_{1.0f};
   // The callback's own gain ramp (callback thread only).
-  float gain_ = 1.0f, ramp_to_ = 1.0f, ramp_step_ = 0.0f;
-  std::uint32_t ramp_left_ = 0;
+  float gain_ = 1.0f, ramp_from_ = 1.0f, ramp_to_ = 1.0f;
+  std::uint32_t ramp_length_ = 1, ramp_done_ = 0;  // samples; done == length: not ramping
   std::atomic<std::uint64_t> frames_played_{0}, underruns_{0}, driver_xruns_{0}, clipped_{0};
   std::atomic<std::uint64_t> rendered_{0};
   std::atomic<double> cpu_seconds_{0}, worst_block_{0};

@@ -154,5 +154,47 @@ TEST(ViewerSound, ControlsReachTheModel) {
   physics.stop_sound();
 }
 
+// The gain (the panel's slider) is smoothed in the callback: a change is a linear ramp of
+// kGainRamp (960 samples at 48 kHz) from wherever the gain is, no sample moves by more than the
+// ramp's step, and it lands exactly on the target. A change during a ramp starts a new ramp
+// from the gain reached. An empty ring plays silence and counts an xrun while the model plays.
+TEST(ViewerSound, GainRampsWithoutAStepAndEmptyRingIsSilence) {
+  play::RingPlayer player(1, 48000, 8192, 64);
+  const std::vector<float> ones(8192, 1.0f);
+  ASSERT_EQ(player.ring().write(ones.data(), ones.size()), ones.size());
+  std::vector<float> out(4096);
+  float* ptr[] = {out.data()};
+  player.set_gain(0.5f);
+  player.process(ptr, 2048);
+  const std::size_t ramp = static_cast<std::size_t>(play::RingPlayer::kGainRamp * 48000);
+  const float step = 0.5f / float(ramp);
+  EXPECT_NEAR(out[0], 1.0f - step, 1e-6f);
+  for (std::size_t i = 1; i < 2048; ++i) {
+    ASSERT_LE(out[i], out[i - 1]) << i;  // monotonic
+    ASSERT_LE(out[i - 1] - out[i], step * 1.001f) << i;
+  }
+  EXPECT_EQ(out[ramp - 1], 0.5f);  // exactly the target at the ramp's end
+  EXPECT_EQ(out[2047], 0.5f);
+  player.process(ptr, 100);  // at 0.5
+  player.set_gain(2.0f);     // up again, from 0.5
+  player.process(ptr, 480);  // half the ramp
+  EXPECT_NEAR(out[479], 0.5f + 1.5f * 480.0f / float(ramp), 1e-4f);
+  player.set_gain(0.0f);  // mid-ramp: down from where it is, no jump
+  const float reached = out[479];
+  player.process(ptr, 4096);
+  EXPECT_NEAR(out[0], reached - reached / float(ramp), 1e-4f);
+  EXPECT_EQ(out[ramp - 1], 0.0f);
+  // The ring runs dry (8192 frames in all): silence; an xrun only while the model plays.
+  player.process(ptr, 4096);
+  ASSERT_EQ(player.ring().size(), 0u);
+  const auto before = player.counters().underruns;
+  player.process(ptr, 256);
+  EXPECT_EQ(player.counters().underruns, before);  // paused: not an xrun
+  player.set_producing(true);
+  player.process(ptr, 256);
+  EXPECT_EQ(player.counters().underruns, before + 1);
+  for (std::size_t i = 0; i < 256; ++i) ASSERT_EQ(out[i], 0.0f);
+}
+
 }  // namespace
 }  // namespace maille::viewer
