@@ -202,7 +202,7 @@ void sound_controls(const Scene& scene, PhysicsThread& physics, const PhysicsSta
     if (!st.running)
       ImGui::TextDisabled("paused: silence");
     else if (st.sound)
-      ImGui::TextDisabled("time follows the sound card (the speed setting waits)");
+      ImGui::TextDisabled("paced by the sound card (speed waits)");
   }
   for (const auto& n : r.notes) notice(n);
   if (!r.error.empty()) notice(r.error);
