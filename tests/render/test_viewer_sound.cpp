@@ -52,6 +52,8 @@ std::vector<std::vector<float>> play_periods(play::RingPlayer& player, std::size
     player.process(ptr.data(), take);
     f += take;
   }
+  if (std::chrono::steady_clock::now() >= end)
+    ADD_FAILURE() << "the ring stalled: no sound for 60 s";
   return out;
 }
 
@@ -151,6 +153,39 @@ TEST(ViewerSound, ControlsReachTheModel) {
   const float struck = peak(play_periods(*player, 9600)[0]);
   EXPECT_GT(struck, 1e-4f);
   EXPECT_TRUE(physics.status().sound_notice.empty()) << physics.status().sound_notice;
+  physics.stop_sound();
+}
+
+// A drag is heard: the playable string at rest is silent; bead 8 grabbed by the mouse's spring
+// and pulled 3 mm aside sounds at the listened bead 3 (within the ring's lead); let go, it
+// rings.
+TEST(ViewerSound, DragIsHeard) {
+  const std::string path = std::string(MAILLE_SOURCE_DIR) + "/examples/play_string.toml";
+  Scene b = scene_of(path, {});
+  b.audio.controls.clear();  // the mouse alone
+  render::SnapshotExchange exchange;
+  PhysicsThread physics(b.model, b.settings, exchange, /*play=*/true);
+  auto player = std::make_shared<play::RingPlayer>(1, 48000, 2 * 256 + 480, 64);
+  physics.start_sound({player, nullptr, b.audio, {}});
+  const auto peak = [](const std::vector<float>& x) {
+    float p = 0;
+    for (const float y : x) p = std::max(p, std::abs(y));
+    return p;
+  };
+  EXPECT_EQ(peak(play_periods(*player, 4800)[0]), 0.0f);      // at rest: silence
+  const std::uint32_t bead = b.audio.listeners[0].point + 5;  // string:8
+  ASSERT_GT(b.model.points.inv_mass[bead], 0);
+  const Vec3 x0 = b.model.points.initial_position[bead];
+  // The panel's drag stiffness at its top (100x): the default spring holds the model's weight,
+  // under which a string at 390 N hardly moves.
+  DragTarget d = default_drag(b.model, b.settings.step, bead, x0 + Vec3{0, 0.003, 0});
+  d.stiffness *= 100;
+  physics.drag().grab(d);
+  const float pulled = peak(play_periods(*player, 4800)[0]);
+  physics.drag().release();
+  const float ringing = peak(play_periods(*player, 4800)[0]);
+  EXPECT_GT(pulled, 1e-4f);   // measured 4.4e-4 (0.05 per m/s: 9 mm/s at bead 3)
+  EXPECT_GT(ringing, 1e-4f);  // measured 7.1e-4
   physics.stop_sound();
 }
 
