@@ -14,11 +14,17 @@
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 #include "maille/wav.hpp"
-#include "play.hpp"
+#include "play_engine.hpp"
 
 namespace maille::app {
 
 namespace {
+
+using play::AudioOutput;
+using play::ControlInput;
+using play::OutputRequest;
+using play::PlayEngine;
+using play::Recording;
 
 std::atomic<bool> g_stop_play{false};
 
@@ -133,7 +139,7 @@ int play(const PlayOptions& o) {
   }
 
   Instrument in;
-  auto make = [&](int rate, std::size_t buffer) -> PlayEngine* {
+  auto make = [&](int rate, std::size_t buffer) -> PlayEngine* {  // a play::CallbackFactory
     try {
       in.engine.reset();
       in.source.reset();
@@ -162,7 +168,7 @@ int play(const PlayOptions& o) {
   request.buffer = o.buffer;
   request.channels = scene.audio.listeners.size();
   std::vector<std::string> tried;
-  std::unique_ptr<AudioOutput> output = open_output(request, make, tried);
+  std::unique_ptr<AudioOutput> output = play::open_output(request, make, tried);
   if (!output) {
     std::cerr << "maille play: error: no audio output could be opened; tried:\n";
     for (const std::string& t : tried) std::cerr << "  " << t << '\n';
@@ -181,16 +187,16 @@ int play(const PlayOptions& o) {
     midi = midi || c.midi != audio::MidiSource::none;
     osc = osc || !c.osc.empty();
   }
-  const bool on_jack = output->describe().rfind("JACK", 0) == 0;
+  const bool on_jack = output->is_jack();
   std::string why;
   if (midi) {
-    if (auto m = open_midi(scene.audio, engine, on_jack, why))
+    if (auto m = play::open_midi(scene.audio, engine.controls, on_jack, why))
       inputs.push_back(std::move(m));
     else
       std::cerr << "maille: warning: the MIDI controls are off: " << why << '\n';
   }
   if (osc) {
-    if (auto s = open_osc(scene.audio, engine, why))
+    if (auto s = play::open_osc(scene.audio, engine.controls, why))
       inputs.push_back(std::move(s));
     else
       std::cerr << "maille: warning: the OSC controls are off: " << why << '\n';

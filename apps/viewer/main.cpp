@@ -29,6 +29,12 @@ int main(int argc, char** argv) {
   app.add_flag("--smooth", o.smooth, "Draw cloth as a smooth surface through the particles");
   app.add_option("--lod", o.lod, "Smooth surface: sub-segments per physical edge")
       ->check(CLI::Range(1, 16));
+  app.add_flag("--sound", o.sound,
+               "Sound on from the start: the scene's [[listen]] channels (the Sound panel)");
+  app.add_option("--sound-driver", o.sound_driver, "With --sound: jack, pulse or alsa")
+      ->check(CLI::IsMember({"jack", "pulse", "alsa"}));
+  app.add_option("--sound-device", o.sound_device,
+                 "With --sound: a JACK port prefix, or part of a device's name");
   app.add_option("--stage-option", stage_options,
                  "STAGE.OPTION=VALUE, repeatable: set as from the Stages panel, e.g. "
                  "obstacle:ball.method=facets");

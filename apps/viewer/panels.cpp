@@ -150,6 +150,66 @@ void stage_controls(PhysicsThread& physics, const PhysicsStatus& st) {
   }
 }
 
+// Sound (docs/sound.md, "The viewer's Sound panel"): on/off, the driver and device (taken when
+// sound starts), the gain (smoothed by the callback), and what the sound costs: the CPU time of
+// rendering over the sound's duration, and the xruns.
+void sound_controls(const Scene& scene, PhysicsThread& physics, const PhysicsStatus& st,
+                    Sound& sound) {
+  const std::size_t channels = scene.audio.listeners.size();
+  if (channels == 0) {
+    ImGui::TextDisabled("no [[listen]] table in this scene: nothing to hear");
+    return;
+  }
+  Sound::Choice& c = sound.choice();
+  bool on = sound.on();
+  if (ImGui::Checkbox("sound on", &on)) on ? (void)sound.start(scene, physics) : sound.stop();
+  ImGui::SameLine();
+  ImGui::TextDisabled("%zu channel%s, %zu control%s", channels, channels == 1 ? "" : "s",
+                      scene.audio.controls.size(), scene.audio.controls.size() == 1 ? "" : "s");
+  // The device is chosen when sound starts.
+  ImGui::BeginDisabled(sound.on());
+  const char* names[] = {"auto (jack, pulse, alsa)", "jack", "pulse", "alsa"};
+  ImGui::Combo("driver", &c.driver, names, IM_ARRAYSIZE(names));
+  ImGui::InputText("device", c.device.data(), c.device.size());
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(
+        "JACK: a port-name prefix (default: the physical playback ports); "
+        "pulse, alsa: part of the device's name (default: the default device)");
+  ImGui::EndDisabled();
+  float gain = c.gain;
+  if (ImGui::SliderFloat("gain", &gain, 0.0f, 4.0f, "%.2fx [audio] gain")) sound.set_gain(gain);
+
+  const Sound::Report& r = sound.report();
+  if (r.on) {
+    ImGui::TextWrapped("%s", r.output.c_str());
+    ImGui::Text("%d Hz, %zu-frame periods, latency %.1f ms", r.rate, r.period, 1e3 * r.latency);
+    char overlay[96];
+    std::snprintf(overlay, sizeof overlay, "CPU %.0f %% of the period (largest %.0f %%)",
+                  100 * r.cpu, 100 * r.cpu_worst);
+    ImGui::ProgressBar(static_cast<float>(std::min(r.cpu, 1.0)), ImVec2(-1, 0), overlay);
+    const auto& k = r.counters;
+    ImGui::Text("xruns %llu (ring empty %llu, driver %llu)",
+                static_cast<unsigned long long>(k.underruns + k.driver_xruns),
+                static_cast<unsigned long long>(k.underruns),
+                static_cast<unsigned long long>(k.driver_xruns));
+    ImGui::Text("played %.1f s", r.rate ? double(k.frames_played) / r.rate : 0.0);
+    if (k.clipped) {
+      ImGui::SameLine();
+      ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "%llu samples clipped: lower the gain",
+                         static_cast<unsigned long long>(k.clipped));
+    }
+    for (const auto& in : r.inputs) ImGui::TextWrapped("controls: %s", in.c_str());
+    if (!st.running)
+      ImGui::TextDisabled("paused: silence");
+    else if (st.sound)
+      ImGui::TextDisabled("paced by the sound card (speed waits)");
+  }
+  for (const auto& n : r.notes) notice(n);
+  if (!r.error.empty()) notice(r.error);
+  for (const auto& t : r.tried) notice("  " + t);
+  if (!st.sound_notice.empty()) notice(st.sound_notice);
+}
+
 void drawing_controls(render::RenderOptions& o, Tuning& t, PanelRequests& r) {
   ImGui::Checkbox("surfaces", &o.surface);
   ImGui::SameLine();
@@ -283,7 +343,7 @@ Tuning Tuning::from(const Scene& scene) {
   return t;
 }
 
-PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tuning,
+PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tuning, Sound& sound,
                           render::RenderOptions& options,
                           const std::vector<std::filesystem::path>& examples,
                           const std::string& load_error, double frame_ms) {
@@ -320,6 +380,10 @@ PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tu
   if (!st.stage_options.empty() &&
       ImGui::CollapsingHeader("Stages", ImGuiTreeNodeFlags_DefaultOpen))
     stage_controls(physics, st);
+  // Open by default when the scene has something to hear.
+  if (ImGui::CollapsingHeader("Sound",
+                              scene.audio.listeners.empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen))
+    sound_controls(scene, physics, st, sound);
   if (ImGui::CollapsingHeader("Drawing")) drawing_controls(options, tuning, r);
   ImGui::TextDisabled("left drag: orbit or grab a point; right drag: pan; wheel: zoom");
   ImGui::End();

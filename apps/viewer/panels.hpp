@@ -1,4 +1,5 @@
-// The viewer's Dear ImGui panels: simulation controls, live parameters, drawing options, plots.
+// The viewer's Dear ImGui panels: simulation controls, live parameters, sound, drawing options,
+// plots.
 // They run on the UI thread and reach the physics only through PhysicsThread's commands.
 #pragma once
 
@@ -10,6 +11,7 @@
 #include "maille/render/renderer.hpp"
 #include "maille/scene.hpp"
 #include "physics_thread.hpp"
+#include "sound.hpp"
 
 namespace maille::viewer {
 
@@ -35,7 +37,7 @@ struct PanelRequests {
   bool frame_scene = false;
 };
 
-PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tuning,
+PanelRequests draw_panels(const Scene& scene, PhysicsThread& physics, Tuning& tuning, Sound& sound,
                           render::RenderOptions& options,
                           const std::vector<std::filesystem::path>& examples,
                           const std::string& load_error, double frame_ms);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <utility>
 
@@ -20,6 +21,9 @@ double seconds(Clock::duration d) {
 constexpr double kBatchSeconds = 1.0 / 120;
 // Plot samples per simulated second.
 constexpr double kSamplesPerSecond = 100;
+// With sound: the physics sleeps while its ring holds more than half its lead, at least this
+// long (a shorter sleep is mostly the scheduler's overhead) and at most that (commands).
+constexpr double kSoundSleepMin = 0.0005, kSoundSleepMax = 0.01;
 
 }  // namespace
 
@@ -106,6 +110,7 @@ void PhysicsThread::reset() {
   drag_->release();
   send([this](Simulator& sim) {
     sim.reset();
+    source_stale_ = true;  // the listen stage starts again at step 0
     std::lock_guard lock(mutex_);
     history_.clear();
   });
@@ -117,7 +122,10 @@ void PhysicsThread::set_speed(double speed) {
 }
 
 void PhysicsThread::set_time_step(double h) {
-  send([h](Simulator& sim) { sim.set_step(h); });
+  send([this, h](Simulator& sim) {
+    sim.set_step(h);
+    source_stale_ = true;  // the sampling plan follows the step
+  });
 }
 
 void PhysicsThread::set_integrator(const std::string& name) {
@@ -125,6 +133,7 @@ void PhysicsThread::set_integrator(const std::string& name) {
     // The simulator converts the velocities (a staggered scheme's half-step velocity is
     // synchronised first) and keeps its model, tuned parameters and stages.
     try {
+      source_stale_ = true;  // the switch evaluates forces (the listen stage would hear it)
       sim.set_integrator(name);
       set_notice({});
     } catch (const std::exception& e) {
@@ -136,6 +145,7 @@ void PhysicsThread::set_integrator(const std::string& name) {
 void PhysicsThread::set_implicit(const ImplicitSettings& implicit) {
   send([this, implicit](Simulator& sim) {
     try {
+      source_stale_ = true;
       sim.set_implicit(implicit);
       set_notice({});
     } catch (const std::exception& e) {
@@ -153,6 +163,8 @@ void PhysicsThread::set_backend(const std::string& name) {
       settings.backend = name;
       std::unique_ptr<Simulator> next = make_simulator(sim.model(), settings);
       next->restore(sim.state(), sim.frames_published());
+      drop_source();  // its listen stage is on the simulator about to go
+      source_stale_ = true;
       sim_ = std::move(next);  // `sim` is gone from here on
       set_notice({});
     } catch (const std::exception& e) {
@@ -191,6 +203,66 @@ void PhysicsThread::set_stage_option(const std::string& stage, const std::string
       set_notice(option + " = " + value + " refused: " + e.what(), stage);
     }
   });
+}
+
+void PhysicsThread::start_sound(SoundFeed feed) {
+  send([this, feed = std::move(feed)](Simulator&) mutable {
+    drop_source();
+    control_positions_.clear();  // a new feed: the controls start where the scene has them
+    sound_ = std::move(feed);
+    source_stale_ = true;
+  });
+}
+
+void PhysicsThread::stop_sound() {
+  send([this](Simulator&) {
+    if (sound_) sound_->player->set_producing(false);
+    drop_source();
+    sound_.reset();
+    source_stale_ = false;
+    std::lock_guard lock(mutex_);
+    status_.sound_notice.clear();
+  });
+}
+
+void PhysicsThread::drop_source() {
+  if (!source_) return;
+  control_positions_ = source_->control_positions();
+  source_.reset();  // removes its listen stage from sim_
+}
+
+void PhysicsThread::rebuild_source() {
+  drop_source();
+  source_stale_ = false;
+  std::string notice;
+  try {
+    source_ = std::make_unique<audio::LiveSource>(*sim_, sound_->spec, sound_->player->rate(),
+                                                  sound_->tables, sound_->player->block());
+    source_->set_control_positions(control_positions_);
+  } catch (const std::exception& e) {
+    notice = std::string("sound: ") + e.what();
+  }
+  std::lock_guard lock(mutex_);
+  status_.sound_notice = std::move(notice);
+}
+
+// Renders until the ring holds its lead or a batch's time is spent. The producer says it plays
+// once the ring has something in it, so the callback's first, empty periods are no xruns.
+void PhysicsThread::play_sound() {
+  play::RingPlayer& player = *sound_->player;
+  player.fill(*source_, sound_->controls.get(), kBatchSeconds);
+  player.set_producing(true);
+  if (source_->blown_up()) {  // a non-finite sample: the source stopped the model
+    player.set_producing(false);
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "sound: a non-finite sample at %.6f s of sound: the model stopped (reset to "
+                  "play again)",
+                  source_->blow_up_time());
+    std::lock_guard lock(mutex_);
+    status_.sound_notice = text;
+    running_ = false;
+  }
 }
 
 void PhysicsThread::set_notice(std::string notice, std::string stage) {
@@ -251,6 +323,7 @@ void PhysicsThread::publish_status(std::uint64_t batch_steps, double batch_wall_
     status_.blow_up = sim.blow_up()->message;
   else
     status_.blow_up.reset();
+  status_.sound = source_ != nullptr;
   if (batch_steps > 0) status_.stages = std::move(times);
   status_.counters = std::move(counters);
   status_.gauges.clear();
@@ -281,13 +354,18 @@ void PhysicsThread::run() {
       if (running && sim_->blow_up()) running = running_ = false;  // nothing more to run
     }
     if (quit) {
-      // Destroyed on this thread: a device backend's context is current here.
+      // Destroyed on this thread: a device backend's context is current here. The sound's
+      // source first: its listen stage is on the simulator.
+      source_.reset();
       sim_.reset();
       if (context_) context_.release();
       return;
     }
 
     for (auto& c : commands) c(*sim_);
+    if (sound_ && source_stale_) rebuild_source();
+    const bool sounding = sound_ && source_ && !source_->blown_up();
+    if (sound_ && !(running && sounding && singles == 0)) sound_->player->set_producing(false);
     const Clock::time_point t0 = Clock::now();
     const double sim0 = sim_->time();
     const std::uint64_t step0 = sim_->steps_taken();
@@ -295,6 +373,9 @@ void PhysicsThread::run() {
     if (singles > 0) {
       for (int i = 0; i < singles && sim_->step(); ++i) {
       }
+      source_stale_ = sound_.has_value();  // steps the source did not take
+    } else if (running && sounding) {
+      play_sound();  // paced by the sound card, through the ring's fill level
     } else if (running) {
       // A pause, a command or a change of speed restarts the clock: no burst to catch up.
       if (!was_running || !commands.empty()) {
@@ -316,8 +397,15 @@ void PhysicsThread::run() {
     if (steps > 0 || !commands.empty()) sim_->publish_now();
     publish_status(steps, seconds(Clock::now() - t0), sim_->time() - sim0);
 
-    // Ahead of the clock: sleep until the next step is due or a command arrives.
-    if (running && speed > 0 && singles == 0) {
+    // With sound: sleep while the ring is full enough, or until a command arrives.
+    if (running && sounding && singles == 0) {
+      const double slack =
+          std::clamp(sound_->player->seconds_of_slack(), kSoundSleepMin, kSoundSleepMax);
+      std::unique_lock lock(mutex_);
+      wake_.wait_for(lock, std::chrono::duration<double>(slack),
+                     [&] { return quit_ || !commands_.empty() || !running_ || single_steps_; });
+    } else if (running && speed > 0 && singles == 0) {
+      // Ahead of the clock: sleep until the next step is due or a command arrives.
       const double ahead =
           sim_->time() - (anchor_sim + seconds(Clock::now() - anchor_wall) * speed);
       if (ahead > 0) {

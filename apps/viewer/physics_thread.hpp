@@ -6,6 +6,10 @@
 // the plot histories under a mutex, and moves the drag target through DragState. Pacing: while
 // playing, simulated time follows the wall clock times `speed`; when a step costs more than
 // that allows, the physics runs as fast as it can and the status shows the real-time factor.
+// With sound on (start_sound), the sound card's clock paces it instead: the thread renders the
+// scene's [[listen]] channels through a LiveSource into the device's ring (play::RingPlayer)
+// whenever the ring falls below its lead, and sleeps while it is full (docs/sound.md, "The
+// viewer's Sound panel").
 #pragma once
 
 #include <condition_variable>
@@ -20,8 +24,10 @@
 #include <vector>
 
 #include "drag_spring.hpp"
+#include "maille/live.hpp"
 #include "maille/render/snapshot_exchange.hpp"
 #include "maille/simulator.hpp"
+#include "ring_player.hpp"
 
 namespace maille::viewer {
 
@@ -52,6 +58,16 @@ struct PhysicsStatus {
   std::vector<std::string> gauges;                     // names, in PlotSample::gauges order
   std::vector<Simulator::StageOptions> stage_options;  // plugged-in stages' live settings
   std::vector<std::string> stage_warnings;             // Simulator::stage_warnings
+  bool sound = false;        // the listened channels are being rendered (start_sound)
+  std::string sound_notice;  // why sound is asked for but not rendered (a GPU backend...)
+};
+
+// What the physics thread needs to play the scene's [[listen]] channels into a device's ring.
+struct SoundFeed {
+  std::shared_ptr<play::RingPlayer> player;      // the device's callback copies from its ring
+  std::shared_ptr<play::ControlRings> controls;  // MIDI and OSC events ([[control]]); may be null
+  audio::AudioSpec spec;                         // the scene's [[listen]], [audio], [[control]]
+  std::vector<audio::ParameterTable> tables;     // per control (empty for an excitation)
 };
 
 // One sample of the plots: energies and counters at a simulated time.
@@ -102,6 +118,12 @@ class PhysicsThread {
   // A plugged-in stage's live setting (self-collision on/off, broad phase, drawing...).
   void set_stage_option(const std::string& stage, const std::string& option,
                         const std::string& value);
+  // Sound: from the current state on, the physics renders the listened channels into the feed's
+  // ring, paced by it (speed is then the sound card's: real time); a LiveSource is rebuilt on
+  // the simulator after a reset, a new step, scheme or backend (the GPU backend cannot play:
+  // status().sound_notice says so). stop_sound: back to the wall clock.
+  void start_sound(SoundFeed feed);
+  void stop_sound();
 
   DragState& drag() { return *drag_; }
   PhysicsStatus status() const;
@@ -118,6 +140,11 @@ class PhysicsThread {
   void run();
   std::unique_ptr<Simulator> make_simulator(Model model, SimulationSettings settings);
   void publish_status(std::uint64_t batch_steps, double batch_wall_s, double batch_sim_s);
+  // Sound (physics thread): the LiveSource dropped (before its simulator goes) and made again.
+  void drop_source();
+  void rebuild_source();
+  // One batch paced by the ring; false when nothing could be rendered (the model stopped).
+  void play_sound();
 
   render::SnapshotExchange& out_;
   SharedContext context_;
@@ -135,7 +162,13 @@ class PhysicsThread {
   std::deque<PlotSample> history_;
 
   std::vector<double> previous_stage_ns_;  // physics thread only: totals at the last batch
-  std::thread thread_;                     // last: started once everything above exists
+  // Sound, physics thread only: the feed, its source on sim_, whether the source must be made
+  // again before the next block, the controls' glide positions carried over to the next one.
+  std::optional<SoundFeed> sound_;
+  std::unique_ptr<audio::LiveSource> source_;
+  bool source_stale_ = false;
+  std::vector<double> control_positions_;
+  std::thread thread_;  // last: started once everything above exists
 };
 
 }  // namespace maille::viewer

@@ -9,6 +9,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -23,6 +24,7 @@
 #include "panels.hpp"
 #include "physics_thread.hpp"
 #include "scene_files.hpp"
+#include "sound.hpp"
 
 namespace maille::viewer {
 
@@ -75,6 +77,9 @@ class Viewer {
       return false;
     }
     try {
+      // Sound stops before the physics that plays it goes, and starts again on the new scene.
+      const bool sound_was_on = sound_.on();
+      sound_.stop();
       // The old physics stops before its exchange goes: it publishes into it until joined.
       physics_.reset();
       exchange_ = std::make_unique<render::SnapshotExchange>(
@@ -83,6 +88,7 @@ class Viewer {
       if (!options_.backend.empty()) scene_.settings.backend = options_.backend;
       physics_ = std::make_unique<PhysicsThread>(scene_.model, scene_.settings, *exchange_,
                                                  !options_.paused, shared_context());
+      if (sound_was_on) sound_.start(scene_, *physics_);
     } catch (const std::exception& e) {
       load_error_ = path.string() + ": " + e.what();
       return false;
@@ -120,8 +126,8 @@ class Viewer {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    const PanelRequests r =
-        draw_panels(scene_, *physics_, tuning_, options_render_, examples_, load_error_, frame_ms_);
+    const PanelRequests r = draw_panels(scene_, *physics_, tuning_, sound_, options_render_,
+                                        examples_, load_error_, frame_ms_);
     handle_keys(r.screenshot);
     handle_mouse(width, height);
     if (r.frame_scene) frame_scene();
@@ -158,6 +164,8 @@ class Viewer {
   bool screenshot_failed() const { return screenshot_failed_; }
   int device_frames() const { return device_frames_; }  // drawn from a GPU's buffers
   PhysicsThread& physics() { return *physics_; }
+  Sound& sound() { return sound_; }
+  const Scene& scene() const { return scene_; }
   const std::string& load_error() const { return load_error_; }
 
  private:
@@ -277,6 +285,7 @@ class Viewer {
   render::Renderer renderer_;
   std::unique_ptr<render::SnapshotExchange> exchange_;
   std::unique_ptr<PhysicsThread> physics_;
+  Sound sound_;  // after physics_: stopped (it tells the physics) before the physics goes
   Scene scene_;
   Tuning tuning_;
   render::RenderOptions options_render_;
@@ -290,6 +299,41 @@ class Viewer {
   int device_frames_ = 0;
   bool screenshot_requested_ = false, screenshot_failed_ = false;
 };
+
+// --sound: the Sound panel's box ticked before the first frame.
+void start_sound(Viewer& viewer, const ViewerOptions& o) {
+  Sound::Choice& c = viewer.sound().choice();
+  const auto& drivers = play::drivers();
+  const auto d = std::find(drivers.begin(), drivers.end(), o.sound_driver);
+  c.driver = d == drivers.end() ? 0 : static_cast<int>(d - drivers.begin()) + 1;
+  std::snprintf(c.device.data(), c.device.size(), "%s", o.sound_device.c_str());
+  if (viewer.sound().start(viewer.scene(), viewer.physics())) return;
+  const Sound::Report& r = viewer.sound().report();
+  std::cerr << "maille-viewer: sound is off: " << r.error << '\n';
+  for (const auto& t : r.tried) std::cerr << "  " << t << '\n';
+}
+
+// The end of a --frames run with --sound: what played, the xruns, the CPU per period.
+void print_sound(Sound& sound, const PhysicsStatus& st) {
+  const Sound::Report& r = sound.report(true);
+  if (!r.on) {
+    std::cout << "maille-viewer: sound off\n";
+    return;
+  }
+  const auto& k = r.counters;
+  std::printf(
+      "maille-viewer: sound on %s: %d Hz, %zu-frame periods, lead %zu frames; played %llu "
+      "frames, rendered %llu, xruns %llu (ring empty %llu, driver %llu), CPU %.1f %% of the "
+      "period%s%s\n",
+      r.output.c_str(), r.rate, r.period, r.lead, static_cast<unsigned long long>(k.frames_played),
+      static_cast<unsigned long long>(k.rendered),
+      static_cast<unsigned long long>(k.underruns + k.driver_xruns),
+      static_cast<unsigned long long>(k.underruns), static_cast<unsigned long long>(k.driver_xruns),
+      100 * r.cpu, st.sound_notice.empty() ? "" : "; ", st.sound_notice.c_str());
+  for (const auto& n : r.notes) std::printf("maille-viewer: sound: %s\n", n.c_str());
+  for (const auto& in : r.inputs) std::printf("maille-viewer: controls: %s\n", in.c_str());
+  std::fflush(stdout);
+}
 
 void on_glfw_error(int code, const char* message) {
   std::cerr << "maille-viewer: GLFW error " << code << ": " << message << '\n';
@@ -340,6 +384,7 @@ int run_viewer(const ViewerOptions& o) {
     } else {
       for (const auto& [stage, option, value] : o.stage_options)
         viewer.physics().set_stage_option(stage, option, value);
+      if (o.sound) start_sound(viewer, o);
       for (int n = 1; o.frames <= 0 || n <= o.frames; ++n) {
         const bool last = o.frames > 0 && n == o.frames;
         if (!viewer.frame(last && !o.screenshot.empty(), o.screenshot)) break;
@@ -351,6 +396,7 @@ int run_viewer(const ViewerOptions& o) {
                   << st.step << " steps on the " << st.backend << " backend, "
                   << viewer.device_frames() << " drawn from the GPU's buffers\n";
         if (!st.notice.empty()) std::cout << "maille-viewer: notice: " << st.notice << '\n';
+        if (o.sound) print_sound(viewer.sound(), st);
       }
     }
   }

@@ -23,6 +23,10 @@ struct ViewerOptions {
   // path as the Stages panel; a refused one is shown there (and printed at the end of a
   // --frames run).
   std::vector<std::array<std::string, 3>> stage_options;
+  // Sound on from the start (the Sound panel's box), through this driver and device (empty: the
+  // first that opens, the default device). With --frames, a summary line at the end.
+  bool sound = false;
+  std::string sound_driver, sound_device;
 };
 
 // Returns the process exit code: 0, or 1 when the scene or the window cannot be opened.

@@ -25,6 +25,7 @@
 namespace maille {
 
 class Simulator;
+class Stage;
 
 namespace audio {
 
@@ -102,13 +103,17 @@ struct ParameterTable {
 };
 
 // The model rendered at the device's rate. `tables[c]` belongs to spec.controls[c] (empty for
-// an excitation). The simulator must be at t = 0 with a step that divides 1 / rate, or any step
-// (resampled then, docs/sound.md "Sampling"); it is stepped only by render().
+// an excitation). The step divides 1 / rate (exact) or not (resampled then, docs/sound.md
+// "Sampling"). Sample 0 is the simulator's state when the source is made (t = 0 for `maille
+// play`; wherever the viewer's model is when its sound starts); from there the simulator is
+// stepped only by render(), and its step stays as it was: a step changed, a reset or a new
+// simulator needs a new LiveSource. The source installs a listen stage on `sim` and removes it
+// when destroyed, so it must be destroyed before `sim`.
 class LiveSource {
  public:
   LiveSource(Simulator& sim, const AudioSpec& spec, int rate, std::vector<ParameterTable> tables,
              std::size_t max_frames);
-  ~LiveSource();
+  ~LiveSource();  // uninstalls the listen stage (the simulator must still exist)
   LiveSource(const LiveSource&) = delete;
   LiveSource& operator=(const LiveSource&) = delete;
 
@@ -130,11 +135,17 @@ class LiveSource {
   std::vector<double> gains() const;
   // The current value of control c in its range's units (a parameter's glide position).
   double control_value(std::size_t c) const;
+  // Every parameter control's glide position in [0, 1], and the same set again without writing
+  // the model (a new source on a simulator whose parameters those positions already tuned: the
+  // viewer rebuilds its source after a reset, a new step or a new backend).
+  std::vector<double> control_positions() const;
+  void set_control_positions(const std::vector<double>& positions);
 
   struct Impl;
 
  private:
   std::unique_ptr<Impl> impl_;
+  const Stage* stage_ = nullptr;  // the listen stage installed on the simulator
 };
 
 }  // namespace audio

@@ -99,6 +99,9 @@ class Simulator : private ForceEvaluator {
   // Installs a stage at its phase. Throws std::invalid_argument when it is a response stage
   // (rewrites forces or velocities) and the scheme evaluates forces at intermediate states.
   void add_stage(std::unique_ptr<Stage> stage);
+  // Uninstalls a stage added by add_stage (a listener that stops listening: the viewer's sound
+  // turned off or rebuilt); no effect when `stage` is not installed.
+  void remove_stage(const Stage* stage);
   void on_publish(SnapshotListener listener);
   // A stop request, polled inside long steps: between the implicit solvers' iterations (VBD
   // sweeps, CG and Newton iterations), where one step may last minutes. When it answers true

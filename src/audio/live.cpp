@@ -38,7 +38,8 @@ struct LiveSource::Impl {
   std::vector<StreamResampler> resampled;  // otherwise, one per channel
   std::vector<double> peak;                // per channel: the largest |value| heard (auto gain)
   std::vector<double> gain;                // per channel
-  std::uint64_t frames = 0, clipped = 0, next_step = 0;
+  std::uint64_t frames = 0, clipped = 0;
+  std::uint64_t start_step = 0, next_step = 0;  // sample 0 is heard during step start_step
   std::uint32_t since_tune = 0;
   bool blown = false;
   double blow_time = 0;
@@ -46,6 +47,7 @@ struct LiveSource::Impl {
   Impl(Simulator& s, const AudioSpec& sp, int rate, std::vector<ParameterTable> t,
        std::size_t max_frames)
       : sim(s), spec(sp), tables(std::move(t)) {
+    start_step = next_step = sim.steps_taken();
     plan = plan_sampling(sim.settings().step, rate, spec.settings.resampler);
     const std::size_t n = spec.listeners.size();
     value.assign(n, 0);
@@ -70,7 +72,7 @@ struct LiveSource::Impl {
   void hear(const Model& m, const State& s, const StageContext& ctx) {
     if (ctx.step != next_step) return;  // another pass of a step already heard
     next_step = ctx.step + 1;
-    if (plan.exact && ctx.step % plan.steps_per_sample != 0) return;
+    if (plan.exact && (ctx.step - start_step) % plan.steps_per_sample != 0) return;
     for (std::size_t c = 0; c < spec.listeners.size(); ++c) {
       const double v = listened_value(spec.listeners[c], origin[c], m, s, ctx);
       if (plan.exact)
@@ -182,7 +184,6 @@ LiveSource::LiveSource(Simulator& sim, const AudioSpec& spec, int rate,
     throw std::invalid_argument(
         "playing reads the state on the host at every step: use the cpu "
         "backend");
-  if (sim.steps_taken() != 0) throw std::invalid_argument("playing starts at t = 0");
   for (const Listener& l : spec.listeners) {
     if (l.point >= sim.model().points.size())
       throw std::invalid_argument("listener '" + l.label + "': no point " +
@@ -192,10 +193,14 @@ LiveSource::LiveSource(Simulator& sim, const AudioSpec& spec, int rate,
   for (std::size_t c = 0; c < spec.controls.size(); ++c)
     if (!spec.controls[c].key.empty() && impl_->tables[c].rows < 2)
       throw std::invalid_argument(spec.controls[c].name + ": no parameter table");
-  sim.add_stage(std::make_unique<LiveListenStage>(impl_.get()));
+  auto stage = std::make_unique<LiveListenStage>(impl_.get());
+  stage_ = stage.get();
+  sim.add_stage(std::move(stage));
 }
 
-LiveSource::~LiveSource() = default;
+LiveSource::~LiveSource() {
+  impl_->sim.remove_stage(stage_);
+}
 
 void LiveSource::control(const ControlEvent& e) {
   Impl& im = *impl_;
@@ -251,6 +256,19 @@ std::vector<double> LiveSource::gains() const {
 double LiveSource::control_value(std::size_t c) const {
   const Control& ctl = impl_->spec.controls.at(c);
   return ctl.low + (ctl.high - ctl.low) * impl_->glides.at(c).current;
+}
+
+std::vector<double> LiveSource::control_positions() const {
+  std::vector<double> out;
+  for (const Glide& g : impl_->glides) out.push_back(g.current);
+  return out;
+}
+void LiveSource::set_control_positions(const std::vector<double>& positions) {
+  for (std::size_t c = 0; c < positions.size() && c < impl_->glides.size(); ++c) {
+    Glide& g = impl_->glides[c];
+    g.current = g.target = std::clamp(positions[c], 0.0, 1.0);
+    g.moving = false;
+  }
 }
 
 std::size_t midi_events(const AudioSpec& spec, const unsigned char* msg, std::size_t size,

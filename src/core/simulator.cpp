@@ -160,6 +160,14 @@ void Simulator::add_stage(std::unique_ptr<Stage> stage) {
   add_installed(std::move(stage), false);
 }
 
+void Simulator::remove_stage(const Stage* stage) {
+  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
+    if (std::erase_if(*list, [&](const Installed& st) { return st.stage.get() == stage; })) {
+      host_ahead_ = true;  // as when adding: a device backend reloads its list
+      restimate_stability();
+    }
+}
+
 void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model, int spec) {
   const int id = profile_.stage(stage->name());
   auto& list = stage->phase() == Phase::forces     ? force_stages_

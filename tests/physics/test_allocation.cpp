@@ -14,6 +14,7 @@
 #include "maille/builders.hpp"
 #include "maille/live.hpp"
 #include "maille/scene.hpp"
+#include "ring_player.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -253,6 +254,44 @@ TEST(Allocation, NoneInTheStepWithEveryStageKind) {
           << (c.extra.find("facets") != std::string::npos ? ", facets" : "");
 }
 
+// The viewer's audio path (apps/play/ring_player.hpp): the device's callback (RingPlayer::
+// process, both layouts) copies from the ring through a gain ramp, and fills with silence and
+// counts an xrun when the ring runs dry; the physics thread's producer (fill) renders blocks
+// into the ring. Neither allocates once the first block has run.
+TEST(Allocation, NoneInTheViewersRingAndCallback) {
+  const std::string drum = std::string(MAILLE_SOURCE_DIR) + "/examples/play_drum.toml";
+  const std::vector<std::string> sets{"membrane[0].rings=6", "listen[0].point=skin:45",
+                                      "control[0].excite.point=skin:35"};
+  auto scene = load_scene(drum, sets);
+  ASSERT_TRUE(scene) << scene.error().to_string();
+  SimulationSettings s = scene->settings;
+  s.threads = 1;
+  Simulator sim(scene->model, s);
+  scene->audio.controls.resize(1);  // the strike alone (the tension's glides: the test above)
+  audio::LiveSource src(sim, scene->audio, 48000, {}, 64);
+  play::RingPlayer player(1, 48000, 2 * 256 + 480, 64);
+  play::ControlRings controls;
+  std::vector<float> period(256), interleaved(256);
+  float* out[] = {period.data()};
+  player.fill(src, &controls);  // the first blocks size the step's scratch buffers
+  player.set_producing(true);
+  g_allocations = 0;
+  g_counting = true;
+  for (int round = 0; round < 40; ++round) {
+    if (round % 8 == 0) player.set_gain(0.5f + 0.1f * float(round % 3));  // ramps
+    controls.osc.push({0, 0, 1.0f});                                      // strikes
+    player.fill(src, &controls);
+    player.process(out, 256);
+    player.process_interleaved(interleaved.data(), 256);
+  }
+  for (int dry = 0; dry < 8; ++dry) player.process(out, 256);  // the ring runs dry: silence
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(player.counters().underruns, 0u);
+  EXPECT_EQ(period.back(), 0.0f);
+  EXPECT_FALSE(src.blown_up());
+}
+
 }  // namespace
 }  // namespace maille
 
@@ -359,12 +398,12 @@ TEST(Allocation, NoneWhenTheThreadsFallToOneWithContacts) {
 TEST(Allocation, NoneInTheLiveAudioPath) {
   const std::string drum = std::string(MAILLE_SOURCE_DIR) + "/examples/play_drum.toml";
   const std::vector<std::string> sets{"membrane[0].rings=6", "listen[0].point=skin:45",
-                                     "control[0].excite.point=skin:35"};
+                                      "control[0].excite.point=skin:35"};
   auto scene = load_scene(drum, sets);
   ASSERT_TRUE(scene) << scene.error().to_string();
   std::vector<audio::ParameterTable> tables(scene->audio.controls.size());
-  auto t = build_parameter_table(drum, sets, scene->model, scene->settings,
-                                 scene->audio.controls[1]);
+  auto t =
+      build_parameter_table(drum, sets, scene->model, scene->settings, scene->audio.controls[1]);
   ASSERT_TRUE(t) << t.error().to_string();
   tables[1] = t.value();
   SimulationSettings s = scene->settings;
@@ -380,7 +419,7 @@ TEST(Allocation, NoneInTheLiveAudioPath) {
   g_counting = true;
   for (int block = 0; block < 200; ++block) {
     if (block % 10 == 0) src.control({1, float(block % 30) / 30.0f, 0});  // glides
-    if (block % 25 == 0) src.control({0, 0, 0.5f});                        // strikes
+    if (block % 25 == 0) src.control({0, 0, 0.5f});                       // strikes
     src.render(out.data(), 64);
   }
   g_counting = false;

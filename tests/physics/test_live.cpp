@@ -84,6 +84,41 @@ TEST(Live, ResamplesLikeTheRecorder) {
       ASSERT_EQ(out[f * 2 + c], rec.channels()[c][f]) << "channel " << c << " frame " << f;
 }
 
+// The viewer starts its sound wherever the model is, and makes a new source after a reset, a
+// new step or a new simulator: a source made after 1000 steps hears, from there, exactly what
+// the Recorder heard at those steps; a source destroyed takes its listen stage with it (the
+// simulator then steps on, and a second source hears as the first would have).
+TEST(Live, StartsMidRunAndLeavesNoStageBehind) {
+  const std::vector<std::string> sets{"simulation.step=2.0833333333333333e-05", "audio.rate=48000",
+                                      "audio.gain=0.25"};
+  Scene a = scene_of(kString, sets), b = scene_of(kString, sets);
+  Simulator offline(a.model, live_settings(a));
+  audio::Recorder rec(a.audio, a.settings.step);
+  rec.attach(offline);
+  offline.run_steps(3000);
+  rec.finish();
+  const auto expected = [&](std::size_t c, std::size_t step) {
+    return static_cast<float>(0.25 * double(rec.channels()[c][step]));
+  };
+
+  Simulator live(b.model, live_settings(b));
+  ASSERT_TRUE(live.run_steps(1000));
+  std::vector<float> out(640 * 2);
+  {
+    audio::LiveSource first(live, b.audio, 48000, {}, 64);
+    for (std::size_t f = 0; f < 640; f += 64) first.render(out.data() + f * 2, 64);
+    for (std::size_t c = 0; c < 2; ++c)
+      for (std::size_t f = 0; f < 640; ++f)
+        ASSERT_EQ(out[f * 2 + c], expected(c, 1000 + f)) << "channel " << c << " frame " << f;
+  }
+  ASSERT_TRUE(live.run_steps(360));  // no source: nothing listens (ASan: nothing dangles)
+  audio::LiveSource second(live, b.audio, 48000, {}, 64);
+  for (std::size_t f = 0; f < 640; f += 64) second.render(out.data() + f * 2, 64);
+  for (std::size_t c = 0; c < 2; ++c)
+    for (std::size_t f = 0; f < 640; ++f)
+      ASSERT_EQ(out[f * 2 + c], expected(c, 2000 + f)) << "channel " << c << " frame " << f;
+}
+
 TEST(Live, LinearKeyIsTabulatedInTwoRowsAndStartsAtTheScenesValue) {
   Scene s = scene_of(kDrum, kSmall);
   const audio::Control& c = s.audio.controls[1];

@@ -12,6 +12,7 @@
 #include "maille/links/spring_damper.hpp"
 #include "maille/render/snapshot_exchange.hpp"
 #include "physics_thread.hpp"
+#include "ring_player.hpp"
 
 namespace maille::viewer {
 namespace {
@@ -155,6 +156,75 @@ TEST(Handoff, PhysicsThreadWithRendererAndUiThreads) {
   EXPECT_GT(frames.load(), 10u);
   EXPECT_FALSE(physics.status().blow_up.has_value());
   EXPECT_EQ(physics.status().integrator, "symplectic_euler");
+}
+
+// Sound (docs/sound.md, "The viewer's Sound panel"): the physics thread renders a listened
+// point into a RingPlayer's ring while a "device" thread takes periods from it as a callback
+// would (gain changes included) and the UI sends the commands that make the physics build a new
+// source (step, reset, scheme), stops and starts the sound. ring_player.cpp is compiled into
+// this test: the ring's hand-off is checked too.
+TEST(Handoff, PhysicsThreadWithSoundDeviceAndUi) {
+  SimulationSettings settings;
+  settings.step = 1.0 / 48000;
+  settings.threads = 1;
+  const Model model = chain(60);
+  audio::AudioSpec spec;
+  spec.listeners.push_back({"p30", 30, audio::Quantity::velocity, {0, 1, 0}});
+  spec.settings.gain = 1;
+  render::SnapshotExchange exchange;
+  PhysicsThread physics(model, settings, exchange, /*play=*/true);
+  auto player = std::make_shared<play::RingPlayer>(1, 48000, 2 * 256 + 480, 64, 0.0f);
+  physics.start_sound({player, nullptr, spec, {}});
+
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> periods{0};
+  std::thread device([&] {
+    std::vector<float> period(256);
+    float* out[] = {period.data()};
+    while (!stop) {
+      player->process(out, period.size());
+      for (const float y : period) EXPECT_TRUE(std::isfinite(y));
+      ++periods;
+      std::this_thread::sleep_for(5ms);  // about a 256-frame period at 48 kHz
+    }
+  });
+  const auto t0 = std::chrono::steady_clock::now();
+  int round = 0;
+  while (std::chrono::steady_clock::now() - t0 < 1500ms) {
+    physics.status();
+    player->counters(round % 2 == 0);
+    switch (round++ % 6) {
+      case 0:
+        player->set_gain(float(round % 3) * 0.5f);
+        break;
+      case 1:
+        physics.set_time_step(round % 12 < 6 ? 1.0 / 48000 : 1.0 / 44100);
+        break;
+      case 2:
+        physics.drag().grab({20, {1, 1, 0}, 5, Real(0.01)});
+        break;
+      case 3:
+        physics.drag().release();
+        if (round % 24 == 4) physics.reset();
+        break;
+      case 4:
+        physics.set_integrator(round % 12 < 6 ? "symplectic_euler" : "leapfrog");
+        break;
+      case 5:
+        if (round % 36 == 6) {
+          physics.stop_sound();
+          physics.start_sound({player, nullptr, spec, {}});
+        }
+        break;
+    }
+    std::this_thread::sleep_for(3ms);
+  }
+  stop = true;
+  device.join();
+  physics.stop_sound();
+  EXPECT_GT(periods.load(), 10u);
+  EXPECT_GT(player->counters().rendered, 0u);
+  EXPECT_FALSE(physics.status().blow_up.has_value());
 }
 
 }  // namespace

@@ -1,13 +1,18 @@
-// The control inputs of `maille play`: a virtual MIDI input port (RtMidi: JACK MIDI when the
-// audio goes through JACK, else the ALSA sequencer; RtMidi's own default would try ALSA first)
-// and an OSC server (a UDP socket of its own, bound to [audio] osc_host : osc_port, messages
-// decoded by liblo). Both push ControlEvents into the engine's rings from their own threads.
+// The control inputs of `maille play` and the viewer (controls.hpp): a virtual MIDI input port
+// (RtMidi: JACK MIDI when the audio goes through JACK, else the ALSA sequencer; RtMidi's own
+// default would try ALSA first) and an OSC server (a UDP socket of its own, bound to [audio]
+// osc_host : osc_port, messages decoded by liblo). Both push ControlEvents into their rings from
+// their own threads.
+#include "controls.hpp"
+
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <iostream>
-
-#include "play.hpp"
+#include <thread>
+#include <vector>
 
 #ifdef MAILLE_WITH_RTMIDI
 #include <rtmidi/RtMidi.h>
@@ -21,14 +26,14 @@
 #include <unistd.h>
 #endif
 
-namespace maille::app {
+namespace maille::play {
 
 #ifdef MAILLE_WITH_RTMIDI
 namespace {
 
 class MidiInput final : public ControlInput {
  public:
-  MidiInput(const audio::AudioSpec& spec, PlayEngine& engine) : spec_(spec), engine_(engine) {}
+  MidiInput(const audio::AudioSpec& spec, ControlRings& rings) : spec_(spec), rings_(rings) {}
   bool open(bool jack, std::string& why) {
     try {
       const auto api = jack ? RtMidi::UNIX_JACK : RtMidi::LINUX_ALSA;
@@ -52,25 +57,25 @@ class MidiInput final : public ControlInput {
     auto* me = static_cast<MidiInput*>(self);
     audio::ControlEvent events[16];
     const std::size_t n = audio::midi_events(me->spec_, msg->data(), msg->size(), events, 16);
-    for (std::size_t i = 0; i < n; ++i) me->engine_.midi_events.push(events[i]);
+    for (std::size_t i = 0; i < n; ++i) me->rings_.midi.push(events[i]);
   }
 
-  const audio::AudioSpec& spec_;
-  PlayEngine& engine_;
+  const audio::AudioSpec spec_;  // a copy: the scene may go while the input runs
+  ControlRings& rings_;
   std::unique_ptr<RtMidiIn> in_;
   std::string api_;
 };
 
 }  // namespace
 
-std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec& spec, PlayEngine& engine, bool jack,
-                                        std::string& why) {
-  auto in = std::make_unique<MidiInput>(spec, engine);
+std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec& spec, ControlRings& rings,
+                                        bool jack, std::string& why) {
+  auto in = std::make_unique<MidiInput>(spec, rings);
   if (!in->open(jack, why)) return nullptr;
   return in;
 }
 #else
-std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec&, PlayEngine&, bool,
+std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec&, ControlRings&, bool,
                                         std::string& why) {
   why = "this maille was built without RtMidi (librtmidi-dev; scripts/setup.sh installs it)";
   return nullptr;
@@ -82,8 +87,8 @@ namespace {
 
 class OscInput final : public ControlInput {
  public:
-  OscInput(const audio::AudioSpec& spec, PlayEngine& engine)
-      : spec_(spec), engine_(engine), reported_(spec.controls.size(), 0) {}
+  OscInput(const audio::AudioSpec& spec, ControlRings& rings)
+      : spec_(spec), rings_(rings), reported_(spec.controls.size(), 0) {}
   ~OscInput() override {
     stop_ = true;
     if (thread_.joinable()) thread_.join();
@@ -150,13 +155,13 @@ class OscInput final : public ControlInput {
         }
       }
       const float f = static_cast<float>(x);
-      engine_.osc_events.push({static_cast<std::uint32_t>(c), f, f});
+      rings_.osc.push({static_cast<std::uint32_t>(c), f, f});
     }
     lo_message_free(m);
   }
 
-  const audio::AudioSpec& spec_;
-  PlayEngine& engine_;
+  const audio::AudioSpec spec_;  // a copy: the scene may go while the input runs
+  ControlRings& rings_;
   std::vector<char> reported_;
   int socket_ = -1;
   std::atomic<bool> stop_{false};
@@ -165,17 +170,17 @@ class OscInput final : public ControlInput {
 
 }  // namespace
 
-std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec& spec, PlayEngine& engine,
+std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec& spec, ControlRings& rings,
                                        std::string& why) {
-  auto in = std::make_unique<OscInput>(spec, engine);
+  auto in = std::make_unique<OscInput>(spec, rings);
   if (!in->open(why)) return nullptr;
   return in;
 }
 #else
-std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec&, PlayEngine&, std::string& why) {
+std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec&, ControlRings&, std::string& why) {
   why = "this maille was built without liblo (liblo-dev; scripts/setup.sh installs it)";
   return nullptr;
 }
 #endif
 
-}  // namespace maille::app
+}  // namespace maille::play

@@ -1,13 +1,13 @@
-// The audio callback's work (play.hpp): controls, the model's samples, the CPU time of each
-// period; the recording's writer thread; MIDI messages onto controls; choosing a driver.
+// The audio callback's work in `maille play` (play_engine.hpp): controls, the model's samples,
+// the CPU time of each period; the recording's writer thread.
+#include "play_engine.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
 
-#include "play.hpp"
-
-namespace maille::app {
+namespace maille::play {
 
 namespace {
 
@@ -19,6 +19,13 @@ double seconds(clockid_t clock) {
 
 }  // namespace
 
+double thread_cpu_seconds() {
+  return seconds(CLOCK_THREAD_CPUTIME_ID);
+}
+double wall_seconds() {
+  return seconds(CLOCK_MONOTONIC);
+}
+
 PlayEngine::PlayEngine(audio::LiveSource& s, int r, std::size_t max_frames, std::uint64_t limit,
                        bool record)
     : source(s),
@@ -29,11 +36,9 @@ PlayEngine::PlayEngine(audio::LiveSource& s, int r, std::size_t max_frames, std:
   if (record) sent = std::make_unique<audio::SpscRing<float, (1 << 20)>>();
 }
 
-void PlayEngine::process_interleaved(float* out, std::size_t frames) {
-  const double t0 = seconds(CLOCK_THREAD_CPUTIME_ID), w0 = seconds(CLOCK_MONOTONIC);
-  audio::ControlEvent e;
-  while (midi_events.pop(e)) source.control(e);
-  while (osc_events.pop(e)) source.control(e);
+void PlayEngine::period_interleaved(float* out, std::size_t frames) {
+  const double t0 = thread_cpu_seconds(), w0 = wall_seconds();
+  controls.drain(source);
   const std::uint64_t done = frames_played.load(std::memory_order_relaxed);
   std::size_t live = frames;
   if (frame_limit)
@@ -47,27 +52,38 @@ void PlayEngine::process_interleaved(float* out, std::size_t frames) {
   frames_played.store(done + live, std::memory_order_relaxed);
   if ((frame_limit && done + live >= frame_limit) || source.blown_up())
     finished.store(true, std::memory_order_release);
-  account(seconds(CLOCK_THREAD_CPUTIME_ID) - t0, seconds(CLOCK_MONOTONIC) - w0, frames);
+  account(thread_cpu_seconds() - t0, wall_seconds() - w0, frames);
+}
+
+// RtAudio may hand a period larger than asked (the block was sized for the period it opened
+// with): in pieces of the block's size, each accounted as a period.
+void PlayEngine::process_interleaved(float* out, std::size_t frames) {
+  const std::size_t per = block.size() / channels;
+  for (std::size_t start = 0; start < frames;) {
+    const std::size_t n = std::min(frames - start, per);
+    period_interleaved(out + start * channels, n);
+    start += n;
+  }
 }
 
 void PlayEngine::process(float* const* out, std::size_t frames) {
   float* b = block.data();
   for (std::size_t start = 0; start < frames;) {  // in pieces of the block's size
     const std::size_t n = std::min(frames - start, block.size() / channels);
-    process_interleaved(b, n);
+    period_interleaved(b, n);
     for (std::size_t c = 0; c < channels; ++c)
       for (std::size_t i = 0; i < n; ++i) out[c][start + i] = b[i * channels + c];
     start += n;
   }
 }
 
-void PlayEngine::account(double cpu_seconds, double wall_seconds, std::size_t frames) {
+void PlayEngine::account(double cpu_s, double wall_s, std::size_t frames) {
   const double period = double(frames) / rate;
-  cpu.add(cpu_seconds / period);
-  wall.add(wall_seconds / period);
+  cpu.add(cpu_s / period);
+  wall.add(wall_s / period);
 }
 
-void PlayEngine::Fractions::add(double fraction) {
+void Fractions::add(double fraction) {
   max = std::max(max, fraction);
   sum += fraction;
   ++count;
@@ -76,7 +92,7 @@ void PlayEngine::Fractions::add(double fraction) {
 
 // The upper edge of the bin (0.5 % of a period) where p of the periods are reached, at most
 // the largest.
-double PlayEngine::Fractions::percentile(double p) const {
+double Fractions::percentile(double p) const {
   const double want = p * double(count);
   double seen = 0;
   for (int b = 0; b <= kBins; ++b) {
@@ -124,21 +140,4 @@ std::vector<std::vector<float>> Recording::finish() {
   return out;
 }
 
-std::unique_ptr<AudioOutput> open_output(const OutputRequest& r, const EngineFactory& make_engine,
-                                         std::vector<std::string>& tried) {
-  const std::vector<std::string> order = r.driver.empty()
-                                             ? std::vector<std::string>{"jack", "pulse", "alsa"}
-                                             : std::vector<std::string>{r.driver};
-  for (const std::string& d : order) {
-    OutputRequest one = r;
-    one.driver = d;
-    std::string why;
-    std::unique_ptr<AudioOutput> out =
-        d == "jack" ? open_jack(one, make_engine, why) : open_rtaudio(one, make_engine, why);
-    if (out) return out;
-    tried.push_back(d + ": " + why);
-  }
-  return nullptr;
-}
-
-}  // namespace maille::app
+}  // namespace maille::play

@@ -1,9 +1,10 @@
-// `maille play --driver jack`: a JACK client of its own (libjack directly: its ports, its
-// latency and its xrun count are JACK's own), one output port per channel, out_1, out_2, ...,
-// connected to the server's physical playback ports when there are any. The model is computed
-// in JACK's process callback (no ring between a thread and the callback: no extra latency, and
-// in freewheel mode the graph waits for it, which the tests use).
-#include "play.hpp"
+// The JACK driver (`--driver jack`; audio_output.hpp): a JACK client of its own (libjack
+// directly: its ports, its latency and its xrun count are JACK's own), one output port per
+// channel, out_1, out_2, ..., connected to the server's physical playback ports when there are
+// any. JACK's process callback calls the AudioCallback: in `maille play` the model is computed
+// there (no ring, no extra latency; in freewheel mode the graph waits for it, which the tests
+// use); in the viewer it copies from the physics thread's ring.
+#include "audio_output.hpp"
 
 #ifdef MAILLE_WITH_JACK
 #include <jack/jack.h>
@@ -13,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace maille::app {
+namespace maille::play {
 
 namespace {
 
@@ -21,7 +22,7 @@ class JackOutput final : public AudioOutput {
  public:
   ~JackOutput() override { stop(); }
 
-  bool start(const OutputRequest& r, const EngineFactory& make_engine, std::string& why) {
+  bool start(const OutputRequest& r, const CallbackFactory& make_callback, std::string& why) {
     jack_status_t status{};
     // JackNoStartServer: playing never starts a server behind the user's back (nor hangs
     // trying); a server is started by the user (qjackctl, jackd, PipeWire's JACK).
@@ -37,8 +38,8 @@ class JackOutput final : public AudioOutput {
     if (r.rate && rate_ != r.rate)
       note_ = "the JACK server runs at " + std::to_string(rate_) + " Hz (asked " +
               std::to_string(r.rate) + "): playing at the server's rate";
-    engine_ = make_engine(rate_, buffer_);
-    if (!engine_) {
+    callback_ = make_callback(rate_, buffer_);
+    if (!callback_) {
       why = "the model cannot play at " + std::to_string(rate_) + " Hz";
       return false;
     }
@@ -83,6 +84,7 @@ class JackOutput final : public AudioOutput {
   }
   int rate() const override { return rate_; }
   std::size_t buffer() const override { return buffer_; }
+  bool is_jack() const override { return true; }
   void stop() override {
     if (!client_) return;
     if (active_) jack_deactivate(client_);
@@ -124,12 +126,12 @@ class JackOutput final : public AudioOutput {
     auto* me = static_cast<JackOutput*>(self);
     for (std::size_t c = 0; c < me->ports_.size(); ++c)
       me->buffers_[c] = static_cast<float*>(jack_port_get_buffer(me->ports_[c], frames));
-    me->engine_->process(me->buffers_.data(), frames);
+    me->callback_->process(me->buffers_.data(), frames);
     pthread_setcancelstate(cancel, nullptr);
     return 0;
   }
   static int xrun(void* self) {
-    static_cast<JackOutput*>(self)->engine_->xruns.fetch_add(1, std::memory_order_relaxed);
+    static_cast<JackOutput*>(self)->callback_->xrun();
     return 0;
   }
 
@@ -137,7 +139,7 @@ class JackOutput final : public AudioOutput {
   bool active_ = false;
   std::vector<jack_port_t*> ports_;
   std::vector<float*> buffers_;
-  PlayEngine* engine_ = nullptr;
+  AudioCallback* callback_ = nullptr;
   int rate_ = 0;
   std::size_t buffer_ = 0;
   mutable jack_nframes_t latency_frames_ = 0;
@@ -146,25 +148,25 @@ class JackOutput final : public AudioOutput {
 
 }  // namespace
 
-std::unique_ptr<AudioOutput> open_jack(const OutputRequest& r, const EngineFactory& make_engine,
+std::unique_ptr<AudioOutput> open_jack(const OutputRequest& r, const CallbackFactory& make_callback,
                                        std::string& why) {
   auto out = std::make_unique<JackOutput>();
-  if (!out->start(r, make_engine, why)) return nullptr;
+  if (!out->start(r, make_callback, why)) return nullptr;
   return out;
 }
 
-}  // namespace maille::app
+}  // namespace maille::play
 
 #else
 
-namespace maille::app {
+namespace maille::play {
 
-std::unique_ptr<AudioOutput> open_jack(const OutputRequest&, const EngineFactory&,
+std::unique_ptr<AudioOutput> open_jack(const OutputRequest&, const CallbackFactory&,
                                        std::string& why) {
   why = "this maille was built without JACK (libjack-jackd2-dev; scripts/setup.sh installs it)";
   return nullptr;
 }
 
-}  // namespace maille::app
+}  // namespace maille::play
 
 #endif

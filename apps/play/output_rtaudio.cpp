@@ -1,13 +1,16 @@
-// `maille play --driver alsa|pulse`: RtAudio's ALSA or PulseAudio API, float32 interleaved; the
-// model is computed in RtAudio's callback. Underflows RtAudio reports are counted as xruns.
-#include "play.hpp"
+// The RtAudio drivers (`--driver alsa|pulse`; audio_output.hpp): RtAudio's ALSA or PulseAudio
+// API, float32 interleaved; RtAudio's callback calls the AudioCallback. Underflows RtAudio
+// reports are counted as xruns.
+#include <algorithm>
+
+#include "audio_output.hpp"
 
 #ifdef MAILLE_WITH_RTAUDIO
 #include <rtaudio/RtAudio.h>
 
 #include <string>
 
-namespace maille::app {
+namespace maille::play {
 
 namespace {
 
@@ -16,7 +19,7 @@ class RtOutput final : public AudioOutput {
   explicit RtOutput(RtAudio::Api api) : api_(api) {}
   ~RtOutput() override { stop(); }
 
-  bool start(const OutputRequest& r, const EngineFactory& make_engine, std::string& why) {
+  bool start(const OutputRequest& r, const CallbackFactory& make_callback, std::string& why) {
     try {
       audio_ = std::make_unique<RtAudio>(api_);
       audio_->showWarnings(false);
@@ -46,13 +49,13 @@ class RtOutput final : public AudioOutput {
       options.flags = RTAUDIO_MINIMIZE_LATENCY | RTAUDIO_SCHEDULE_REALTIME;
       options.streamName = r.client;
       rate_ = r.rate;
-      // The engine needs the period: RtAudio may change `frames` while opening, so the engine
-      // is made for the largest it could be given (a multiple of the asked size is enough).
+      // The callback is made for the period RtAudio settled on while opening (`frames`); a
+      // larger period handed later is split by the callback itself.
       audio_->openStream(&out, nullptr, RTAUDIO_FLOAT32, static_cast<unsigned>(r.rate), &frames,
                          &RtOutput::process, this, &options);
       buffer_ = frames;
-      engine_ = make_engine(rate_, buffer_);
-      if (!engine_) {
+      callback_ = make_callback(rate_, buffer_);
+      if (!callback_) {
         why = "the model cannot play at " + std::to_string(rate_) + " Hz";
         return false;
       }
@@ -71,6 +74,7 @@ class RtOutput final : public AudioOutput {
   double latency_seconds() const override { return double(buffer_ + latency_) / double(rate_); }
   int rate() const override { return rate_; }
   std::size_t buffer() const override { return buffer_; }
+  bool is_jack() const override { return false; }
   void stop() override {
     if (!audio_) return;
     try {
@@ -85,21 +89,15 @@ class RtOutput final : public AudioOutput {
   static int process(void* out, void*, unsigned frames, double, RtAudioStreamStatus status,
                      void* self) {
     auto* me = static_cast<RtOutput*>(self);
-    if (!me->engine_) return 0;
-    if (status & RTAUDIO_OUTPUT_UNDERFLOW) me->engine_->xruns.fetch_add(1);
-    float* o = static_cast<float*>(out);
-    const std::size_t per = me->engine_->block.size() / me->engine_->channels;
-    for (unsigned start = 0; start < frames;) {
-      const unsigned n = static_cast<unsigned>(std::min<std::size_t>(frames - start, per));
-      me->engine_->process_interleaved(o + std::size_t(start) * me->engine_->channels, n);
-      start += n;
-    }
+    if (!me->callback_) return 0;
+    if (status & RTAUDIO_OUTPUT_UNDERFLOW) me->callback_->xrun();
+    me->callback_->process_interleaved(static_cast<float*>(out), frames);
     return 0;
   }
 
   RtAudio::Api api_;
   std::unique_ptr<RtAudio> audio_;
-  PlayEngine* engine_ = nullptr;
+  AudioCallback* callback_ = nullptr;
   int rate_ = 0;
   std::size_t buffer_ = 0;
   long latency_ = 0;
@@ -108,8 +106,8 @@ class RtOutput final : public AudioOutput {
 
 }  // namespace
 
-std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest& r, const EngineFactory& make_engine,
-                                          std::string& why) {
+std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest& r,
+                                          const CallbackFactory& make_callback, std::string& why) {
   const RtAudio::Api api = r.driver == "alsa" ? RtAudio::LINUX_ALSA : RtAudio::LINUX_PULSE;
   std::vector<RtAudio::Api> compiled;
   RtAudio::getCompiledApi(compiled);
@@ -118,22 +116,22 @@ std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest& r, const EngineFa
     return nullptr;
   }
   auto out = std::make_unique<RtOutput>(api);
-  if (!out->start(r, make_engine, why)) return nullptr;
+  if (!out->start(r, make_callback, why)) return nullptr;
   return out;
 }
 
-}  // namespace maille::app
+}  // namespace maille::play
 
 #else
 
-namespace maille::app {
+namespace maille::play {
 
-std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest&, const EngineFactory&,
+std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest&, const CallbackFactory&,
                                           std::string& why) {
   why = "this maille was built without RtAudio (librtaudio-dev; scripts/setup.sh installs it)";
   return nullptr;
 }
 
-}  // namespace maille::app
+}  // namespace maille::play
 
 #endif
