@@ -537,19 +537,25 @@ void VertexBlockDescent::newton_step(std::uint32_t i, const Vec3* x, const Vec3&
 // trial arrays of point i only.
 std::pair<Real, Real> VertexBlockDescent::contact_change(std::uint32_t i, const Vec3& x0,
                                                          const Vec3& dx, Real inv_h) {
-  const std::span<const std::uint32_t> one(&i, 1);
   Real lo = 0, hi = 1;
   for (int k = 0; k < kVbdBisections; ++k) {
     const Real mid = Real(0.5) * (lo + hi);
-    trial_x_[i] = x0 + dx * mid;
-    trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
-    trial_touch_[i] = 0;
-    for (const PointContacts* c : contacts_)
-      c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
-                   trial_touch_.data());
-    (bool(trial_touch_[i]) == bool(touching_[i]) ? lo : hi) = mid;
+    (touches_at(i, x0 + dx * mid, inv_h) == bool(touching_[i]) ? lo : hi) = mid;
   }
   return {lo, hi};
+}
+
+// The one-point probe of the point contacts: whether point i touches one at `at` (moving from
+// x_n in the step). Uses the trial arrays of point i only (their g and H receive the terms).
+bool VertexBlockDescent::touches_at(std::uint32_t i, const Vec3& at, Real inv_h) {
+  const std::span<const std::uint32_t> one(&i, 1);
+  trial_x_[i] = at;
+  trial_v_[i] = (at - xn_[i]) * inv_h;
+  trial_touch_[i] = 0;
+  for (const PointContacts* c : contacts_)
+    c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
+                 trial_touch_.data());
+  return trial_touch_[i] != 0;
 }
 
 void VertexBlockDescent::initial_guess(const Model& m, State& s, Real h) {
@@ -752,14 +758,7 @@ bool VertexBlockDescent::coarse_step(const Model& m, Vec3* x, Vec3* v, Real h) {
     const Vec3 to = x[i] + d;
     if (!is_finite(d) || norm2(d) > half_thinnest * half_thinnest) continue;
     if (!contacts_.empty()) {
-      const std::span<const std::uint32_t> one(&i, 1);
-      trial_x_[i] = to;
-      trial_v_[i] = (to - xn_[i]) * inv_h;
-      trial_touch_[i] = 0;
-      for (const PointContacts* c : contacts_)
-        c->add_terms(one, trial_x_.data(), trial_v_.data(), inv_h, trial_g_.data(), trial_h_.data(),
-                     trial_touch_.data());
-      if (trial_touch_[i] && !touching_[i]) {
+      if (touches_at(i, to, inv_h) && !touching_[i]) {
         x[i] += d * contact_change(i, x[i], d, inv_h).second;
         v[i] = (x[i] - xn_[i]) * inv_h;
         touching_[i] = 1;

@@ -163,6 +163,7 @@ class VertexBlockDescent {
   void newton_step(std::uint32_t i, const Vec3* x, const Vec3& dx, Real inv_h);
   void initial_guess(const Model& m, State& s, Real h);
   std::pair<Real, Real> contact_change(std::uint32_t i, const Vec3& x0, const Vec3& dx, Real inv_h);
+  bool touches_at(std::uint32_t i, const Vec3& at, Real inv_h);
   Real largest_motion(const Vec3* x) const;
   bool leaves_cleanly(std::uint32_t i, const Vec3& from, Real half_thinnest);
   void coarse_terms(const Model& m, const Vec3* x, const Vec3* v, Real h);

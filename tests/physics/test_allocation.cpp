@@ -381,7 +381,10 @@ TEST(Allocation, NoneWhenTheThreadsFallToOneWithContacts) {
       {"group contacts",
        "[[contact]]\nbetween = [\"a\", \"b\"]\nstiffness = 1.0\nthreshold = 0.03\n"},
       {"self-collision, points", self},
-      {"self-collision, triangles", self + "primitive = \"triangles\"\n"},
+      // Faces and edges: about 11 face and 3 edge contacts per point at once, whose dampers
+      // summed at the default 0.5 N.s/m put 2e-5 s at the explicit limit (the sheets then ring
+      // and their contacts never settle); 0.1 keeps them at rest.
+      {"self-collision, triangles", self + "primitive = \"triangles\"\ndamping = 0.1\n"},
   };
   for (const auto& [what, contact] : cases) {
     auto scene = parse_scene(sheets_scene(contact), "sheets", kinds, stages);

@@ -90,27 +90,28 @@ TEST(ContactLaws, EdgeParametersGiveTheClosestPointsOfADenseSearch) {
 }
 
 // Two parallel edges at distance 0.1, one 1 m long, the other over [0.25, 0.65] of it: the
-// closest points sit at the middle of the overlap (no torque from where the push lands), and as
-// the second turns through parallel (1e-4 rad per step) its parameters move continuously.
-TEST(ContactLaws, ParallelEdgesMeetAtTheMiddleOfTheirOverlapAndTurnSmoothly) {
+// closest points found are at the right distance and one of them is a corner (the face contacts'
+// share: the pair does not push twice), and as the second edge turns through parallel (1e-4 rad
+// per step) the distance changes continuously.
+TEST(ContactLaws, ParallelEdgesMeetAtACornerAndTurnContinuously) {
   const Vec3 a0{0, 0, 0}, a1{1, 0, 0};
   Real s = 0, t = 0;
   law::edge_edge_params(a0, a1, {0.25, 0.1, 0}, {0.65, 0.1, 0}, s, t);
-  EXPECT_NEAR(s, 0.45, 1e-12);
-  EXPECT_NEAR(t, 0.5, 1e-12);
-  Real last_s = -1, last_t = -1;
+  EXPECT_NEAR(norm(a0 * (1 - s) + a1 * s - (Vec3{0.25, 0.1, 0} * (1 - t) + Vec3{0.65, 0.1, 0} * t)),
+              0.1, 1e-12);
+  EXPECT_TRUE(s == 0 || s == 1 || t == 0 || t == 1);
+  EXPECT_FALSE(law::edge_edge_acts(s, t, true, true, true, true));
+  double last = -1;
   for (int k = -400; k <= 400; ++k) {
     const double angle = 1e-4 * k, c = std::cos(angle), sn = std::sin(angle);
     const Vec3 mid{0.45, 0.1, 0}, half{0.2 * c, 0, 0.2 * sn};
-    law::edge_edge_params(a0, a1, mid - half, mid + half, s, t);
-    if (last_s >= 0) {
-      // the largest jump per step: the blend's slope bounds it (about 0.02 over 1e-4 rad near
-      // parallel, from the exact solution's sweep of the whole overlap within the blend)
-      EXPECT_LT(std::abs(s - last_s), 0.05) << k;
-      EXPECT_LT(std::abs(t - last_t), 0.1) << k;
+    const Vec3 b0 = mid - half, b1 = mid + half;
+    law::edge_edge_params(a0, a1, b0, b1, s, t);
+    const double d = norm(a0 * (1 - s) + a1 * s - (b0 * (1 - t) + b1 * t));
+    if (last >= 0) {
+      EXPECT_LT(std::abs(d - last), 1e-4) << k;  // |dd| <= 0.2 m x 1e-4 rad
     }
-    last_s = s;
-    last_t = t;
+    last = d;
   }
 }
 

@@ -57,17 +57,14 @@ MAILLE_SHARED vec3 triangle_closest_weights(vec3 p, vec3 a, vec3 b, vec3 c) {
   return vec3(real(1) - v - w, v, w);
 }
 
-// Below this sin^2 of the angle between two edges, their closest points are blended toward the
-// middle of their overlap (edge_edge_params): the closest points of two nearly parallel segments
-// slide along them at the slightest turn, and exactly parallel ones have none in particular.
-const real kParallelSin2 = real(1e-3);
-
 // The parameters s on segment a0a1 and t on b0b1 of the segments' closest points (Ericson,
-// 5.1.9), both in [0, 1]. Nearly parallel edges (sin^2 of their angle below kParallelSin2) take
-// a blend, by sin^2 / kParallelSin2, of that answer and the middle of the part of a0a1 facing
-// b0b1 (t then the projection of that point on b0b1, clamped): continuous as the edges turn
-// through parallel, and symmetric for parallel ones (no torque from where the force lands).
-// Degenerate segments (a point) take parameter 0.
+// 5.1.9), both in [0, 1]. Parallel edges (sin^2 of their angle below 1e-6, about 0.06 degree:
+// above float's rounding, so the GPU decides as the CPU does) have a whole
+// interval of closest points: s = 0 is taken, then t clamped and s again for that t, so that
+// one of the two points is a corner, whose distance to the other edge the point-triangle
+// contacts already push (edge_edge_acts): overlapping parallel edges never count twice. As two
+// edges turn through parallel the distance and its direction stay continuous; only how the
+// force is split among the four ends changes. Degenerate segments (a point) take parameter 0.
 MAILLE_SHARED void edge_edge_params(vec3 a0, vec3 a1, vec3 b0, vec3 b1, MAILLE_OUT(real) s,
                                     MAILLE_OUT(real) t) {
   vec3 da = a1 - a0;
@@ -90,15 +87,7 @@ MAILLE_SHARED void edge_edge_params(vec3 a0, vec3 a1, vec3 b0, vec3 b1, MAILLE_O
   }
   real ab = dot(da, db);
   real denom = aa * bb - ab * ab;  // |da|^2 |db|^2 sin^2
-  real exact = denom > real(0) ? clamp((ab * f - c * bb) / denom, real(0), real(1)) : real(0);
-  real blend = clamp(denom / (kParallelSin2 * aa * bb), real(0), real(1));
-  if (blend < real(1)) {
-    // b0 and b1 projected on a0a1, clamped: the middle of the part of a0a1 facing b0b1.
-    real p0 = clamp(dot(b0 - a0, da) / aa, real(0), real(1));
-    real p1 = clamp(dot(b1 - a0, da) / aa, real(0), real(1));
-    exact = blend * exact + (real(1) - blend) * real(0.5) * (p0 + p1);
-  }
-  s = exact;
+  s = denom > real(1e-6) * aa * bb ? clamp((ab * f - c * bb) / denom, real(0), real(1)) : real(0);
   t = (ab * s + f) / bb;
   if (t < real(0)) {
     t = real(0);

@@ -1,6 +1,7 @@
 #include "edge_proximity.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <tuple>
@@ -13,6 +14,14 @@
 namespace maille::collision {
 
 namespace {
+
+// Room to a power of two, as a growing vector keeps (an insert into a cleared vector grows it to
+// the exact size): a box or a list a little larger at the next pass (the cloth moving) then
+// needs no allocation in the step.
+template <class V>
+void room(V& v, std::size_t n) {
+  if (v.capacity() < n) v.reserve(std::bit_ceil(n));
+}
 
 // The closest points of edges a and b at x: the parameters and the gap vector between them.
 struct Closest {
@@ -31,8 +40,8 @@ Closest closest(const std::array<std::uint32_t, 2>& a, const std::array<std::uin
 
 EdgeProximity::EdgeProximity(const Model& m, const std::vector<std::uint32_t>& set,
                              const std::vector<std::array<std::uint32_t, 3>>& faces,
-                             std::size_t max_contacts)
-    : local_(m.points.size(), -1), max_contacts_(max_contacts) {
+                             int topological_radius, std::size_t max_contacts)
+    : local_(m.points.size(), -1), max_contacts_(max_contacts), radius_links_(topological_radius) {
   for (std::size_t k = 0; k < set.size(); ++k) local_[set[k]] = std::int32_t(k);
   for (const auto& t : faces)
     for (int e = 0; e < 3; ++e) {
@@ -74,6 +83,8 @@ void EdgeProximity::bin(const Vec3* x, Real grow) {
   ny_ = std::int64_t(ext.y / cell) + 1;
   nz_ = std::int64_t(ext.z / cell) + 1;
   const auto cells = std::size_t(nx_ * ny_ * nz_);
+  room(cell_start_, cells + 1);
+  room(cursor_, cells);
   cell_start_.assign(cells + 1, 0);
   const Vec3 g{grow, grow, grow};
   auto each_cell = [&](std::size_t e, auto&& fn) {
@@ -92,6 +103,7 @@ void EdgeProximity::bin(const Vec3* x, Real grow) {
   for (std::size_t e = 0; e < edges_.size(); ++e)
     each_cell(e, [&](std::size_t c) { ++cell_start_[c + 1]; });
   for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  room(cell_edges_, cell_start_[cells]);
   cell_edges_.resize(cell_start_[cells]);
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
   for (std::size_t e = 0; e < edges_.size(); ++e)
@@ -110,6 +122,13 @@ bool EdgeProximity::excluded(std::uint32_t a, std::uint32_t b,
   for (const std::uint32_t p : ea)
     for (const std::uint32_t q : eb)
       if (p == q) return true;  // a shared corner: the faces' own fold, never a contact
+  // The exclusion's rows know the particles only: a fixed corner (a held border) is taken one
+  // link deep by the faces' own edges, so that a border's edges do not touch the free edges
+  // next to them at rest.
+  if (radius_links_ >= 1)
+    for (const std::uint32_t p : ea)
+      for (const std::uint32_t q : eb)
+        if ((local_[p] < 0 || local_[q] < 0) && linked(p, q)) return true;
   if (!exclusion) return false;
   for (const std::uint32_t p : ea)
     for (const std::uint32_t q : eb)
@@ -117,6 +136,11 @@ bool EdgeProximity::excluded(std::uint32_t a, std::uint32_t b,
           exclusion->excluded(std::uint32_t(local_[p]), std::uint32_t(local_[q])))
         return true;
   return false;
+}
+
+bool EdgeProximity::linked(std::uint32_t p, std::uint32_t q) const {
+  const std::array<std::uint32_t, 2> e{std::min(p, q), std::max(p, q)};
+  return std::binary_search(edges_.begin(), edges_.end(), e);
 }
 
 bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
@@ -168,6 +192,9 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
   if (full_) return false;
   room_for_any_split(per_thread_pairs_, cap);
   out.clear();
+  std::size_t total = 0;
+  for (const auto& list : per_thread_pairs_) total += list.size();
+  room(out, total);
   for (const auto& list : per_thread_pairs_) out.insert(out.end(), list.begin(), list.end());
   if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());  // threads
   return true;
@@ -224,6 +251,9 @@ std::uint64_t EdgeProximity::apply(const Vec3* x, const Vec3* v, Vec3* f, const 
         {a, b, force, cl.s, cl.t, r.radius - std::sqrt(d2)});
   }
   room_for_any_split(per_thread_, max_contacts_ / per_thread_.size());
+  std::size_t total = 0;
+  for (const auto& list : per_thread_) total += list.size();
+  room(all_, total);
   for (const auto& list : per_thread_) all_.insert(all_.end(), list.begin(), list.end());
   // (edge, edge) order: the same sums whatever the threads.
   std::sort(all_.begin(), all_.end(), [](const Contact& p, const Contact& q) {

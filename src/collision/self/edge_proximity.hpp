@@ -29,10 +29,11 @@ namespace maille::collision {
 class EdgeProximity {
  public:
   // `set`: the colliding particles (global ids, sorted); `faces`: the colliding faces (global
-  // corner ids). Every edge of the faces takes part (a fixed border too); a pair with no corner
-  // in `set` is never tested (nothing of it moves).
+  // corner ids); `topological_radius`: R of [self_collision]. Every edge of the faces takes part
+  // (a fixed border too); a pair with no corner in `set` is never tested (nothing of it moves).
   EdgeProximity(const Model& m, const std::vector<std::uint32_t>& set,
-                const std::vector<std::array<std::uint32_t, 3>>& faces, std::size_t max_contacts);
+                const std::vector<std::array<std::uint32_t, 3>>& faces, int topological_radius,
+                std::size_t max_contacts);
   // Adds the forces of the edge pairs in contact; returns their number. `exclusion` (may be
   // null) removes pairs with a corner of one a topological neighbour of a corner of the other.
   std::uint64_t apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
@@ -94,7 +95,9 @@ class EdgeProximity {
   std::vector<Contact> all_;
   std::vector<std::uint8_t> thread_full_;
   std::size_t max_contacts_;
+  int radius_links_ = 0;  // R: with R >= 1, edges with corners joined by a face edge never meet
   bool full_ = false;
+  bool linked(std::uint32_t p, std::uint32_t q) const;  // p-q is an edge of the faces
 };
 
 }  // namespace maille::collision

@@ -154,7 +154,7 @@ class SelfCollision {
       for (const auto& t : m.surface.triangles)
         if (mask[t[0]] && mask[t[1]] && mask[t[2]]) faces.push_back(t);
       edges_ = std::make_unique<collision::EdgeProximity>(
-          m, set_, faces,
+          m, set_, faces, s_.topological_radius,
           std::size_t(limits::memory_budget_bytes() / collision::EdgeProximity::kBytesPerContact));
     }
   }
