@@ -3,13 +3,16 @@
 // duration, on one thread: the largest stretch of any spring-damper within 10 % (sampled every
 // step), no point deeper than 2 mm in a geometric obstacle (the stage's depth gauge, every
 // step), and, with self-collision, no pair of the cloth's triangles crossing (every step). A
-// new implicit example joins by being added to examples/.
+// new implicit example joins by being added to examples/ (kNotDrapes lists those that are not
+// drapes, and why).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "../intersections.hpp"
@@ -20,10 +23,21 @@
 namespace maille {
 namespace {
 
+// Implicit examples that are not drapes, with why they are measured elsewhere.
+constexpr std::pair<std::string_view, std::string_view> kNotDrapes[] = {
+    {"wrung_cloth",
+     "a wringing: its ends are held 1 m apart while it winds three turns, so it stretches by "
+     "construction; its crossings are tested by physics.WrungStrip and its trajectory by the "
+     "golden hash"},
+};
+
 std::vector<std::filesystem::path> implicit_examples() {
   std::vector<std::filesystem::path> out;
   for (const auto& e : std::filesystem::directory_iterator(MAILLE_SOURCE_DIR "/examples")) {
     if (e.path().extension() != ".toml") continue;
+    if (std::any_of(std::begin(kNotDrapes), std::end(kNotDrapes),
+                    [&](const auto& n) { return e.path().stem() == n.first; }))
+      continue;
     auto scene = load_scene(e.path());
     if (scene.ok() && scene->settings.integrator == "implicit_euler") out.push_back(e.path());
   }
