@@ -6,8 +6,14 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <utility>
+
+#if defined(MAILLE_HAVE_CHOLMOD)
+#include "coarse_cholmod.hpp"
+#endif
 
 #include "implicit_system.hpp"
 #include "maille/link_set.hpp"
@@ -65,6 +71,9 @@ struct CoarseCorrection::Impl {
   std::vector<std::array<int, 9>> value_at;  // into upper's values, -1: lower triangle
   Sparse upper;
   PreorderedLdlt ldlt;
+#if defined(MAILLE_HAVE_CHOLMOD)
+  std::unique_ptr<CholmodFactor> cholmod;  // instead of ldlt when chosen
+#endif
   bool ready = false;  // prepared this step
   Eigen::VectorXd rhs, solution;
   std::vector<Vec3> p0, hp;              // [points]
@@ -243,7 +252,14 @@ void CoarseCorrection::Impl::pattern() {
       }
   }
   values.assign(blocks.size(), Mat3{});
-  ldlt.analyse(upper);
+#if defined(MAILLE_HAVE_CHOLMOD)
+  if (const char* f = std::getenv("MAILLE_COARSE_FACTOR"); f && std::strcmp(f, "cholmod") == 0) {
+    cholmod = std::make_unique<CholmodFactor>();
+    if (!cholmod->analyse(int(n), upper.outerIndexPtr(), upper.innerIndexPtr())) cholmod.reset();
+  }
+  if (!cholmod)
+#endif
+    ldlt.analyse(upper);
   rhs.setZero(n);
   solution.setZero(n);
 }
@@ -294,6 +310,18 @@ bool CoarseCorrection::prepare(const Mat3* diag) {
   for (std::size_t k = 0; k < c.values.size(); ++k)
     for (std::size_t e = 0; e < 9; ++e)
       if (c.value_at[k][e] >= 0) out[c.value_at[k][e]] = double(c.values[k].m[e / 3][e % 3]);
+  return factorise();
+}
+
+bool CoarseCorrection::factorise() {
+  if (!impl_ || impl_->count == 0) return false;
+  Impl& c = *impl_;
+#if defined(MAILLE_HAVE_CHOLMOD)
+  if (c.cholmod) {
+    c.ready = c.cholmod->factor(c.upper.valuePtr());
+    return c.ready;
+  }
+#endif
   c.ldlt.factor(c.upper);
   c.ready = c.ldlt.info() == Eigen::Success && c.ldlt.vectorD().minCoeff() > 0;
   return c.ready;
@@ -324,7 +352,12 @@ Real CoarseCorrection::direction(const Vec3* g, Vec3* p) {
     c.rhs[at + 1] += double(g[i].y);
     c.rhs[at + 2] += double(g[i].z);
   }
-  c.solution = c.ldlt.solve(c.rhs);
+#if defined(MAILLE_HAVE_CHOLMOD)
+  if (c.cholmod)
+    c.cholmod->solve(c.rhs.data(), c.solution.data());
+  else
+#endif
+    c.solution = c.ldlt.solve(c.rhs);
   for (const std::uint32_t i : c.free) {
     const Eigen::Index at = 3 * Eigen::Index(c.order[c.aggregate[i]]);
     c.p0[i] = Vec3{Real(c.solution[at]), Real(c.solution[at + 1]), Real(c.solution[at + 2])};

@@ -54,6 +54,8 @@ class CoarseCorrection {
   // `diag` (the sweeps' H_i). False when it is not positive definite (no
   // correction this time).
   bool prepare(const Mat3* diag);
+  // prepare()'s numeric factorisation alone, of the matrix it last assembled (benchmarks).
+  bool factorise();
   // The direction p (free points; 0 elsewhere) for the gradient g = -dG/dx, with its step
   // length: x + alpha p minimises the quadratic model (the Hessian prepared) along p. Returns
   // alpha (0: none). Needs prepare() in this step; allocates nothing.

@@ -38,8 +38,11 @@ constexpr std::uint32_t kPadding = std::numeric_limits<std::uint32_t>::max();
 
 std::atomic<int> g_forced{0};
 std::atomic<bool> g_portable{false};  // set_vbd_lane_width_portable
+std::atomic<const vbd_lanes::Kernels*> g_kernels{nullptr};  // set_vbd_lane_kernels
 
 const vbd_lanes::Kernels* kernels_of(int width) {
+  if (const vbd_lanes::Kernels* k = g_kernels.load(std::memory_order_relaxed))
+    return width == k->width ? k : nullptr;
 #if defined(MAILLE_VBD_LANES_X86)
   if (width == 8 && g_portable.load(std::memory_order_relaxed))
     return &vbd_lanes::kKernels8Portable;
@@ -89,6 +92,7 @@ bool vbd_lane_width_runs(int width) {
 }
 
 int vbd_lane_width() {
+  if (const vbd_lanes::Kernels* k = g_kernels.load(std::memory_order_relaxed)) return k->width;
   if (const int forced = g_forced.load(std::memory_order_relaxed)) return forced;
   if (const int env = from_environment()) return env;
   static const int best = widest();
@@ -100,6 +104,14 @@ bool set_vbd_lane_width(int width) {
   g_forced.store(width, std::memory_order_relaxed);
   g_portable.store(false, std::memory_order_relaxed);
   return true;
+}
+
+const vbd_lanes::Kernels* vbd_lane_kernels() {
+  return kernels_of(vbd_lane_width());
+}
+
+void set_vbd_lane_kernels(const vbd_lanes::Kernels* kernels) {
+  g_kernels.store(kernels, std::memory_order_relaxed);
 }
 
 bool set_vbd_lane_width_portable() {
