@@ -55,8 +55,8 @@ namespace {
 void dispatch_terms(const Block& b, const Rows& rows, const Step& s, Real* g, Real* h) {
   HWY_DYNAMIC_DISPATCH(Terms)(b, rows, s, g, h);
 }
-void dispatch_solve(const std::uint32_t* points, std::uint32_t lanes, const Real* g,
-                    const Real* h, Real* out) {
+void dispatch_solve(const std::uint32_t* points, std::uint32_t lanes, const Real* g, const Real* h,
+                    Real* out) {
   HWY_DYNAMIC_DISPATCH(Solve)(points, lanes, g, h, out);
 }
 }  // namespace

@@ -6,14 +6,8 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
-#include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <utility>
-
-#if defined(MAILLE_HAVE_CHOLMOD)
-#include "coarse_cholmod.hpp"
-#endif
 
 #include "implicit_system.hpp"
 #include "maille/link_set.hpp"
@@ -71,9 +65,6 @@ struct CoarseCorrection::Impl {
   std::vector<std::array<int, 9>> value_at;  // into upper's values, -1: lower triangle
   Sparse upper;
   PreorderedLdlt ldlt;
-#if defined(MAILLE_HAVE_CHOLMOD)
-  std::unique_ptr<CholmodFactor> cholmod;  // instead of ldlt when chosen
-#endif
   bool ready = false;  // prepared this step
   Eigen::VectorXd rhs, solution;
   std::vector<Vec3> p0, hp;              // [points]
@@ -252,14 +243,7 @@ void CoarseCorrection::Impl::pattern() {
       }
   }
   values.assign(blocks.size(), Mat3{});
-#if defined(MAILLE_HAVE_CHOLMOD)
-  if (const char* f = std::getenv("MAILLE_COARSE_FACTOR"); f && std::strcmp(f, "cholmod") == 0) {
-    cholmod = std::make_unique<CholmodFactor>();
-    if (!cholmod->analyse(int(n), upper.outerIndexPtr(), upper.innerIndexPtr())) cholmod.reset();
-  }
-  if (!cholmod)
-#endif
-    ldlt.analyse(upper);
+  ldlt.analyse(upper);
   rhs.setZero(n);
   solution.setZero(n);
 }
@@ -313,15 +297,15 @@ bool CoarseCorrection::prepare(const Mat3* diag) {
   return factorise();
 }
 
+CoarseCorrection::Matrix CoarseCorrection::matrix() const {
+  if (!impl_ || impl_->count == 0) return {};
+  const Sparse& u = impl_->upper;
+  return {int(u.rows()), u.outerIndexPtr(), u.innerIndexPtr(), u.valuePtr()};
+}
+
 bool CoarseCorrection::factorise() {
   if (!impl_ || impl_->count == 0) return false;
   Impl& c = *impl_;
-#if defined(MAILLE_HAVE_CHOLMOD)
-  if (c.cholmod) {
-    c.ready = c.cholmod->factor(c.upper.valuePtr());
-    return c.ready;
-  }
-#endif
   c.ldlt.factor(c.upper);
   c.ready = c.ldlt.info() == Eigen::Success && c.ldlt.vectorD().minCoeff() > 0;
   return c.ready;
@@ -352,12 +336,7 @@ Real CoarseCorrection::direction(const Vec3* g, Vec3* p) {
     c.rhs[at + 1] += double(g[i].y);
     c.rhs[at + 2] += double(g[i].z);
   }
-#if defined(MAILLE_HAVE_CHOLMOD)
-  if (c.cholmod)
-    c.cholmod->solve(c.rhs.data(), c.solution.data());
-  else
-#endif
-    c.solution = c.ldlt.solve(c.rhs);
+  c.solution = c.ldlt.solve(c.rhs);
   for (const std::uint32_t i : c.free) {
     const Eigen::Index at = 3 * Eigen::Index(c.order[c.aggregate[i]]);
     c.p0[i] = Vec3{Real(c.solution[at]), Real(c.solution[at + 1]), Real(c.solution[at + 2])};

@@ -7,9 +7,9 @@
 // and a table of function pointers picked, so a build for any x86-64 runs 4 or 8 lanes where
 // the CPU has them. GCC's target_clones was not used: a clone changes the instruction set of
 // one function, not the data layout (the width is the block's shape), and inlining across
-// target attributes is refused. Highway's dynamic dispatch does the same thing as this table
-// with a dependency more; the kernels need no more than vector arithmetic, a square root and a
-// select.
+// target attributes is refused. Highway's dynamic dispatch of the same kernels
+// (bench/bench_vbd_dispatch_hwy.cpp, through set_vbd_lane_kernels) gave the same bits at the
+// same speed within noise (docs/implicit.md): the table stays, with no dependency more.
 #include "vbd_lanes.hpp"
 
 #include <algorithm>
@@ -37,7 +37,7 @@ namespace {
 constexpr std::uint32_t kPadding = std::numeric_limits<std::uint32_t>::max();
 
 std::atomic<int> g_forced{0};
-std::atomic<bool> g_portable{false};  // set_vbd_lane_width_portable
+std::atomic<bool> g_portable{false};                        // set_vbd_lane_width_portable
 std::atomic<const vbd_lanes::Kernels*> g_kernels{nullptr};  // set_vbd_lane_kernels
 
 const vbd_lanes::Kernels* kernels_of(int width) {

@@ -1,12 +1,12 @@
-// Internal: the coarse correction's factorisation by CHOLMOD's supernodal Cholesky (Debian's
-// libsuitesparse-dev; built in only where it is found: src/CMakeLists.txt defines
-// MAILLE_HAVE_CHOLMOD). vbd_coarse.cpp uses it when `[simulation.implicit] coarse_factor =
-// "cholmod"`; docs/implicit.md ("The coarse correction") has the measurement against Eigen's LDL^T.
+// CHOLMOD (Debian's libsuitesparse-dev) on VBD's coarse matrix, for bench_coarse_factor.cpp's
+// comparison with the engine's factorisation (Eigen's simplicial LDL^T, src/integrators/
+// vbd_coarse.cpp). Benchmark-only: measured slower than Eigen's on these matrices with the BLAS
+// Debian installs beside it, so the engine does not use it (docs/implicit.md, "The coarse
+// correction").
 //
-// The pattern is analysed once (the coarse matrix's pattern is fixed for a model: contacts add
-// to its diagonal blocks only), each correction refactorises numerically. The matrix comes in
-// already in its fill-reducing order (Eigen's AMD, as for the LDL^T), so CHOLMOD keeps the
-// natural order (and its elimination tree's postorder, which makes its supernodes).
+// As the engine does: the pattern analysed once, each call a numeric refactorisation. The
+// matrix comes in already in its fill-reducing order (Eigen's AMD), so CHOLMOD keeps the natural
+// order (with its elimination tree's postorder, which makes its supernodes).
 #pragma once
 
 #include <memory>
@@ -15,7 +15,8 @@ namespace maille {
 
 class CholmodFactor {
  public:
-  CholmodFactor();
+  // supernodal: CHOLMOD's supernodal LL^T (BLAS on dense blocks), else its simplicial LDL^T.
+  explicit CholmodFactor(bool supernodal);
   ~CholmodFactor();
   CholmodFactor(const CholmodFactor&) = delete;
   CholmodFactor& operator=(const CholmodFactor&) = delete;

@@ -1,10 +1,9 @@
-// The coarse correction's factorisation by CHOLMOD (coarse_cholmod.hpp).
+// CHOLMOD on VBD's coarse matrix (coarse_cholmod.hpp).
 #include "coarse_cholmod.hpp"
 
 #include <cholmod.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cstring>
 
 namespace maille {
@@ -19,18 +18,13 @@ struct CholmodFactor::Impl {
   cholmod_dense* e = nullptr;
   std::size_t n = 0, nonzeros = 0;
 
-  Impl() {
+  explicit Impl(bool supernodal) {
     cholmod_start(&common);
     common.print = 0;  // a matrix that is not positive definite is an answer, not a message
-    common.supernodal = CHOLMOD_SUPERNODAL;
+    common.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common.nmethods = 1;
     common.method[0].ordering = CHOLMOD_NATURAL;  // already in AMD order (vbd_coarse.cpp)
     common.postorder = 1;
-    if (const char* m = std::getenv("MAILLE_CHOLMOD_MODE")) {  // MEASUREMENT ONLY
-      if (std::strcmp(m, "simplicial") == 0) common.supernodal = CHOLMOD_SIMPLICIAL;
-      if (std::strcmp(m, "auto") == 0) common.supernodal = CHOLMOD_AUTO;
-      if (std::strcmp(m, "amd") == 0) common.method[0].ordering = CHOLMOD_AMD;
-    }
   }
   ~Impl() {
     cholmod_free_dense(&b, &common);
@@ -43,7 +37,7 @@ struct CholmodFactor::Impl {
   }
 };
 
-CholmodFactor::CholmodFactor() : impl_(std::make_unique<Impl>()) {}
+CholmodFactor::CholmodFactor(bool supernodal) : impl_(std::make_unique<Impl>(supernodal)) {}
 CholmodFactor::~CholmodFactor() = default;
 
 bool CholmodFactor::analyse(int n, const int* column_start, const int* rows) {
