@@ -39,6 +39,9 @@ packages=(
   # server the tests start with its dummy driver (no sound card); without recommends (it would
   # pull a Qt desktop), its real-time question preseeded below so the install never prompts.
   jackd2 libjack-jackd2-dev librtaudio-dev librtmidi-dev liblo-dev
+  # Benchmarks only (bench_step, docs/implicit.md): CHOLMOD against the coarse correction's
+  # LDL^T, Highway's dynamic dispatch against the VBD lanes' table; the engine uses neither.
+  libsuitesparse-dev libhwy-dev
   "${extra[@]}"
 )
 

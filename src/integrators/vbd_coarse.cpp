@@ -294,6 +294,18 @@ bool CoarseCorrection::prepare(const Mat3* diag) {
   for (std::size_t k = 0; k < c.values.size(); ++k)
     for (std::size_t e = 0; e < 9; ++e)
       if (c.value_at[k][e] >= 0) out[c.value_at[k][e]] = double(c.values[k].m[e / 3][e % 3]);
+  return factorise();
+}
+
+CoarseCorrection::Matrix CoarseCorrection::matrix() const {
+  if (!impl_ || impl_->count == 0) return {};
+  const Sparse& u = impl_->upper;
+  return {int(u.rows()), u.outerIndexPtr(), u.innerIndexPtr(), u.valuePtr()};
+}
+
+bool CoarseCorrection::factorise() {
+  if (!impl_ || impl_->count == 0) return false;
+  Impl& c = *impl_;
   c.ldlt.factor(c.upper);
   c.ready = c.ldlt.info() == Eigen::Success && c.ldlt.vectorD().minCoeff() > 0;
   return c.ready;

@@ -15,8 +15,10 @@
 //               of the sweeps (mass, links, contacts) and the always-active links' off-diagonal
 //               blocks; contact links and point-triangle contacts stay on the diagonal (as if
 //               anchored: they only make the correction smaller). A link inside an aggregate
-//               cancels (a rigid shift does not stretch it). Factorised once per step (sparse
-//               LDL^T, fill-reducing order found once)
+//               cancels (a rigid shift does not stretch it). Factorised at each correction
+//               (Eigen's simplicial LDL^T; the fill-reducing order and the symbolic analysis
+//               once per model: CHOLMOD's supernodal Cholesky was measured slower on these
+//               matrices, docs/implicit.md)
 //   direction   e = H_c^-1 P0^T g, p = (I - w D^-1 H) P0 e (the prolongation smoothed once, as in
 //               smoothed aggregation: P0 e jumps between aggregates, and a jump stretches the
 //               links that cross it, so P0^T H P0 is about an aggregate's width too stiff for
@@ -54,6 +56,17 @@ class CoarseCorrection {
   // `diag` (the sweeps' H_i). False when it is not positive definite (no
   // correction this time).
   bool prepare(const Mat3* diag);
+  // prepare()'s numeric factorisation alone, of the matrix it last assembled (benchmarks).
+  bool factorise();
+  // That matrix (3 rows per aggregate, in the fill-reducing order): its upper triangle in
+  // compressed columns, for a benchmark to factorise it by other means (bench_coarse_factor.cpp).
+  struct Matrix {
+    int n = 0;
+    const int* column_start = nullptr;  // [n + 1]
+    const int* rows = nullptr;          // sorted within a column
+    const double* values = nullptr;
+  };
+  Matrix matrix() const;
   // The direction p (free points; 0 elsewhere) for the gradient g = -dG/dx, with its step
   // length: x + alpha p minimises the quadratic model (the Hessian prepared) along p. Returns
   // alpha (0: none). Needs prepare() in this step; allocates nothing.

@@ -7,9 +7,9 @@
 // and a table of function pointers picked, so a build for any x86-64 runs 4 or 8 lanes where
 // the CPU has them. GCC's target_clones was not used: a clone changes the instruction set of
 // one function, not the data layout (the width is the block's shape), and inlining across
-// target attributes is refused. Highway's dynamic dispatch does the same thing as this table
-// with a dependency more; the kernels need no more than vector arithmetic, a square root and a
-// select.
+// target attributes is refused. Highway's dynamic dispatch of the same kernels
+// (bench/bench_vbd_dispatch_hwy.cpp, through set_vbd_lane_kernels) gave the same bits at the
+// same speed within noise (docs/implicit.md): the table stays, with no dependency more.
 #include "vbd_lanes.hpp"
 
 #include <algorithm>
@@ -37,9 +37,12 @@ namespace {
 constexpr std::uint32_t kPadding = std::numeric_limits<std::uint32_t>::max();
 
 std::atomic<int> g_forced{0};
-std::atomic<bool> g_portable{false};  // set_vbd_lane_width_portable
+std::atomic<bool> g_portable{false};                        // set_vbd_lane_width_portable
+std::atomic<const vbd_lanes::Kernels*> g_kernels{nullptr};  // set_vbd_lane_kernels
 
 const vbd_lanes::Kernels* kernels_of(int width) {
+  if (const vbd_lanes::Kernels* k = g_kernels.load(std::memory_order_relaxed))
+    return width == k->width ? k : nullptr;
 #if defined(MAILLE_VBD_LANES_X86)
   if (width == 8 && g_portable.load(std::memory_order_relaxed))
     return &vbd_lanes::kKernels8Portable;
@@ -89,6 +92,7 @@ bool vbd_lane_width_runs(int width) {
 }
 
 int vbd_lane_width() {
+  if (const vbd_lanes::Kernels* k = g_kernels.load(std::memory_order_relaxed)) return k->width;
   if (const int forced = g_forced.load(std::memory_order_relaxed)) return forced;
   if (const int env = from_environment()) return env;
   static const int best = widest();
@@ -100,6 +104,14 @@ bool set_vbd_lane_width(int width) {
   g_forced.store(width, std::memory_order_relaxed);
   g_portable.store(false, std::memory_order_relaxed);
   return true;
+}
+
+const vbd_lanes::Kernels* vbd_lane_kernels() {
+  return kernels_of(vbd_lane_width());
+}
+
+void set_vbd_lane_kernels(const vbd_lanes::Kernels* kernels) {
+  g_kernels.store(kernels, std::memory_order_relaxed);
 }
 
 bool set_vbd_lane_width_portable() {

@@ -36,6 +36,12 @@ bool set_vbd_lane_width(int width);
 // AVX-512 (the instructions differ, the operations and their order do not). False where there
 // are no lanes; set_vbd_lane_width undoes it.
 bool set_vbd_lane_width_portable();
+// Runs `kernels` (their width) instead of the table's until called again with null: the
+// benchmark of another dispatch of the same kernels (bench/bench_vbd_dispatch_hwy.cpp). The
+// caller keeps them alive; set_vbd_lane_width does not undo it.
+void set_vbd_lane_kernels(const vbd_lanes::Kernels* kernels);
+// The kernels of the width in use (null: the scalar sweep).
+const vbd_lanes::Kernels* vbd_lane_kernels();
 
 // One model pool's links by point, as VBD keeps them (PoolRows).
 struct LanePoolRows {

@@ -8,7 +8,13 @@
 // SpringDamper::axial, inverse_spd): every lane performs the scalar code's operations in the
 // scalar code's order, one IEEE operation for one (the build has -ffp-contract=off: no fused
 // multiply-add, and sqrt and division are correctly rounded at every width).
-#pragma once
+//
+// Included once per translation unit, except by a per-target compilation (Highway's
+// foreach_target.h in bench/bench_vbd_dispatch_hwy.cpp, the measurement of Highway's dynamic
+// dispatch against vbd_lanes.cpp's table), which includes it once per target with
+// MAILLE_VBD_LANES_NAMESPACE naming that target's namespace.
+#if !defined(MAILLE_VBD_LANES_KERNEL_HPP) || defined(MAILLE_VBD_LANES_NAMESPACE)
+#define MAILLE_VBD_LANES_KERNEL_HPP
 
 #include <cstdint>
 #include <type_traits>
@@ -20,7 +26,11 @@
 #include "vbd_lanes_data.hpp"
 
 namespace maille::vbd_lanes {
+#if defined(MAILLE_VBD_LANES_NAMESPACE)
+namespace MAILLE_VBD_LANES_NAMESPACE {
+#else
 namespace {
+#endif
 
 template <int W>
 struct Lanes {
@@ -218,3 +228,5 @@ void block_solve(const std::uint32_t* pts, std::uint32_t lanes, const Real* g, c
   extern const Kernels kKernels##W;                                  \
   const Kernels kKernels##W = {W, &block_terms<W>, &block_solve<W>}; \
   }
+
+#endif  // MAILLE_VBD_LANES_KERNEL_HPP

@@ -4,6 +4,7 @@
 // scenes with and without contacts.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -220,6 +221,43 @@ TEST(VbdLanes, StepsGiveTheScalarSweepsBits) {
           << (w.portable ? " (portable)" : "");
     }
   }
+}
+
+// set_vbd_lane_kernels (the benchmark of Highway's dispatch, bench/bench_vbd_dispatch_hwy.cpp):
+// the sweeps call the kernels given, at their width, and give the table's bits; null puts the
+// table back.
+const vbd_lanes::Kernels* g_wrapped = nullptr;
+std::atomic<long> g_calls{0};
+void counted_terms(const vbd_lanes::Block& b, const vbd_lanes::Rows& rows, const vbd_lanes::Step& s,
+                   Real* g, Real* h) {
+  g_calls.fetch_add(1, std::memory_order_relaxed);
+  g_wrapped->terms(b, rows, s, g, h);
+}
+void counted_solve(const std::uint32_t* points, std::uint32_t lanes, const Real* g, const Real* h,
+                   Real* out) {
+  g_calls.fetch_add(1, std::memory_order_relaxed);
+  g_wrapped->solve(points, lanes, g, h, out);
+}
+
+TEST(VbdLanes, KernelsGivenByHandRunInsteadOfTheTable) {
+  if (!vbd_lane_width_runs(2)) GTEST_SKIP() << "no lanes in this build";
+  const int before = vbd_lane_width();
+  Trajectory table;
+  {
+    ForcedWidth forced({2, false});
+    g_wrapped = vbd_lane_kernels();
+    table = run("cloth_on_sphere", {"flag[0].resolution=[16,16]"}, 20, 1);
+  }
+  ASSERT_NE(g_wrapped, nullptr);
+  const vbd_lanes::Kernels counting{2, &counted_terms, &counted_solve};
+  set_vbd_lane_kernels(&counting);
+  EXPECT_EQ(vbd_lane_width(), 2);
+  g_calls = 0;
+  const Trajectory given = run("cloth_on_sphere", {"flag[0].resolution=[16,16]"}, 20, 1);
+  set_vbd_lane_kernels(nullptr);
+  EXPECT_GT(g_calls.load(), 0);
+  EXPECT_TRUE(same_bits(table.x, given.x) && same_bits(table.v, given.v));
+  EXPECT_EQ(vbd_lane_width(), before);
 }
 
 }  // namespace
