@@ -56,8 +56,9 @@ std::optional<Scene> load_or_report(const std::string& path,
   }
 }
 
-// The number of steps a run of `duration` seconds takes, refused (usage error) above
-// limits::max_steps: a run that cannot end is a mistake, not a request.
+#ifdef MAILLE_WITH_RENDER
+// The number of steps a render of `duration` seconds takes, refused (usage error) above
+// limits::max_steps: a run that cannot end is a mistake, not a request (SceneRun checks a run's).
 std::optional<std::uint64_t> steps_for(double duration, double step, const char* what) {
   const double n = std::round(duration / step);
   if (!(n <= double(limits::max_steps))) {
@@ -67,6 +68,7 @@ std::optional<std::uint64_t> steps_for(double duration, double step, const char*
   }
   return static_cast<std::uint64_t>(n);
 }
+#endif
 
 std::uint64_t points_of(const Model& m, PointKind k) {
   return m.points.count(k);
