@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "../intersections.hpp"
 #include "maille/scene.hpp"
 #include "maille/simulator.hpp"
 
@@ -26,45 +27,11 @@ namespace {
 
 using namespace maille;
 
-// Whether segment pq passes through the inside of triangle abc (Moller-Trumbore, both ends
-// strictly on either side of the plane, the crossing point strictly inside).
-bool segment_crosses(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 d = q - p, e1 = b - a, e2 = c - a;
-  const Vec3 h = cross(d, e2);
-  const double det = dot(e1, h);
-  if (std::abs(det) < 1e-18) return false;  // parallel to the plane
-  const double inv = 1 / det;
-  const Vec3 s = p - a;
-  const double u = dot(s, h) * inv;
-  if (u <= 0 || u >= 1) return false;
-  const Vec3 qv = cross(s, e1);
-  const double v = dot(d, qv) * inv;
-  if (v <= 0 || u + v >= 1) return false;
-  const double t = dot(e2, qv) * inv;
-  return t > 0 && t < 1;
-}
-
-// Pairs of faces sharing no corner of which an edge of one crosses the other.
+// The independent count (tests/intersections.hpp: every pair of faces sharing no corner, each
+// edge of one against the other by Moller and Trumbore's segment-triangle test).
 std::size_t brute_force_crossings(std::span<const Vec3> x,
                                   const std::vector<std::array<std::uint32_t, 3>>& faces) {
-  std::size_t n = 0;
-  for (std::size_t i = 0; i < faces.size(); ++i)
-    for (std::size_t j = i + 1; j < faces.size(); ++j) {
-      const auto &f = faces[i], &g = faces[j];
-      bool shared = false;
-      for (auto a : f)
-        for (auto b : g) shared |= a == b;
-      if (shared) continue;
-      bool cross = false;
-      for (int k = 0; k < 3 && !cross; ++k) {
-        cross |= segment_crosses(x[f[std::size_t(k)]], x[f[std::size_t((k + 1) % 3)]], x[g[0]],
-                                 x[g[1]], x[g[2]]);
-        cross |= segment_crosses(x[g[std::size_t(k)]], x[g[std::size_t((k + 1) % 3)]], x[f[0]],
-                                 x[f[1]], x[f[2]]);
-      }
-      n += cross;
-    }
-  return n;
+  return test::count_self_intersections(x, faces);
 }
 
 Scene strip(std::vector<std::string> sets) {
