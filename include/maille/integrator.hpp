@@ -27,14 +27,16 @@ class ForceEvaluator {
  public:
   virtual ~ForceEvaluator() = default;
   virtual void evaluate(State& s) = 0;
-  // Links that exist only for this step (contacts found by stages), valid after evaluate():
-  // implicit schemes add their Jacobian blocks beside the model's pools.
-  virtual std::span<const LinkPoolBase* const> transient_links() const { return {}; }
-  // Per-point contacts that stages offer to implicit solvers (stage.hpp), valid after
-  // evaluate(): their forces are in s.f() at the evaluated state.
-  virtual std::span<PointContacts* const> point_contacts() const { return {}; }
-  // Point-triangle contacts that stages offer to implicit solvers, likewise.
-  virtual std::span<TriangleContacts* const> triangle_contacts() const { return {}; }
+  // The same without the contact stages (implicit schemes only): the step's contact set stays
+  // the one the last evaluate() found, and s.f() gets every other force at s. Newton iterates
+  // use it (the set was found with a margin covering the step's motion).
+  virtual void evaluate_keeping_contacts(State& s) { evaluate(s); }
+  // The step's contacts (contact_set.hpp), found by the last evaluate() under an implicit
+  // scheme: their forces are not in s.f(); solvers evaluate them.
+  virtual const ContactSet& contacts() const {
+    static const ContactSet none;
+    return none;
+  }
   // Whether to abandon the step now (Ctrl-C during a step that may last minutes). Solvers ask
   // between their iterations (sweeps, CG and Newton iterations) and return at once when true;
   // the simulator then puts the state back to the step's start (Simulator::on_stop_request).
@@ -128,7 +130,7 @@ class Integrator {
   // Which velocity s.v() holds between steps (stages are told through StageContext).
   virtual VelocityTime velocity_time(const State&) const { return VelocityTime::synchronous; }
   virtual Amplification increment(double h, double w2, double c) const = 0;
-  // Whether the scheme uses link Jacobians (stages then also provide theirs: implicit_links).
+  // Whether the scheme solves implicitly (contact stages then find_contacts instead of apply).
   virtual bool uses_jacobians() const { return false; }
   // Force evaluations per step (the simulator's own pass included): the cost unit.
   virtual int force_evaluations() const { return 1; }
@@ -139,7 +141,8 @@ class Integrator {
   // Why the scheme cannot integrate this model (empty: it can).
   virtual std::string check(const Model&) const { return {}; }
   // Why the scheme cannot run with this installed stage (empty: it can). Non-const stage: the
-  // check may ask what the stage offers to implicit solves (Stage::point_contacts).
+  // check may ask what the stage offers to implicit solves (Stage::finds_contacts); the CPU
+  // schemes refuse none today (response stages are refused through response_timing).
   virtual std::string check_stage(Stage&) const { return {}; }
   // Drop scratch buffers sized for a model (the scheme's history lives in the State).
   virtual void reset() {}

@@ -258,15 +258,14 @@ class Simulator : private ForceEvaluator {
   };
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
+  void evaluate_keeping_contacts(State& s) override;
+  // The force pass; `find`: contact stages find the step's set (implicit schemes).
+  void evaluate_stages(State& s, bool find);
   // The first stage of a list that needs a finite state (not reads_only), or null.
   static const Stage* first_checked(const std::vector<Installed>& stages);
   bool stop_requested() override;
   bool failed() const override { return blow_up_.has_value(); }
-  std::span<const LinkPoolBase* const> transient_links() const override { return transient_; }
-  std::span<PointContacts* const> point_contacts() const override { return point_contacts_; }
-  std::span<TriangleContacts* const> triangle_contacts() const override {
-    return triangle_contacts_;
-  }
+  const ContactSet& contacts() const override { return contacts_; }
   void respond();  // response stages, once per step, before integration
   // Response stages of a scheme that solves (ResponseTiming::after_solve;
   // simulator_response.cpp): the step's start is kept, then the stages answer the solved motion.
@@ -354,9 +353,7 @@ class Simulator : private ForceEvaluator {
   std::optional<Unconverged> unconverged_;
   Unconverged streak_;       // the current run of steps above the bound
   int residual_gauge_ = -1;  // the scheme's solver_residual gauge, once it has registered it
-  std::vector<const LinkPoolBase*> transient_;  // stages' implicit links after the last evaluate
-  std::vector<PointContacts*> point_contacts_;  // stages' implicit point contacts, likewise
-  std::vector<TriangleContacts*> triangle_contacts_;  // and point-triangle contacts
+  ContactSet contacts_;      // the step's contacts (implicit schemes), found by the last evaluate
   // The implicit solvers' stats columns when a backend steps the scheme (registered once).
   struct DeviceSolverIds {
     int iterations = -1, residual = -1, colours = -1, resets = -1, refreshes = -1;

@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "maille/contact_set.hpp"
 #include "maille/snapshot.hpp"
 #include "maille/vec3.hpp"
 
@@ -41,8 +42,7 @@ namespace maille {
 struct Model;
 struct State;
 class Profile;
-class LinkPoolBase;
-struct Mat3;
+class ContactSet;
 
 enum class Phase : std::uint8_t { forces, response, after_integration };
 std::string_view to_string(Phase p);
@@ -64,7 +64,7 @@ struct StageContext {
   // the velocity after this step's kick, x + h (v + h f / m) (leapfrog, symplectic Euler);
   // false, with the current velocity, x + h v (explicit Euler).
   bool drift_after_kick = true;
-  bool jacobians = false;      // the scheme is implicit: provide implicit_links()
+  bool jacobians = false;      // the scheme is implicit: contact stages find_contacts()
   Profile* profile = nullptr;  // counters and gauges (stage time is measured by the simulator)
 };
 
@@ -74,84 +74,6 @@ struct StageOption {
   std::string name;
   std::vector<std::string> choices;
   std::string value;
-};
-
-// Contacts of points with something an implicit solve does not move (an obstacle), offered to
-// implicit solvers so that they enter the solve instead of staying the explicit force of the
-// step's start: vertex block descent evaluates them at every iterate (force and 3x3 stiffness per
-// point), matrix-free CG adds their stiffness to its diagonal blocks.
-class PointContacts {
- public:
-  virtual ~PointContacts() = default;
-  // The obstacle's placement at time t: the end of the step for the solve, its start when a
-  // solver takes the stage's explicit force of the step's start back out of the forces. Ends
-  // any lag (below): the terms are then exactly the stage's own forces.
-  virtual void set_time(double t) = 0;
-  // Lagged friction: the normal force and the normal of each point's contact are taken at
-  // (x, v) and the current placement (the step's start), then the placement moves to t_next;
-  // they are held for the solve until the next set_time (so sticking is a smooth, convex term
-  // of the solve). Stages without friction only move the placement.
-  virtual void lag(std::span<const std::uint32_t> /*points*/, const Vec3* /*x*/, const Vec3* /*v*/,
-                   double t_next) {
-    set_time(t_next);
-  }
-  // For each point i of `points` that the stage collides: adds the contact force at x[i], v[i]
-  // into f[i] and its stiffness -d f / d x - (1/h) d f / d v (positive semi-definite) into
-  // hessian[i], and sets touching[i] = 1 where a contact acts (when `touching` is not null:
-  // solvers watch steps that start or end a contact, where the force jumps). Points are
-  // independent: threads may run disjoint point sets at once.
-  virtual void add_terms(std::span<const std::uint32_t> points, const Vec3* x, const Vec3* v,
-                         Real inv_h, Vec3* f, Mat3* hessian, std::uint8_t* touching) const = 0;
-  // The contact's elastic push on point p at x, at rest relative to the obstacle (no damper, no
-  // friction): zero where p touches nothing. Solvers let a Newton step leave a contact whole
-  // only when it does not move against this push (a point sliding off a sphere leaves it; one
-  // pressed through a thin box or between a conditional obstacle's samples does not).
-  virtual Vec3 push(std::uint32_t /*p*/, const Vec3& /*x*/) const { return {}; }
-  // The thinnest contact region the stage has, m (a box's smallest side, a conditional
-  // obstacle's threshold; +inf for a half-space): a point moving further than half of it in a
-  // step could cross it unseen, so solvers test such a point's segment at that spacing.
-  virtual Real thickness() const { return std::numeric_limits<Real>::infinity(); }
-};
-
-// Contacts between a point and a triangle of moving points (self-collision with primitive =
-// "triangles"), offered to implicit solvers. A candidate is the particle and the triangle's
-// three corners, found at the step's start within the contact radius plus the step's motion.
-// Its energy is the penalty on the point-triangle distance d, E = k (s - d)^2 / 2 while d < s,
-// the closest point q = sum w_j x_j found again at every evaluation, with the damper along the
-// normal n = (x_p - q) / d: the force on the particle is F = n (k (s - d) - z n.(v_p - v_q)) and
-// corner j takes -w_j F. Roles: 0 the particle (coefficient c = 1), 1 to 3 the corners
-// (c = -w_j). A contact on an edge or a corner shared by several of the particle's candidates
-// counts once (the lowest triangle), as in the explicit force. Friction stays explicit.
-class TriangleContacts {
- public:
-  virtual ~TriangleContacts() = default;
-  // This step's candidates: {particle, corner, corner, corner}, sorted by particle.
-  virtual std::span<const std::array<std::uint32_t, 4>> candidates() const = 0;
-  // The forces at x, v of every candidate in contact, into f (all four points).
-  virtual void accumulate(const Vec3* x, const Vec3* v, Vec3* f) const = 0;
-  // Candidate e's point-triangle distance at x (unsigned: a point that crossed the face is
-  // pushed on through it, so solvers keep each point's motion within a fraction of its
-  // distances at the step's start; see implicit_vbd.hpp, "conservative bounds").
-  virtual Real distance(std::size_t e, const Vec3* x) const = 0;
-  // The contact radius s, m: a candidate acts while its distance is below it (solvers leave out
-  // of their sweeps the candidates too far to act before they find them again).
-  virtual Real radius() const = 0;
-  // Whether candidate e acts at any distance this step (friction lagged from the step's start,
-  // held wherever the points go): solvers keep it in their sweeps however far it is.
-  virtual bool held(std::size_t /*e*/) const { return false; }
-  // For each point i of `points`: the candidates entries[row[i]] .. entries[row[i + 1] - 1],
-  // each `candidate * 4 + role`: the force on i into f[i] and the stiffness block
-  // c^2 (k + z inv_h) n n^T (the energy's Gauss-Newton Hessian, with the damper through
-  // v = (x - x_n) / h) into hessian[i]. Points are independent: threads may run disjoint sets.
-  virtual void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
-                               const std::uint32_t* entries, const Vec3* x, const Vec3* v,
-                               Real inv_h, Vec3* f, Mat3* hessian) const = 0;
-  // Linear solvers: keeps the normals of the contacts active at (x, v) ...
-  virtual void linearise(const Vec3* x, const Vec3* v) = 0;
-  // ... and adds (a k + b z) sum c c^T n n^T u over them into out (one thread) ...
-  virtual void apply(Real a, Real b, const Vec3* u, Vec3* out) const = 0;
-  // ... and their diagonal blocks (a k + b z) c_i^2 n n^T into diagonal.
-  virtual void add_diagonal(Real a, Real b, Mat3* diagonal) const = 0;
 };
 
 class Stage {
@@ -176,16 +98,15 @@ class Stage {
   virtual void set_option(const std::string& name, const std::string& /*value*/) {
     throw std::invalid_argument("stage '" + this->name() + "' has no option '" + name + "'");
   }
-  // The links this stage's forces act through during the current step (contacts as conditional
-  // links), when ctx.jacobians asked for them: implicit schemes add their Jacobian blocks (the
-  // stage still adds the forces). Null: the stage's forces stay explicit.
-  virtual const LinkPoolBase* implicit_links() const { return nullptr; }
-  // Per-point contacts that implicit solvers take inside the solve, when ctx.jacobians asked for
-  // them (the stage still adds its force at the step's start; solvers take it back out). Null:
-  // the stage's forces stay explicit.
-  virtual PointContacts* point_contacts() { return nullptr; }
-  // Point-triangle contacts that implicit solvers take inside the solve, likewise (null: none).
-  virtual TriangleContacts* triangle_contacts() { return nullptr; }
+  // Contact stages (obstacles, self-collision, [[contact]] through the broad phase): under an
+  // implicit scheme (ctx.jacobians) the simulator calls find_contacts() in place of apply().
+  // The stage finds the step's contacts once, at its reach plus the step's motion margin, and
+  // puts its typed arrays into `set` (contact_set.hpp) without adding any force: the solver
+  // evaluates them itself, at the step's start for its right-hand side and at every iterate
+  // inside the solve. apply() stays the explicit force pass of the explicit schemes.
+  virtual bool finds_contacts() const { return false; }
+  virtual void find_contacts(const Model& /*m*/, State& /*s*/, const StageContext& /*ctx*/,
+                             ContactSet& /*set*/) {}
   // The potential energy of the stage's conservative forces at s (J): a contact's penalty
   // (1/2 k depth^2 for an obstacle, 1/2 k (s - d)^2 for a pair closer than its contact distance
   // s), none for dampers, friction, wind or velocity responses. The stage finds its contacts at

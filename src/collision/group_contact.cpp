@@ -192,13 +192,32 @@ class GroupContactStage final : public Stage {
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
     threads_ = ctx.threads;
-    if (ctx.jacobians) contacts_as_links(s, Real(ctx.h), ctx.threads);
     std::uint64_t active = 0, tested = 0;
     for (auto& c : contacts_) {
       tested += c.find(x, c.spec().threshold, ctx.threads);
       c.apply(x, v, s.f().data(), ctx.threads);
       active += c.pairs();
     }
+    count(ctx, active, tested);
+  }
+
+  // Implicit schemes: the pairs within the threshold plus the step's motion margin, once, as
+  // conditional links of the same law (no explicit pass); `active`: those acting at x_n.
+  bool finds_contacts() const override { return true; }
+  void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) override {
+    threads_ = ctx.threads;
+    const std::uint64_t tested = contacts_as_links(s, Real(ctx.h), ctx.threads);
+    set.add(links_);
+    const Vec3* x = s.x().data();
+    std::uint64_t active = 0;
+    const auto params = links_.slot_params();
+    const auto ends = links_.slot_ends();
+    for (std::size_t l = 0; l < ends.size(); ++l)
+      if (norm2(x[ends[l].b] - x[ends[l].a]) < params[l].threshold * params[l].threshold) ++active;
+    count(ctx, active, tested);
+  }
+
+  void count(const StageContext& ctx, std::uint64_t active, std::uint64_t tested) {
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0)
@@ -243,8 +262,6 @@ class GroupContactStage final : public Stage {
     }
   }
 
-  const LinkPoolBase* implicit_links() const override { return &links_; }
-
   std::vector<StageOption> options() const override {
     return {{"draw_contacts", {"on", "off"}, draw_contacts_ ? "on" : "off"}};
   }
@@ -276,7 +293,8 @@ class GroupContactStage final : public Stage {
   // sees every pair that comes within the threshold. The margin is the self-collision stage's:
   // h times 2.5 the largest speed relative to the points' mean velocity, at least a quarter of
   // the threshold.
-  void contacts_as_links(const State& s, Real h, int threads) {
+  std::uint64_t contacts_as_links(const State& s, Real h, int threads) {
+    std::uint64_t tested = 0;
     links_.clear();
     const auto v = s.v();
     for (auto& c : contacts_) {
@@ -288,12 +306,13 @@ class GroupContactStage final : public Stage {
       const GroupContactSpec& sp = c.spec();
       const Real margin = std::max(collision::kMotionFactor * std::sqrt(dv2) * h,
                                    collision::kMinMarginFraction * sp.threshold);
-      c.find(s.x().data(), sp.threshold + margin, threads);
+      tested += c.find(s.x().data(), sp.threshold + margin, threads);
       c.for_each_pair([&](std::uint32_t a, std::uint32_t b) {
         links_.add({a, b}, {sp.stiffness, sp.damping, sp.threshold, sp.rest_length});
       });
     }
     links_.prepare(std::uint32_t(s.size()));
+    return tested;
   }
 
   std::vector<GroupContactSpec> specs_;

@@ -406,8 +406,18 @@ StageContext Simulator::context(const State& s) const {
   return ctx;
 }
 
-// Every force-phase stage at the state's current positions, velocities and time.
+// Every force-phase stage at the state's current positions, velocities and time. Under an
+// implicit scheme the contact stages find the step's contact set instead of adding forces.
 void Simulator::evaluate(State& s) {
+  evaluate_stages(s, true);
+}
+
+// An implicit solve's iterate: every force but the contacts, whose set stays the step's.
+void Simulator::evaluate_keeping_contacts(State& s) {
+  evaluate_stages(s, false);
+}
+
+void Simulator::evaluate_stages(State& s, bool find) {
   const auto& ids = *ids_;
   {
     Timed t(profile_, ids.drive);
@@ -425,23 +435,19 @@ void Simulator::evaluate(State& s) {
     Timed t(profile_, ids.fields);
     profile_.set_count(ids.wind_faces, stages::field_forces(model_, s, threads_));
   }
-  transient_.clear();
-  point_contacts_.clear();
-  triangle_contacts_.clear();
+  if (find) contacts_.clear();
   if (force_stages_.empty()) return;
   if (const Stage* checked = first_checked(force_stages_))
     if (!stage_input_finite(s, *checked)) return;
   const StageContext ctx = context(s);
   for (auto& st : force_stages_) {
-    Timed t(profile_, st.profile_id);
-    st.stage->apply(model_, s, ctx);
-    if (ctx.jacobians)
-      if (const LinkPoolBase* links = st.stage->implicit_links()) transient_.push_back(links);
-    if (ctx.jacobians)
-      if (PointContacts* contacts = st.stage->point_contacts()) point_contacts_.push_back(contacts);
-    if (ctx.jacobians)
-      if (TriangleContacts* contacts = st.stage->triangle_contacts())
-        triangle_contacts_.push_back(contacts);
+    if (!ctx.jacobians || !st.stage->finds_contacts()) {
+      Timed t(profile_, st.profile_id);
+      st.stage->apply(model_, s, ctx);
+    } else if (find) {
+      Timed t(profile_, st.profile_id);
+      st.stage->find_contacts(model_, s, ctx, contacts_);
+    }
   }
 }
 

@@ -41,9 +41,9 @@ std::string GpuSelfCollision::check(const Stage& st) {
   const SelfCollisionView view = self_collision_view(st);
   if (!view.settings) return "stage '" + st.name() + "' is not the self-collision stage";
   if (view.settings->primitive != Primitive::points)
-    return "stage '" + st.name() + "' with primitive = \"triangles\" has no GPU version (the GPU " +
-           "runs primitive = \"points\"): run this scene with --backend cpu (or without it: " +
-           "--no-self-collision)";
+    return "stage '" + st.name() + "' with primitive = \"triangles\" has no GPU version (its " +
+           "point-triangle and edge-edge contacts run on the CPU only; the GPU runs primitive = " +
+           "\"points\"): run this scene with --backend cpu (or without it: --no-self-collision)";
   if (view.settings->broad_phase != BroadPhase::uniform)
     return "stage '" + st.name() + "' with broad_phase = \"" +
            std::string(to_string(view.settings->broad_phase)) +

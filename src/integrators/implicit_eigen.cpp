@@ -1,8 +1,8 @@
-// Assembled alternative for implicit Euler: the same matrix in an Eigen sparse matrix of fixed
-// pattern (3x3 blocks for every point and every linked pair), values refilled each step from
-// the link blocks, solved by Eigen's ConjugateGradient with a diagonal preconditioner. Kept to
-// measure against the matrix-free solver (docs/benchmarks.md) and to cross-check it in tests;
-// Eigen's CG allocates its work vectors on every solve.
+// Assembled alternative for implicit Euler: the same matrix in an Eigen sparse matrix (3x3
+// blocks for every point, every linked pair and every pair the step's contacts couple), values
+// refilled each step from the link and contact blocks, solved by Eigen's ConjugateGradient with a
+// diagonal preconditioner. Kept to measure against the matrix-free solver (docs/benchmarks.md) and
+// to cross-check it in tests; Eigen's CG allocates its work vectors on every solve.
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact_blocks.hpp"
 #include "implicit_system.hpp"
 #include "maille/link_loops.hpp"
 
@@ -27,33 +28,52 @@ class EigenSystem final : public ImplicitSystem {
     const std::size_t n = m.points.size();
     free_.resize(n);
     for (std::size_t i = 0; i < n; ++i) free_[i] = m.points.inv_mass[i] > 0;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (free_[i]) free_list_.push_back(i);
+    sink_.assign(n, Vec3{});
+    model_pairs();
     build_pattern();
     for (const auto& pool : m.links.pools()) blocks_.emplace_back(pool->size());
   }
 
   // Transient links (stages' contacts) change the sparsity pattern every step: this solver
   // leaves them explicit (the matrix-free solver takes them), and point contacts too.
+  // The model's link blocks and the step's contact set: its pairs' blocks, its stencils'
+  // couplings (four points each) and its obstacles' diagonal blocks. The contacts change the
+  // sparsity pattern, so it is rebuilt, with the model's pairs, in every step that has contacts
+  // (this solver allocates on every solve anyway: it is the reference the matrix-free solver is
+  // checked against, not the fast path).
   void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
-                 std::span<const LinkPoolBase* const>, std::span<PointContacts* const>,
-                 std::span<TriangleContacts* const>) override {
+                 const ContactSet& set) override {
     const auto pools = m.links.pools();
+    const Vec3* x = s.x().data();
+    const Vec3* v = s.v().data();
     for (std::size_t p = 0; p < pools.size(); ++p)
-      implicit_blocks(*pools[p], s.x().data(), s.v().data(), h, blocks_[p].data(), rhs);
+      implicit_blocks(*pools[p], x, v, h, blocks_[p].data(), rhs);
+    const auto pairs = set.pairs();
+    if (pair_blocks_.size() < pairs.size()) pair_blocks_.resize(pairs.size());
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+      pair_blocks_[p].resize(pairs[p]->size());
+      implicit_blocks(*pairs[p], x, v, h, pair_blocks_[p].data(), rhs);
+    }
+    take_stencils(s, h, rhs, set.stencils());
+    const bool obstacles = obstacles_.take(set.obstacles(), s, h, free_list_, rhs);
+    const bool contacts = !pairs.empty() || !couplings_.empty();
+    if (contacts || contact_pattern_) build_pattern(pairs);
+    contact_pattern_ = contacts;
     Real* val = matrix_.valuePtr();
     std::fill(val, val + matrix_.nonZeros(), Real(0));
     const Real drag = h * m.fields.air_drag;
     for (std::uint32_t i = 0; i < m.points.size(); ++i)
       add_block(i, i, Mat3::identity() * (m.points.mass[i] * (1 + drag)));
-    // Row a: (m + C) u_a - C u_b; row b: -C u_a + (m + C) u_b.
-    for (std::size_t p = 0; p < pools.size(); ++p)
-      for (std::size_t l = 0; l < pools[p]->size(); ++l) {
-        const auto [a, b] = pools[p]->slot_ends()[l];  // blocks are in storage order
-        const Mat3& c = blocks_[p][l];
-        add_block(a, a, c);
-        add_block(b, b, c);
-        add_block(a, b, c * Real(-1));
-        add_block(b, a, c * Real(-1));
-      }
+    for (std::size_t p = 0; p < pools.size(); ++p) add_pool(*pools[p], blocks_[p]);
+    for (std::size_t p = 0; p < pairs.size(); ++p) add_pool(*pairs[p], pair_blocks_[p]);
+    for (const StencilCoupling& c : couplings_)
+      for (std::size_t i = 0; i < 4; ++i)
+        for (std::size_t j = 0; j < 4; ++j)
+          add_block(c.ids[i], c.ids[j], c.block * (c.c[i] * c.c[j]));
+    if (obstacles)
+      for (const std::uint32_t i : free_list_) add_block(i, i, obstacles_.blocks[i]);
     filter();
   }
 
@@ -92,17 +112,32 @@ class EigenSystem final : public ImplicitSystem {
   }
 
  private:
-  // The pattern: the diagonal block of every point and the two off-diagonal blocks of every
-  // linked pair, built once. block_[(i, j)] gives the value index of entry (3i, 3j).
-  void build_pattern() {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-    for (std::uint32_t i = 0; i < model_.points.size(); ++i) pairs.push_back({i, i});
+  // The model's pairs: the diagonal block of every point and the two off-diagonal blocks of
+  // every linked pair (sorted, once).
+  void model_pairs() {
+    for (std::uint32_t i = 0; i < model_.points.size(); ++i) model_pairs_.push_back({i, i});
     for (const auto& pool : model_.links.pools())
       for (std::size_t l = 0; l < pool->size(); ++l) {
         const auto [a, b] = pool->ends(l);
-        pairs.push_back({a, b});
-        pairs.push_back({b, a});
+        model_pairs_.push_back({a, b});
+        model_pairs_.push_back({b, a});
       }
+    std::sort(model_pairs_.begin(), model_pairs_.end());
+    model_pairs_.erase(std::unique(model_pairs_.begin(), model_pairs_.end()), model_pairs_.end());
+  }
+
+  // The pattern: the model's pairs, and the contact set's (its pairs' ends, every two points of
+  // a stencil coupling). block_[(i, j)] gives the value index of entry (3i, 3j).
+  void build_pattern(std::span<const LinkPoolBase* const> contact_pairs = {}) {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs = model_pairs_;
+    for (const LinkPoolBase* pool : contact_pairs)
+      for (const auto& e : pool->slot_ends()) {
+        pairs.push_back({e.a, e.b});
+        pairs.push_back({e.b, e.a});
+      }
+    for (const StencilCoupling& c : couplings_)
+      for (const std::uint32_t i : c.ids)
+        for (const std::uint32_t j : c.ids) pairs.push_back({i, j});
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
     std::vector<Eigen::Triplet<Real, std::int64_t>> t;
@@ -111,9 +146,37 @@ class EigenSystem final : public ImplicitSystem {
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) t.emplace_back(3 * i + r, 3 * j + c, Real(0));
     const auto n = static_cast<std::int64_t>(3 * model_.points.size());
-    matrix_.resize(n, n);
+    matrix_ = Sparse(n, n);
     matrix_.setFromTriplets(t.begin(), t.end());
     matrix_.makeCompressed();
+  }
+
+  // A pool's blocks C per link: row a (C, -C), row b (-C, C).
+  void add_pool(const LinkPoolBase& pool, const std::vector<Mat3>& blocks) {
+    const auto ends = pool.slot_ends();  // blocks are in storage order
+    for (std::size_t l = 0; l < ends.size(); ++l) {
+      const Mat3& c = blocks[l];
+      add_block(ends[l].a, ends[l].a, c);
+      add_block(ends[l].b, ends[l].b, c);
+      add_block(ends[l].a, ends[l].b, c * Real(-1));
+      add_block(ends[l].b, ends[l].a, c * Real(-1));
+    }
+  }
+
+  // The stencils' couplings at the state (h^2 k + h z, friction's h scale) and the right-hand
+  // side's h^2 df/dx v = -h^2 K v, as the matrix-free solver takes them.
+  void take_stencils(const State& s, Real h, Vec3* rhs, std::span<TriangleContacts* const> all) {
+    couplings_.clear();
+    const Vec3* x = s.x().data();
+    const Vec3* v = s.v().data();
+    for (TriangleContacts* t : all) {
+      t->linearise(x, v);
+      t->couplings(h * h, h, couplings_);
+      if (!rhs) continue;
+      std::fill(sink_.begin(), sink_.end(), Vec3{});
+      t->apply(h * h, 0, v, sink_.data());
+      for (const std::uint32_t i : free_list_) rhs[i] -= sink_[i];
+    }
   }
 
   // Entries of block (i, j) in row 3i + r are contiguous (row-major, 3 columns): find the
@@ -145,8 +208,15 @@ class EigenSystem final : public ImplicitSystem {
 
   const Model& model_;
   Sparse matrix_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> model_pairs_;
+  bool contact_pattern_ = false;  // the pattern holds the last step's contacts
   std::vector<std::vector<Mat3>> blocks_;
+  std::vector<std::vector<Mat3>> pair_blocks_;  // the contact set's pairs, per pool
+  std::vector<StencilCoupling> couplings_;      // the stencils' active couplings
+  ObstacleBlocks obstacles_;                    // the obstacles' diagonal blocks
+  std::vector<Vec3> sink_;
   std::vector<std::uint8_t> free_;
+  std::vector<std::uint32_t> free_list_;
 };
 
 }  // namespace

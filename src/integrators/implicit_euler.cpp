@@ -52,17 +52,6 @@ class ImplicitEuler final : public Integrator {
     return {};
   }
 
-  // The eigen solver assembles a CSR matrix of fixed pattern (the model's links): a stage's
-  // contacts, found anew each step, cannot enter it, and leaving them explicit at large steps
-  // is what made the cloth blow up on a sphere; such stages are refused by name.
-  std::string check_stage(Stage& stage) const override {
-    if (settings_.solver != ImplicitSolver::eigen) return {};
-    if (!stage.implicit_links() && !stage.point_contacts() && !stage.triangle_contacts()) return {};
-    return "implicit solver 'eigen' assembles a matrix of fixed pattern and cannot take the "
-           "contacts of stage '" +
-           stage.name() + "' into its solve; use solver = \"vbd\" or \"matrix_free\"";
-  }
-
   void advance(const Model& m, State& s, Real h, ForceEvaluator& forces,
                Profile& profile) override {
     if (solver_iterations_ < 0) {
@@ -92,7 +81,7 @@ class ImplicitEuler final : public Integrator {
       const std::uint64_t iterations = advance_cg(m, s, h, forces, profile);
       if (forces.stop_requested()) return;  // stopped inside: the step's start comes back
       profile.set_count(solver_iterations_, iterations);
-      profile.set_gauge(solver_residual_, residual_.end(m, s, h, forces));
+      profile.set_gauge(solver_residual_, residual_.end(m, s, h, forces.contacts()));
     }
   }
 
@@ -111,6 +100,8 @@ class ImplicitEuler final : public Integrator {
       v0_.assign(n, Vec3{});
       rhs_.assign(n, Vec3{});
       dv_.assign(n, Vec3{});
+      contact_f_.assign(n, Vec3{});
+      contact_blocks_.assign(n, Mat3{});
     }
     const auto x = s.x(), v = s.v();
     std::copy(x.begin(), x.end(), x0_.begin());
@@ -121,17 +112,17 @@ class ImplicitEuler final : public Integrator {
     double residual = 0;
     for (int k = 0; k < settings_.newton_iterations; ++k) {
       if (k > 0 && forces.stop_requested()) return iterations;
-      if (k > 0) {  // forces at the current guess: x_n + h v_k, v_k
+      if (k > 0) {  // forces at the current guess: x_n + h v_k, v_k; the step's contact set
         for (std::size_t i = 0; i < n; ++i)
           if (m.points.inv_mass[i] > 0) x[i] = x0_[i] + v[i] * h;
         s.time += h;
-        forces.evaluate(s);
+        forces.evaluate_keeping_contacts(s);
         s.time -= h;
         if (forces.failed()) return iterations;  // a stage refused the iterate (not finite)
+        contact_forces(s, h, forces.contacts());
       }
       build_rhs(m, s, h, k == 0);
-      system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.transient_links(),
-                         forces.point_contacts(), forces.triangle_contacts());
+      system_->linearise(m, s, h, k == 0 ? rhs_.data() : nullptr, forces.contacts());
       const auto r =
           system_->solve(rhs_, dv_, settings_.tolerance, settings_.max_iterations, &forces);
       iterations += static_cast<std::uint64_t>(r.iterations);
@@ -154,7 +145,7 @@ class ImplicitEuler final : public Integrator {
     entry_.stop_at_entry(free_, x.data(), v.data(), h);
     // Point-triangle candidates: no point crosses a face on its way to the solved position
     // (conservative bounds, implicit_vbd.hpp).
-    if (const auto tri = forces.triangle_contacts(); !tri.empty()) {
+    if (const auto tri = forces.contacts().stencils(); !tri.empty()) {
       target_.assign(x.begin(), x.end());
       std::copy(x0_.begin(), x0_.end(), x.begin());
       advance_within_bounds(tri, x, target_, m.points.inv_mass, bound_, kBoundStages);
@@ -196,22 +187,31 @@ class ImplicitEuler final : public Integrator {
   // explicit forces are taken there), then lagged for the solve (friction's normal force held)
   // and moved to t_n+1; continuous detection from x_n.
   void start_contacts(const Model& m, const State& s, Real h, ForceEvaluator& forces) {
-    const auto contacts = forces.point_contacts();
+    const auto contacts = forces.contacts().obstacles();
     free_.clear();
     for (std::uint32_t i = 0; i < s.size(); ++i)
       if (m.points.inv_mass[i] > 0) free_.push_back(i);
     for (PointContacts* c : contacts) c->set_time(s.time);
-    residual_.begin(m, s, h, forces, free_);
+    contact_forces(s, h, forces.contacts());
+    residual_.begin(m, s, h, free_);
     for (PointContacts* c : contacts) c->lag(free_, s.x().data(), s.v().data(), s.time + h);
     entry_.begin(contacts, x0_.data(), s.size());
   }
 
+  // The contact set's forces at s (obstacles where their set_time or lag placed them), apart
+  // from s.f(), which holds every other force.
+  void contact_forces(const State& s, Real h, const ContactSet& set) {
+    std::fill(contact_f_.begin(), contact_f_.end(), Vec3{});
+    set.add_forces(free_, s.x().data(), s.v().data(), Real(1) / h, contact_f_.data(),
+                   contact_blocks_.data());
+  }
+
   // Iteration 0 (Baraff-Witkin): b = h f(x_n, v_n), plus h^2 df/dx v_n added by the pools.
-  // Newton iteration k: b = h f(x_n + h v_k, v_k) - M (v_k - v_n).
+  // Newton iteration k: b = h f(x_n + h v_k, v_k) - M (v_k - v_n). f: s.f() and the contacts.
   void build_rhs(const Model& m, const State& s, Real h, bool first) {
     const auto f = s.f(), v = s.v();
     for (std::size_t i = 0; i < rhs_.size(); ++i) {
-      rhs_[i] = f[i] * h;
+      rhs_[i] = (f[i] + contact_f_[i]) * h;
       if (!first) rhs_[i] -= (v[i] - v0_[i]) * m.points.mass[i];
     }
   }
@@ -242,6 +242,8 @@ class ImplicitEuler final : public Integrator {
   int solver_iterations_ = -1, solver_residual_ = -1, vbd_colours_ = -1, vbd_resets_ = -1,
       vbd_refreshes_ = -1, vbd_candidates_ = -1, vbd_swept_ = -1;
   std::vector<Vec3> x0_, v0_, rhs_, dv_;
+  std::vector<Vec3> contact_f_;       // the contact set's forces at the current iterate
+  std::vector<Mat3> contact_blocks_;  // their obstacles' blocks (scratch)
   int cg_iterations_ = 0, cg_residual_ = 0, newton_residual_ = 0;
   double newton_residual_value_ = 0;
 };

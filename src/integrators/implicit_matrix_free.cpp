@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "contact_blocks.hpp"
 #include "implicit_system.hpp"
 #include "maille/link_loops.hpp"
 
@@ -44,8 +45,6 @@ class MatrixFreeSystem final : public ImplicitSystem {
     for (std::size_t i = 0; i < n; ++i) free_[i] = m.points.inv_mass[i] > 0;
     for (std::uint32_t i = 0; i < n; ++i)
       if (free_[i]) free_list_.push_back(i);
-    point_blocks_.assign(n, Mat3{});
-    stiffness_.assign(n, Mat3{});
     sink_.assign(n, Vec3{});
     for (auto* a : {&r_, &z_, &p_, &q_}) a->assign(n, Vec3{});
     mass_.assign(n, 0);
@@ -54,14 +53,13 @@ class MatrixFreeSystem final : public ImplicitSystem {
   }
 
   void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
-                 std::span<const LinkPoolBase* const> transient,
-                 std::span<PointContacts* const> contacts,
-                 std::span<TriangleContacts* const> triangles) override {
+                 const ContactSet& set) override {
+    const auto transient = set.pairs();
     const auto pools = m.links.pools();
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
     step_ = h;
-    // Transient links (stages' contacts of this step): blocks grow with them, never shrink.
+    // The contact set's pairs (this step's): blocks grow with them, never shrink.
     transient_.assign(transient.begin(), transient.end());
     if (transient_blocks_.size() < transient_.size()) transient_blocks_.resize(transient_.size());
     for (std::size_t p = 0; p < transient_.size(); ++p)
@@ -84,34 +82,18 @@ class MatrixFreeSystem final : public ImplicitSystem {
       add_block_diagonal(*pools[p], blocks_[p].data(), diagonal_.data());
     for (std::size_t p = 0; p < transient_.size(); ++p)
       add_block_diagonal(*transient_[p], transient_blocks_[p].data(), diagonal_.data());
-    point_contact_blocks(s, h, rhs, contacts);
-    triangle_contact_blocks(s, h, rhs, triangles);
+    point_contact_blocks(s, h, rhs, set.obstacles());
+    triangle_contact_blocks(s, h, rhs, set.stencils());
     for (std::size_t i = 0; i < diagonal_.size(); ++i)
       diagonal_[i] = free_[i] ? inverse_spd(diagonal_[i]) : Mat3::identity();
   }
 
-  // Stages' point contacts (obstacles): h^2 K + h D on the point's own diagonal block, and the
-  // right-hand side's h^2 df/dx v = -h^2 K v (K alone: the terms with 1/h = 0).
+  // The set's obstacles: h^2 K + h D on each point's own diagonal block (contact_blocks.hpp).
   void point_contact_blocks(const State& s, Real h, Vec3* rhs,
                             std::span<PointContacts* const> contacts) {
-    has_point_blocks_ = !contacts.empty();
+    has_point_blocks_ = obstacles_.take(contacts, s, h, free_list_, rhs);
     if (!has_point_blocks_) return;
-    const Vec3* x = s.x().data();
-    const Vec3* v = s.v().data();
-    std::fill(point_blocks_.begin(), point_blocks_.end(), Mat3{});
-    std::fill(stiffness_.begin(), stiffness_.end(), Mat3{});
-    std::fill(sink_.begin(), sink_.end(), Vec3{});
-    for (PointContacts* c : contacts) {
-      c->set_time(s.time);
-      c->add_terms(free_list_, x, v, Real(1) / h, sink_.data(), point_blocks_.data(), nullptr);
-      if (rhs) c->add_terms(free_list_, x, v, 0, sink_.data(), stiffness_.data(), nullptr);
-      c->set_time(s.time + h);
-    }
-    for (const std::uint32_t i : free_list_) {
-      point_blocks_[i] *= h * h;
-      diagonal_[i] += point_blocks_[i];
-      if (rhs) rhs[i] -= (stiffness_[i] * v[i]) * (h * h);
-    }
+    for (const std::uint32_t i : free_list_) diagonal_[i] += obstacles_.blocks[i];
   }
 
   // Stages' point-triangle contacts: (h^2 k + h z) c c^T n n^T over the candidates in contact,
@@ -215,7 +197,7 @@ class MatrixFreeSystem final : public ImplicitSystem {
     }
 #pragma omp for schedule(static)
     for (std::int64_t i = 0; i < n; ++i) {
-      if (has_point_blocks_) out[i] += point_blocks_[i] * u[i];
+      if (has_point_blocks_) out[i] += obstacles_.blocks[i] * u[i];
       if (!free_[i]) out[i] = Vec3{};
     }
   }
@@ -249,9 +231,8 @@ class MatrixFreeSystem final : public ImplicitSystem {
   std::vector<std::vector<Mat3>> transient_blocks_;  // their blocks (grow-only)
   std::vector<std::uint8_t> free_;
   std::vector<std::uint32_t> free_list_;
-  // Stages' point contacts: h^2 K + h D per point, K alone, and a sink for their forces.
-  std::vector<Mat3> point_blocks_, stiffness_;
-  std::vector<Vec3> sink_;
+  ObstacleBlocks obstacles_;  // the set's obstacles: h^2 K + h D per point
+  std::vector<Vec3> sink_;    // the stencils' right-hand-side products
   bool has_point_blocks_ = false;
   std::vector<TriangleContacts*> triangles_;  // this step's point-triangle contacts
   Real step_ = 0;                             // h of the last linearisation

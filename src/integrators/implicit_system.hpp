@@ -24,14 +24,12 @@ struct SolveResult {
 class ImplicitSystem {
  public:
   virtual ~ImplicitSystem() = default;
-  // Takes the link Jacobians at the state (the model's pools, and `transient` links found by
-  // stages for this step), the stiffness of stages' point contacts and point-triangle contacts
-  // (systems that cannot take them leave those contacts explicit); adds h^2 df/dx v into rhs
-  // when rhs is not null.
+  // Takes the link Jacobians at the state (the model's pools and the contact set's pairs), the
+  // stiffness of the set's obstacles and stencils (a system of fixed pattern refuses scenes
+  // with contact stages: ImplicitEuler::check_stage); adds h^2 df/dx v into rhs when rhs is not
+  // null.
   virtual void linearise(const Model& m, const State& s, Real h, Vec3* rhs,
-                         std::span<const LinkPoolBase* const> transient,
-                         std::span<PointContacts* const> contacts,
-                         std::span<TriangleContacts* const> triangles) = 0;
+                         const ContactSet& contacts) = 0;
   // Solves A dv = rhs (rhs is filtered in place; dv is overwritten, starting from zero).
   // `stop`, when given, is asked every kStopEvery iterations; the solve ends when it answers
   // true (SolveResult::stopped), dv unfinished.

@@ -335,19 +335,20 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   if (!static_ready_) build_static_rows(m);
   // This step's transient pools (stages' contacts) after the model's pools.
   const std::size_t model_pools = m.links.pools().size();
-  const auto transient = forces.transient_links();
+  const ContactSet& set = forces.contacts();
+  const auto transient = set.pairs();
   rows_.resize(model_pools + transient.size());
   for (std::size_t p = 0; p < transient.size(); ++p) {
     rows_[model_pools + p].pool = transient[p];
     rows_[model_pools + p].fixed = false;
   }
-  triangle_rows(forces.triangle_contacts());
-  triangle_contacts_.assign(forces.triangle_contacts().begin(), forces.triangle_contacts().end());
+  triangle_rows(set.stencils());
+  triangle_contacts_.assign(set.stencils().begin(), set.stencils().end());
   transient_pools_ = transient.size();
   bounded_ = triangle_stages_ > 0 || transient_pools_ > 0;
   take_bounds(m, s.x().data());
   dynamic_ = model_dynamic_ || !transient.empty() || triangle_stages_ > 0;
-  const auto pc = forces.point_contacts();
+  const auto pc = set.obstacles();
   contacts_.assign(pc.begin(), pc.end());
   entry_.begin(pc, xn_.data(), n);
   margin_ = -1;  // no candidates yet this step
@@ -357,17 +358,16 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
   const Vec3* v = s.v().data();
   std::copy(x, x + n, xn_.begin());
   std::copy(v, v + n, vn_.begin());
-  // f_ext: the evaluated forces without the ones the solve takes implicitly.
+  // f_ext: the evaluated forces without the model's links, which the solve takes implicitly
+  // (the contact set's forces are not in s.f(): the solve evaluates them itself).
   std::fill(g_.begin(), g_.end(), Vec3{});
   LinkCounters counters;
-  for (const PoolRows& r : rows_) accumulate_forces(*r.pool, x, v, g_.data(), counters);
-  for (std::size_t t = 0; t < triangle_stages_; ++t)
-    triangles_[t].contacts->accumulate(x, v, g_.data());
+  for (std::size_t p = 0; p < model_pools; ++p)
+    accumulate_forces(*rows_[p].pool, x, v, g_.data(), counters);
   thinnest_ = std::numeric_limits<Real>::infinity();
-  for (PointContacts* c : contacts_) {
+  for (PointContacts* c : contacts_) {  // friction's normal force held from (x_n, t_n)
     thinnest_ = std::min(thinnest_, c->thickness());
     c->set_time(s.time);
-    c->add_terms(free_, x, v, Real(1) / h, g_.data(), hess_.data(), nullptr);
     c->lag(free_, x, v, t_next);
   }
   const auto f = s.f();

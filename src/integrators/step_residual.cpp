@@ -9,7 +9,7 @@
 namespace maille {
 
 void StepResidual::implicit_forces(const Model& m, const State& s, Real h,
-                                   const ForceEvaluator& forces, std::vector<Vec3>& f) {
+                                   const ContactSet* contacts, std::vector<Vec3>& f) {
   const std::size_t n = s.size();
   const Vec3* x = s.x().data();
   const Vec3* v = s.v().data();
@@ -17,26 +17,22 @@ void StepResidual::implicit_forces(const Model& m, const State& s, Real h,
   if (blocks_.size() != n) blocks_.assign(n, Mat3{});
   LinkCounters counters;
   for (const auto& pool : m.links.pools()) accumulate_forces(*pool, x, v, f.data(), counters);
-  for (const LinkPoolBase* pool : forces.transient_links())
-    accumulate_forces(*pool, x, v, f.data(), counters);
-  for (const TriangleContacts* t : forces.triangle_contacts()) t->accumulate(x, v, f.data());
-  for (const PointContacts* c : forces.point_contacts())
-    c->add_terms(free_, x, v, Real(1) / h, f.data(), blocks_.data(), nullptr);
+  if (contacts) contacts->add_forces(free_, x, v, Real(1) / h, f.data(), blocks_.data());
 }
 
-void StepResidual::begin(const Model& m, const State& s, Real h, const ForceEvaluator& forces,
+void StepResidual::begin(const Model& m, const State& s, Real h,
                          std::span<const std::uint32_t> free) {
   const std::size_t n = s.size();
   free_ = free;
   vn_.assign(s.v().begin(), s.v().end());
-  implicit_forces(m, s, h, forces, work_);
+  implicit_forces(m, s, h, nullptr, work_);
   explicit_.resize(n);
   const auto f = s.f();
   for (std::size_t i = 0; i < n; ++i) explicit_[i] = f[i] - work_[i];
 }
 
-double StepResidual::end(const Model& m, const State& s, Real h, const ForceEvaluator& forces) {
-  implicit_forces(m, s, h, forces, work_);
+double StepResidual::end(const Model& m, const State& s, Real h, const ContactSet& contacts) {
+  implicit_forces(m, s, h, &contacts, work_);
   const auto v = s.v();
   Real worst = 0, heaviest = 0;
   for (const std::uint32_t i : free_) {

@@ -238,8 +238,8 @@ TEST(Allocation, NoneInTheStepWithEveryStageKind) {
     for (const std::string& sc : {self, triangles}) cases.push_back({scheme, "", sc + facets});
   for (const char* scheme : {"velocity_verlet", "rk4"})
     for (const std::string& sc : {self, triangles}) cases.push_back({scheme, "", sc});
-  // Implicit Euler runs facets after its solve; eigen refuses stage contacts by name (it runs
-  // in NoneInTheStepAfterTheFirst, on a flag in the wind).
+  // Implicit Euler runs facets after its solve. eigen is the allocating reference (Eigen's CG
+  // allocates its vectors on every solve, and the contacts rebuild its pattern): not here.
   for (const char* solver : {"matrix_free", "vbd"})
     for (const std::string& sc : {self, triangles})
       cases.push_back({"implicit_euler", solver, sc + facets});

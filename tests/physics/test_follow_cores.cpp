@@ -136,7 +136,7 @@ TEST(FollowCores, ThreadsChangingMidRunKeepTheTrajectory) {
       {"leapfrog", ImplicitSolver::matrix_free, kStages + self + facets},
       {"implicit_euler", ImplicitSolver::matrix_free, kStages + self + facets},
       {"implicit_euler", ImplicitSolver::vbd, kStages + triangles + facets},
-      {"implicit_euler", ImplicitSolver::eigen, ""},  // eigen refuses stage contacts
+      {"implicit_euler", ImplicitSolver::eigen, kStages + self},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.scheme + " (" + std::string(to_string(c.solver)) + ") " +

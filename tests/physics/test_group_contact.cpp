@@ -166,7 +166,7 @@ TEST(GroupContact, NoLinkPerPair) {
   EXPECT_FALSE(has_stage(all.model));
 }
 
-// Implicit Euler sees the stage's pairs as conditional links (Stage::implicit_links): with
+// Implicit Euler sees the stage's pairs as conditional links (the step's ContactSet, Stage::find_contacts): with
 // the matrix-free CG the same solve as with the model's links (inactive links have zero
 // blocks), to rounding; vertex block descent gathers each point's links and contacts per
 // point, where an inactive link adds nothing (measured identical; bound as for CG).

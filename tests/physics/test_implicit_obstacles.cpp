@@ -168,8 +168,14 @@ TEST(ImplicitConditionalObstacle, SolveTermsAreTheStageForceAndDominateItsDeriva
   const Vec3 x0{0.05, 0.305, -0.02}, v0{0.1, -0.3, 0.05};
   m.points.add(PointKind::free, 0.001, x0, v0);
   std::unique_ptr<Stage> stage = make_obstacle_stage(m, o);
-  PointContacts* contacts = stage->point_contacts();
-  ASSERT_NE(contacts, nullptr);
+  ASSERT_TRUE(stage->finds_contacts());
+  ContactSet set;
+  {
+    State at(1);
+    stage->find_contacts(m, at, StageContext{}, set);
+  }
+  ASSERT_EQ(set.obstacles().size(), 1u);
+  PointContacts* contacts = set.obstacles()[0];
   EXPECT_EQ(contacts->thickness(), Real(0.02));
   State s(1);
   s.x()[0] = x0;

@@ -106,9 +106,9 @@ TEST(SelfFriction, ClothOnClothSticksOnTrianglesAtLargeSteps) {
   EXPECT_LT(std::abs(slid_on_a_tilted_cloth(30, Real(0.8), "implicit_euler", h, 1.0, tri)), 1e-2);
 }
 
-// The pool's forces at the step's start are the stage's own (normal law and friction): the
-// solvers take the stage's start-of-step force back out through them, so a mismatch would stay
-// in the step as an explicit force.
+// The contact set's pairs at the step's start give the explicit pass's forces (normal law and
+// friction): an implicit step that starts at rest against a contact starts from the force an
+// explicit scheme would apply, the same law evaluated over the set found at radius + margin.
 TEST(SelfFriction, LaggedTermsAtTheStepStartAreTheStagesForces) {
   Model m;
   FlagParams a;
@@ -137,9 +137,14 @@ TEST(SelfFriction, LaggedTermsAtTheStepStartAreTheStagesForces) {
   StageContext ctx;
   ctx.h = 1.0 / 60;
   ctx.jacobians = true;
-  stage->apply(m, st, ctx);  // adds the stage's forces into st.f(), fills the pool
-  const LinkPoolBase* pool = stage->implicit_links();
-  ASSERT_NE(pool, nullptr);
+  stage->apply(m, st, ctx);  // the explicit pass: the stage's forces into st.f()
+  State found = st;
+  std::fill(found.f().begin(), found.f().end(), Vec3{});
+  ContactSet set;
+  stage->find_contacts(m, found, ctx, set);  // the solve's: the set, no force
+  for (const Vec3& f : found.f()) ASSERT_EQ(f, Vec3{});
+  ASSERT_EQ(set.pairs().size(), 1u);
+  const LinkPoolBase* pool = set.pairs()[0];
   ASSERT_GT(pool->size(), 0u);
   std::vector<Vec3> f(st.size());
   LinkCounters counters;

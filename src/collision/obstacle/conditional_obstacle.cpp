@@ -113,11 +113,23 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
   }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
+    scan(s, ctx, s.f().data());
+  }
+
+  // Implicit schemes: the solver evaluates the samples' springs at its iterates (PointContacts
+  // below); the step's pass only counts the contacts at x_n.
+  bool finds_contacts() const override { return true; }
+  void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) override {
+    scan(s, ctx, nullptr);
+    set.add(*this);
+  }
+
+  // The contacts at (x_n, t_n): their forces into f (when not null) and the counters.
+  void scan(const State& s, const StageContext& ctx, Vec3* f) {
     // The rigid motion since t = 0 (x_now = R x_0 + d): particles go back by its inverse.
     const shapes::Affine now = o_.motion.at(shapes::Affine{}, ctx.t);
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
-    Vec3* f = s.f().data();
     std::uint64_t contacts = 0;
     Real deepest = 0;
     for (std::uint32_t p : set_) {
@@ -125,7 +137,7 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
       if (near.nearest2 >= o_.threshold * o_.threshold) continue;
       ++contacts;
       deepest = std::max(deepest, o_.threshold - std::sqrt(near.nearest2));
-      f[p] += near.force;
+      if (f) f[p] += near.force;
     }
     if (!ctx.profile) return;
     if (ids_[0] < 0)
@@ -150,7 +162,6 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
   // Implicit solvers take the samples' springs into the solve: at each iterate, a point's force
   // is the one apply() would give there, and its stiffness the conditional law's block (definite
   // mode), so VBD and matrix-free CG hold the cloth at large steps as a stiff contact would.
-  PointContacts* point_contacts() override { return this; }
   void set_time(double t) override {
     time_ = t;
     now_ = o_.motion.at(shapes::Affine{}, t);

@@ -64,9 +64,21 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   Phase phase() const override { return obstacle_phase(o_.method); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
+    scan(s, ctx, s.f().data());
+  }
+
+  // Implicit schemes: the solver evaluates the shape's law at its iterates (PointContacts
+  // below); the step's pass only counts the contacts at x_n.
+  bool finds_contacts() const override { return true; }
+  void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) override {
+    scan(s, ctx, nullptr);
+    set.add(*this);
+  }
+
+  // The contacts at (x_n, t_n): their forces into f (when not null) and the counters.
+  void scan(const State& s, const StageContext& ctx, Vec3* f) {
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
-    Vec3* f = s.f().data();
     std::uint64_t contacts = 0;
     Real deepest = 0;
     const Real reach2 = reach_ * reach_;
@@ -84,8 +96,7 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
       if (c.depth <= 0 && !c.rubbing) continue;
       if (c.depth > 0) ++contacts;
       deepest = std::max(deepest, c.depth);
-      const Vec3 force = c.force;
-      f[p] += force;
+      if (f) f[p] += c.force;
     }
     if (!ctx.profile) return;
     if (ids_[0] < 0)
@@ -111,12 +122,10 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
     return e;
   }
 
-  // Implicit solvers: the same law at their iterate, with the stiffness (k + z / h) n n^T along
-  // the world normal (exact for the world-normal variant and for uniform scales; the force,
-  // which decides where the solve converges, is always the brief's), and friction's.
-  PointContacts* point_contacts() override {
-    return this;
-  }
+  // Implicit solvers (PointContacts): the same law at their iterate, with the stiffness
+  // (k + z / h) n n^T along the world normal (exact for the world-normal variant and for uniform
+  // scales; the force, which decides where the solve converges, is always the brief's), and
+  // friction's.
   // The shape's thinnest canonical extent (a torus's tube, a cone's top, else 2) times the
   // placement's smallest stretch, bounded below by 1 / |M_i|_F (Frobenius >= largest singular
   // value of the inverse): never more than the true thickness.

@@ -585,18 +585,47 @@ class SelfCollisionStage final : public Stage {
     }
   }
 
-  void apply(const Model& m, State& s, const StageContext& ctx) override {
-    if (!enabled_) {  // nothing for an implicit solve either (not last step's contacts)
-      contacts_.clear();
-      contacts_.prepare(std::uint32_t(s.size()));
-      triangle_terms_.storage().clear();
-      return;
-    }
+  void apply(const Model&, State& s, const StageContext& ctx) override {
+    if (!enabled_) return;
     threads_ = ctx.threads;
     const SelfCollisionStats st =
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
-    if (ctx.jacobians) contacts_as_links(m, s, ctx);
+    count(ctx, st);
+  }
+
+  // Implicit schemes: this step's candidates within s + margin, once (no explicit pass); the
+  // counters give the candidates and those acting at x_n.
+  bool finds_contacts() const override { return true; }
+  void find_contacts(const Model& m, State& s, const StageContext& ctx, ContactSet& set) override {
+    contacts_.clear();
+    triangle_terms_.storage().clear();
+    triangle_terms_.set_edge_begin(0);
+    if (!enabled_) {  // nothing for the solve (not last step's contacts)
+      contacts_.prepare(std::uint32_t(s.size()));
+      return;
+    }
+    threads_ = ctx.threads;
+    contacts_as_links(m, s, ctx);
+    set.add(contacts_);
+    const bool triangles = engine_.settings().primitive == Primitive::triangles;
+    if (triangles) set.add(triangle_terms_);
+    SelfCollisionStats st;
+    st.candidate_pairs = contacts_.size() + triangle_terms_.candidates().size();
+    const Vec3* x = s.x().data();
+    const Real r2 = engine_.settings().radius * engine_.settings().radius;
+    for (const auto& [a, b] : contacts_.slot_ends())
+      if (norm2(x[b] - x[a]) < r2) ++st.contacts;
+    if (triangles) {
+      const auto acting = triangle_terms_.touching(x, s.v().data());
+      st.triangle_contacts = acting[0];
+      st.edge_contacts = acting[1];
+    }
+    st.cell_size = last_cell_;
+    count(ctx, st);
+  }
+
+  void count(const StageContext& ctx, const SelfCollisionStats& st) {
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
     if (ids_[0] < 0) {
@@ -614,8 +643,8 @@ class SelfCollisionStage final : public Stage {
     p.set_gauge(ids_[5], st.cell_size);
     p.set_count(ids_[6], st.triangle_contacts);
     p.set_count(ids_[8], st.edge_contacts);
-    // The brief's cost model at the resolution used, beside the stage's measured time
-    // (ns_self_collision) in every stats.csv row: P n^2 with P occupied cells, n per cell.
+    // The cost model P n^2 at the resolution used, beside the stage's measured time
+    // (ns_self_collision) in every stats.csv row: P occupied cells, n particles per cell.
     const double per_cell =
         double(engine_.particles()) / std::max<double>(double(st.occupied_cells), 1);
     p.set_gauge(ids_[7], double(st.occupied_cells) * per_cell * per_cell);
@@ -659,11 +688,6 @@ class SelfCollisionStage final : public Stage {
     if (!enabled_) return 0;
     // On the threads of the last pass: the per-thread lists keep their size (no allocation).
     return engine_.energy(s.x().data(), s.v().data(), energy_scratch_, s.size(), threads_);
-  }
-
-  const LinkPoolBase* implicit_links() const override { return &contacts_; }
-  TriangleContacts* triangle_contacts() override {
-    return engine_.settings().primitive == Primitive::triangles ? &triangle_terms_ : nullptr;
   }
 
   SelfCollisionView view() const { return {&engine_.settings(), enabled_, engine_.set()}; }

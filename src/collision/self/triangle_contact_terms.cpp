@@ -115,6 +115,14 @@ Real TriangleContactTerms::distance(std::size_t e, const Vec3* x) const {
   return norm(x[c[0]] - (x[c[1]] * w[0] + x[c[2]] * w[1] + x[c[3]] * w[2]));
 }
 
+std::array<std::size_t, 2> TriangleContactTerms::touching(const Vec3* x, const Vec3* v) const {
+  std::array<std::size_t, 2> out{0, 0};
+  Eval ev;
+  for (std::size_t e = 0; e < candidates_.size(); ++e)
+    if (evaluate(e, x, v, ev) && ev.touching) ++out[e >= edge_begin_ ? 1 : 0];
+  return out;
+}
+
 void TriangleContactTerms::accumulate(const Vec3* x, const Vec3* v, Vec3* f) const {
   Eval ev;
   for (std::size_t e = 0; e < candidates_.size(); ++e)
@@ -162,6 +170,18 @@ void TriangleContactTerms::apply(Real a, Real b, const Vec3* u, Vec3* out) const
       t += (sum - n * dot(n, sum)) * (b * ac.friction);
     }
     for (std::size_t j = 0; j < 4; ++j) out[c[j]] += t * ac.c[j];
+  }
+}
+
+void TriangleContactTerms::couplings(Real a, Real b, std::vector<StencilCoupling>& out) const {
+  const Real s = a * stiffness_ + b * damping_;
+  for (const Active& ac : active_) {
+    Mat3 block = ac.touching ? Mat3::outer(ac.n, ac.n) * s : Mat3{};
+    if (ac.friction > 0) {
+      const Vec3& n = lag_normal_[ac.e];
+      block += (Mat3::identity() - Mat3::outer(n, n)) * (b * ac.friction);
+    }
+    out.push_back({candidates_[ac.e], ac.c, block});
   }
 }
 

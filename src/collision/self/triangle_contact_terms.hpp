@@ -41,6 +41,9 @@ class TriangleContactTerms final : public TriangleContacts {
   std::vector<std::uint8_t>& edge_particles() { return edge_particles_; }
   std::size_t edge_begin() const { return edge_begin_; }
 
+  // The candidates acting at (x, v): {point-triangle, edge-edge} (the stage's counters).
+  std::array<std::size_t, 2> touching(const Vec3* x, const Vec3* v) const;
+
   std::span<const std::array<std::uint32_t, 4>> candidates() const override { return candidates_; }
   void accumulate(const Vec3* x, const Vec3* v, Vec3* f) const override;
   Real distance(std::size_t e, const Vec3* x) const override;
@@ -54,6 +57,7 @@ class TriangleContactTerms final : public TriangleContacts {
   void linearise(const Vec3* x, const Vec3* v) override;
   void apply(Real a, Real b, const Vec3* u, Vec3* out) const override;
   void add_diagonal(Real a, Real b, Mat3* diagonal) const override;
+  void couplings(Real a, Real b, std::vector<StencilCoupling>& out) const override;
 
  private:
   // Candidate e at x, v: whether it acts (closer than s, not a shared feature counted by an
