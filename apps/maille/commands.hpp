@@ -43,7 +43,8 @@ int info(const std::string& scene, const std::vector<std::string>& sets = {},
          const std::string& backend = {}, std::optional<int> gpu_device = {});
 
 // Every declared scene table's keys and every named choice (`maille info --keys`): keys.cpp.
-int describe_keys();
+// With `docs`, rewrites that file's key tables instead (`--update-docs docs/scene-format.md`).
+int describe_keys(const std::string& docs = {});
 
 struct BenchOptions {
   std::string scene;

@@ -156,6 +156,10 @@ int main(int argc, char** argv) {
   info_cmd->add_flag("--keys", info_keys,
                      "Print every declared scene table's keys (docs/scene-format.md's tables) "
                      "and every named choice");
+  std::string info_docs;
+  info_cmd->add_option("--update-docs", info_docs,
+                       "With --keys: rewrite the key tables of this markdown file (each after its "
+                       "<!-- keys: TABLE --> line; docs/scene-format.md) from the declarations");
 
   BenchOptions bo;
   auto* bench_cmd =
@@ -276,7 +280,7 @@ int main(int argc, char** argv) {
   if (*play_cmd) return play(po);
   if (*validate_cmd) return validate(scene, sets);
   if (*info_cmd) {
-    if (info_keys) return describe_keys();
+    if (info_keys) return describe_keys(info_docs);
     if (info_scene->count() == 0 && info_backend_opt->count() == 0) {
       std::cerr << "info: give a scene, --backend NAME, --keys, or both\n";
       return usage;

@@ -19,8 +19,11 @@
 #include <charconv>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "maille/names.hpp"
@@ -57,11 +60,15 @@ struct StageKey {
   // Number keys whose default is another key's value (read before it), like the link kinds'
   // `default_from`: [[contact]]'s rest_length defaults to its threshold.
   Real (*default_from)(const S&) = nullptr;
+  // A check beyond the type, bound and range, run right after the key is read ("must be < 1"):
+  // its message names the key like every other.
+  void (*check)(SceneTable&, const S&) = nullptr;
 };
 
 // The type-erased view of a declaration, as the docs and `maille info --keys` show it.
 struct KeyInfo {
   std::string key, type, unit, default_value, range, methods, doc;
+  std::string group{};  // tables with a first column (the link kinds' "kind"): its cell
 };
 
 namespace key_detail {
@@ -75,6 +82,15 @@ struct member<T C::*> {
 };
 template <auto M>
 using owner_t = typename member<decltype(M)>::owner;
+
+// The member a chain of member pointers names: at<&Flag::material, &Material::stiffness>(flag)
+// is flag.material.stiffness (a key of a nested record, declared on the outer one).
+template <auto M, auto... More, class T>
+constexpr auto& at(T& s) {
+  return ((s.*M).*....*More);  // a left fold over the chain
+}
+template <auto M, auto... More>
+using type_t = std::remove_cvref_t<decltype(at<M, More...>(std::declval<owner_t<M>&>()))>;
 
 // Every `from` in s replaced by `to` (built by appending: GCC 12's -Wrestrict misreads
 // std::string::replace at -O3).
@@ -106,38 +122,40 @@ inline std::string vector_text(const Vec3& v) {
 }  // namespace key_detail
 
 // A number member: bound (> 0, >= 0 or any), then lo <= value <= hi when hi > lo.
-template <auto M>
+template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> number(std::string_view key, Bound bound, Real lo,
                                                   Real hi, KeyDoc d) {
   using S = key_detail::owner_t<M>;
-  return {key,
-          KeyType::number,
-          d,
-          bound,
-          lo,
-          hi,
-          [](SceneTable& t, S& s, const StageKey<S>& k) {
-            s.*M = k.info.required
-                       ? t.real(k.key, k.bound)
-                       : t.real(k.key, k.default_from ? k.default_from(s) : s.*M, k.bound);
-            if (k.hi > k.lo) t.check_range(k.key, s.*M, k.lo, k.hi, k.info.unit);
-          },
-          [](const S& s) { return key_detail::number_text(double(s.*M)); }};
+  return {
+      key,
+      KeyType::number,
+      d,
+      bound,
+      lo,
+      hi,
+      [](SceneTable& t, S& s, const StageKey<S>& k) {
+        auto& v = key_detail::at<M, More...>(s);
+        const Real fallback = k.default_from ? k.default_from(s) : static_cast<Real>(v);
+        const Real r = k.info.required ? t.real(k.key, k.bound) : t.real(k.key, fallback, k.bound);
+        v = r;
+        if (k.hi > k.lo) t.check_range(k.key, r, k.lo, k.hi, k.info.unit);
+      },
+      [](const S& s) { return key_detail::number_text(double(key_detail::at<M, More...>(s))); }};
 }
 
 // A number member whose default is another key's value, `from(s)`, read before it.
-template <auto M>
+template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> number_from(std::string_view key, Bound bound, Real lo,
-                                                       Real hi, Real (*from)(
-                                                           const key_detail::owner_t<M>&),
+                                                       Real hi,
+                                                       Real (*from)(const key_detail::owner_t<M>&),
                                                        KeyDoc d) {
-  auto k = number<M>(key, bound, lo, hi, d);
+  auto k = number<M, More...>(key, bound, lo, hi, d);
   k.default_from = from;
   return k;
 }
 
 // An integer member in [lo, hi].
-template <auto M>
+template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> integer(std::string_view key, std::int64_t lo,
                                                    std::int64_t hi, KeyDoc d) {
   using S = key_detail::owner_t<M>;
@@ -148,31 +166,34 @@ constexpr StageKey<key_detail::owner_t<M>> integer(std::string_view key, std::in
           Real(lo),
           Real(hi),
           [](SceneTable& t, S& s, const StageKey<S>& k) {
-            using T = typename key_detail::member<decltype(M)>::type;
-            s.*M = static_cast<T>(t.integer(k.key, s.*M, static_cast<std::int64_t>(k.lo),
-                                            static_cast<std::int64_t>(k.hi)));
+            using T = key_detail::type_t<M, More...>;
+            key_detail::at<M, More...>(s) = static_cast<T>(
+                t.integer(k.key, key_detail::at<M, More...>(s), static_cast<std::int64_t>(k.lo),
+                          static_cast<std::int64_t>(k.hi)));
           },
-          [](const S& s) { return std::to_string(s.*M); }};
+          [](const S& s) { return std::to_string(key_detail::at<M, More...>(s)); }};
 }
 
 // A named choice (names.hpp) member.
-template <auto M>
+template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> choice(std::string_view key, KeyDoc d) {
   using S = key_detail::owner_t<M>;
-  using E = typename key_detail::member<decltype(M)>::type;
+  using E = key_detail::type_t<M, More...>;
   return {key,
           KeyType::choice,
           d,
           Bound::any,
           0,
           0,
-          [](SceneTable& t, S& s, const StageKey<S>& k) { s.*M = t.choice(k.key, s.*M); },
-          [](const S& s) { return std::string(to_string(s.*M)); },
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            key_detail::at<M, More...>(s) = t.choice(k.key, key_detail::at<M, More...>(s));
+          },
+          [](const S& s) { return std::string(to_string(key_detail::at<M, More...>(s))); },
           [] { return name_list<E>(); }};
 }
 
 // A vector member (any finite components; the table's vec3 getter checks them).
-template <auto M>
+template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> vector(std::string_view key, KeyDoc d) {
   using S = key_detail::owner_t<M>;
   return {key,
@@ -181,14 +202,51 @@ constexpr StageKey<key_detail::owner_t<M>> vector(std::string_view key, KeyDoc d
           Bound::any,
           0,
           0,
-          [](SceneTable& t, S& s, const StageKey<S>& k) { s.*M = t.vec3(k.key, s.*M); },
-          [](const S& s) { return key_detail::vector_text(s.*M); }};
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            // Required vectors: the same message, at the table, as every required key's.
+            if (k.info.required && !t.has(k.key)) t.fail(k.key, "is required but missing");
+            key_detail::at<M, More...>(s) = t.vec3(k.key, key_detail::at<M, More...>(s));
+          },
+          [](const S& s) { return key_detail::vector_text(key_detail::at<M, More...>(s)); }};
+}
+
+// A string member (any text; `required`: no default). Checks beyond the type go in `check`.
+template <auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> text(std::string_view key, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  return {key,
+          KeyType::text,
+          d,
+          Bound::any,
+          0,
+          0,
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            if (k.info.required && !t.has(k.key)) t.fail(k.key, "is required but missing");
+            auto& v = key_detail::at<M, More...>(s);
+            v = t.text(k.key, v, std::span<const std::string_view>{});
+          },
+          [](const S& s) { return std::string(key_detail::at<M, More...>(s)); }};
+}
+
+// A string member that must be one of E's names (names.hpp), kept as the text.
+template <Named E, auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> named_text(std::string_view key, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  auto declared = text<M, More...>(key, d);
+  declared.type = KeyType::choice;
+  declared.read = [](SceneTable& t, S& s, const StageKey<S>& k) {
+    static constexpr auto names = name_views<E>();
+    auto& v = key_detail::at<M, More...>(s);
+    v = t.text(k.key, v, names);
+  };
+  declared.choices = [] { return name_list<E>(); };
+  return declared;
 }
 
 // A choice the stage's parser reads itself (it decides what else is read: a method, a shape).
-template <auto M>
+template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> parsed_choice(std::string_view key, KeyDoc d) {
-  auto k = choice<M>(key, d);
+  auto k = choice<M, More...>(key, d);
   k.read = nullptr;
   return k;
 }
@@ -198,6 +256,27 @@ template <class S>
 constexpr StageKey<S> custom(std::string_view key, KeyType type, KeyDoc d,
                              std::string (*value)(const S&) = nullptr) {
   return {key, type, d, Bound::any, 0, 0, nullptr, value};
+}
+
+// The declaration with a check run right after the key is read.
+template <class S>
+constexpr StageKey<S> checked(StageKey<S> k,
+                              std::type_identity_t<void (*)(SceneTable&, const S&)> check) {
+  k.check = check;
+  return k;
+}
+
+// Reads one declared key (parsers whose reading is structural read key by key, in their order).
+template <class S>
+void read_key(SceneTable& t, S& s, std::span<const StageKey<S>> keys, std::string_view key) {
+  for (const auto& k : keys)
+    if (k.key == key) {
+      if (!k.read) throw std::logic_error("read_key: '" + std::string(key) + "' is custom");
+      k.read(t, s, k);
+      if (k.check) k.check(t, s);
+      return;
+    }
+  throw std::logic_error("read_key: '" + std::string(key) + "' is not declared");
 }
 
 // Whether `method` is among the key's methods (every method when the key names none).
@@ -240,7 +319,10 @@ void read_keys(SceneTable& t, S& s, std::span<const StageKey<S>> keys,
                std::string_view method = {}) {
   if (!method.empty()) check_methods(t, keys, method);
   for (const auto& k : keys)
-    if (k.read) k.read(t, s, k);
+    if (k.read) {
+      k.read(t, s, k);
+      if (k.check) k.check(t, s);
+    }
 }
 
 // Calls f(key, value text) for every declared key whose value the settings hold.
@@ -292,10 +374,11 @@ std::vector<KeyInfo> describe_keys(std::span<const StageKey<S>> keys, const S& d
       i.default_value = k.info.default_doc;
     else if (k.info.required)
       i.default_value = "required";
-    else if (k.value)
-      i.default_value = std::string(k.type == KeyType::choice ? "`\"" : "`")
-                            .append(k.value(defaults))
-                            .append(k.type == KeyType::choice ? "\"`" : "`");
+    else if (k.value) {
+      const bool quoted = k.type == KeyType::choice || k.type == KeyType::text;
+      i.default_value =
+          std::string(quoted ? "`\"" : "`").append(k.value(defaults)).append(quoted ? "\"`" : "`");
+    }
     if (!k.info.range_doc.empty()) {
       i.range = k.info.range_doc;
     } else if (k.type == KeyType::choice) {

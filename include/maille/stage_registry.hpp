@@ -18,6 +18,8 @@
 
 namespace maille {
 
+class LinkKindRegistry;
+
 class StageRegistry {
  public:
   struct Entry {
@@ -52,11 +54,21 @@ struct DeclaredTable {
   std::string table;
   std::string description;
   std::vector<KeyInfo> keys;
-  bool methods = false;  // some key is used by some methods only: a "methods" column
+  bool methods = false;        // some key is used by some methods only: a "methods" column
+  std::string group_column{};  // a first column ("kind": KeyInfo::group), or none
 };
-// The registry's stage tables, then the other declared tables ([fields.wind]).
-std::vector<DeclaredTable> declared_tables(const StageRegistry& stages);
+// Every table a scene file may hold, in docs/scene-format.md's order: the scene's own tables
+// (src/scene/scene_keys.cpp), the link kinds' fields (of `kinds`), sound, the registry's stage
+// tables, the bricks and the builders (src/scene/builder_keys.cpp).
+std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
+                                           const LinkKindRegistry& kinds);
+std::vector<DeclaredTable> declared_tables(const StageRegistry& stages);  // built-in kinds
 // The table's markdown: the header line, the separator, one row per key (docs/scene-format.md).
 std::vector<std::string> markdown_table(const DeclaredTable& t);
+// The line that stands before a table's generated rows in the docs: "<!-- keys: [scene] -->".
+std::string key_table_marker(const DeclaredTable& t);
+// `doc` with the table after each marker replaced by the declared one (prose is kept as is);
+// throws std::invalid_argument for a marker that names no table of `tables`.
+std::string with_declared_tables(std::string_view doc, std::span<const DeclaredTable> tables);
 
 }  // namespace maille

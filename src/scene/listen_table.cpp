@@ -3,6 +3,8 @@
 // along `axis`. [audio]: the rate, the sample format, the gain and the resampler.
 #include "listen_table.hpp"
 
+#include "audio_keys.hpp"
+
 #include <string>
 
 namespace maille {
@@ -65,11 +67,8 @@ namespace {
 audio::Listener listener(TomlCursor& t, const Model& m) {
   audio::Listener l;
   l.point = listened_point(t, m, l.label);
-  l.quantity = t.choice("quantity", l.quantity);
-  const Vec3 axis = t.vec3("axis", l.axis);
-  const Real length = norm(axis);
-  if (!(length > Real(1e-12))) t.fail("axis", "must not be zero");
-  l.axis = axis / length;
+  read_keys(t, l, listen_keys());  // quantity, axis (audio_keys.cpp)
+  l.axis = l.axis / norm(l.axis);
   t.finish();
   return l;
 }
@@ -81,20 +80,16 @@ audio::AudioSpec read_audio_tables(TomlCursor& top, const Model& m) {
   for (auto& t : top.tables("listen")) spec.listeners.push_back(listener(t, m));
   if (auto t = top.table("audio")) {
     audio::AudioSettings& s = spec.settings;
-    s.rate = static_cast<int>(t->integer("rate", s.rate, audio::min_rate, audio::max_rate));
-    s.format = t->choice("format", s.format);
+    read_key(*t, s, audio_keys(), "rate");  // the keys: audio_keys.cpp
+    read_key(*t, s, audio_keys(), "format");
     if (t->has("gain") && !t->has_text("gain")) {
       s.gain = t->real("gain", 1, Bound::positive);
       t->check_range("gain", s.gain, 0, 1e30, "");
     } else if (t->text("gain", "auto", {"auto"}) == "auto") {
       s.gain = 0;
     }
-    s.resampler = t->choice("resampler", s.resampler);
-    s.osc_port = static_cast<int>(t->integer("osc_port", 0, 1024, 65535));
-    s.osc_host = t->text("osc_host", s.osc_host, {});
-    if (s.osc_host.empty()) t->fail("osc_host", "must not be empty (an address: \"127.0.0.1\")");
-    s.midi_port = t->text("midi_port", s.midi_port, {});
-    if (s.midi_port.empty()) t->fail("midi_port", "must not be empty (a port name)");
+    for (const char* key : {"resampler", "osc_port", "osc_host", "midi_port"})
+      read_key(*t, s, audio_keys(), key);
     if (spec.listeners.empty())
       t->fail("", "an [audio] table needs at least one [[listen]] table (its channels)");
     t->finish();

@@ -10,37 +10,32 @@
 #include "maille/limits.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/stage_keys.hpp"
+#include "scene_keys.hpp"
 #include "stage_tables.hpp"
 
 namespace maille {
 
 namespace {
 
-Real frequency(SceneTable& t) {
-  const Real f = t.real("frequency", Bound::positive);
-  t.check_range("frequency", f, 0, 1e6, "Hz");
-  return f;
-}
-
 // motion = { path = "rotate" | "translate" | "oscillate", ... }
 ObstacleMotion motion(SceneTable& t, const Vec3& position) {
   ObstacleMotion mo;
   mo.kind = t.choice("path", ObstacleMotion::Kind::rotate);
+  // Each path reads its keys (motion_keys(), scene_keys.cpp); another path's key is unknown.
+  auto read = [&](std::initializer_list<const char*> keys) {
+    for (const char* key : keys) read_key(t, mo, motion_keys(), key);
+  };
   switch (mo.kind) {
     case ObstacleMotion::Kind::rotate:
-      mo.axis = t.vec3("axis", mo.axis);
-      if (norm(mo.axis) == 0) t.fail("axis", "must not be zero");
-      mo.center = t.vec3("center", position);
-      mo.frequency = frequency(t);
+      mo.center = position;  // center's default
+      read({"axis", "center", "frequency"});
       break;
     case ObstacleMotion::Kind::translate:
-      mo.velocity = t.vec3("velocity", {});
+      read({"velocity"});
       break;
     case ObstacleMotion::Kind::oscillate:
     case ObstacleMotion::Kind::none:  // not a name: choice() never returns it
-      mo.amplitude = t.vec3("amplitude", {});
-      mo.frequency = frequency(t);
-      mo.phase = t.real("phase", 0, Bound::any);
+      read({"amplitude", "frequency", "phase"});
       break;
   }
   t.finish();

@@ -24,6 +24,7 @@
 #include "maille/stage_keys.hpp"
 #include "overrides.hpp"
 #include "scene_digest.hpp"
+#include "scene_keys.hpp"
 #include "toml_cursor.hpp"
 #include "toml_guard.hpp"
 
@@ -38,15 +39,6 @@ const StageRegistry& builtin_stages() {
   return builtins;
 }
 
-// A scene name becomes a directory under out/: no separators, no "..", nothing hidden.
-bool safe_name(const std::string& name) {
-  if (name.empty() || name.size() > 200 || name[0] == '.') return false;
-  for (const char c : name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'))
-      return false;
-  return true;
-}
-
 class SceneReader {
  public:
   SceneReader(const LinkKindRegistry& kinds, const StageRegistry& stages, std::string file)
@@ -55,13 +47,8 @@ class SceneReader {
   Scene read(const toml::table& root) {
     TomlCursor top(root, file_, "");
     Scene scene;
-    if (auto t = top.table("scene")) {
-      scene.name = t->text("name", "");
-      if (!scene.name.empty() && !safe_name(scene.name))
-        t->fail("name", "'" + scene.name +
-                            "' names the output directory: use letters, digits, '_', '-' and "
-                            "'.' only, not starting with '.'");
-      scene.description = t->text("description", "");
+    if (auto t = top.table("scene")) {  // scene_keys.cpp declares every table's keys
+      read_keys(*t, scene, scene_keys());
       t->finish();
     }
     if (auto t = top.table("simulation")) scene.settings = simulation(*t);
@@ -103,28 +90,7 @@ class SceneReader {
 
   SimulationSettings simulation(TomlCursor& t) {
     SimulationSettings s;
-    s.integrator = t.text("integrator", s.integrator);
-    if (!IntegratorRegistry::builtin().find(s.integrator))
-      t.fail("integrator", "unknown integrator '" + s.integrator +
-                               "' (known: " + IntegratorRegistry::builtin().names() + ")");
-    s.step = t.real("step", static_cast<Real>(s.step), Bound::positive);
-    t.check_range("step", s.step, limits::min_step, limits::max_duration, "s");
-    s.duration = t.real("duration", static_cast<Real>(s.duration), Bound::positive);
-    t.check_range("duration", s.duration, 0, limits::max_duration, "s");
-    if (s.duration / s.step > Real(limits::max_steps)) {
-      std::ostringstream why;
-      why << "duration / step = " << s.duration / s.step << " steps, more than the limit of "
-          << double(limits::max_steps);
-      t.fail(t.has("duration") ? "duration" : "step", why.str());
-    }
-    s.publish_every = static_cast<int>(t.integer("output_every", s.publish_every, 1, kNeverEvery));
-    s.sample_every = static_cast<int>(t.integer("sample_every", s.sample_every, 0, kNeverEvery));
-    s.threads = static_cast<int>(t.integer("threads", s.threads, 0, 1024));
-    s.backend = t.text("backend", s.backend, name_views<BackendKind>());
-    s.backend_options.device =
-        static_cast<int>(t.integer("gpu_device", s.backend_options.device, -1, 64));
-    s.runaway_factor =
-        t.real("runaway_factor", static_cast<Real>(s.runaway_factor), Bound::positive);
+    read_keys(t, s, simulation_keys());
     if (auto i = t.table("implicit")) {  // declared in implicit_keys.cpp
       read_keys(*i, s.implicit, implicit_keys());
       i->finish();
@@ -135,9 +101,7 @@ class SceneReader {
 
   Fields fields(TomlCursor& t) {
     Fields f;
-    f.gravity = t.vec3("gravity", f.gravity);
-    f.air_drag = t.real("air_drag", f.air_drag, Bound::non_negative);
-    t.check_range("air_drag", f.air_drag, 0, limits::max_stiffness, "1/s");
+    read_keys(t, f, fields_keys());
     if (auto w = t.table("wind")) {
       read_keys(*w, f.wind, wind_keys());  // declared in src/core/wind_keys.cpp
       w->finish();
@@ -153,20 +117,18 @@ class SceneReader {
   }
 
   void point(TomlCursor& t, Model& m, PointKind kind) {
-    const std::string name = t.text("name", "");
-    const Vec3 x = t.vec3("position");
-    const Real mass = t.real("mass", 1, Bound::positive);
-    t.check_range("mass", mass, limits::min_mass, limits::max_mass, "kg");
-    const Vec3 v = kind == PointKind::free ? t.vec3("velocity", Vec3{}) : Vec3{};
+    PointTable p;
+    for (const char* key : {"name", "position", "mass"}) read_key(t, p, point_keys(), key);
+    if (kind == PointKind::free) read_key(t, p, point_keys(), "velocity");  // [[fixed]]: unknown
     std::optional<DrivePath> path;
     if (kind == PointKind::fixed)
-      if (auto d = t.table("drive")) path = drive(*d, x);
+      if (auto d = t.table("drive")) path = drive(*d, p.position);
     const std::uint32_t first = m.points.size();
-    m.points.add(path ? PointKind::driven : kind, mass, x, v);
+    m.points.add(path ? PointKind::driven : kind, p.mass, p.position, p.velocity);
     if (path) m.drives.push_back({first, *path});
-    if (!name.empty()) {
-      claim_name(t, name);
-      m.groups.push_back({name, "point", first, 1});
+    if (!p.name.empty()) {
+      claim_name(t, p.name);
+      m.groups.push_back({p.name, "point", first, 1});
     }
     t.finish();
   }
@@ -175,27 +137,20 @@ class SceneReader {
     DrivePath p;
     p.origin = origin;
     p.kind = t.choice("path", p.kind);
-    p.phase = t.real("phase", 0, Bound::any);
+    // Each path reads its keys (drive_keys()) in this order; another path's key is unknown.
+    auto read = [&](std::initializer_list<const char*> keys) {
+      for (const char* key : keys) read_key(t, p, drive_keys(), key);
+    };
+    read({"phase"});
     switch (p.kind) {
       case DrivePath::Kind::sine:
-        p.amplitude = t.vec3("amplitude");
-        p.frequency = t.real("frequency", Bound::positive);
-        t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
+        read({"amplitude", "frequency"});
         break;
       case DrivePath::Kind::circle:
-        p.radius = t.real("radius", Bound::positive);
-        t.check_range("radius", p.radius, 0, limits::max_coordinate, "m");
-        p.axis = t.vec3("axis", p.axis);
-        if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
-        p.frequency = t.real("frequency", Bound::positive);
-        t.check_range("frequency", p.frequency, 0, 1e6, "Hz");
+        read({"radius", "axis", "frequency"});
         break;
       case DrivePath::Kind::rotate:
-        p.center = t.vec3("center", p.center);
-        p.axis = t.vec3("axis", p.axis);
-        if (norm(p.axis) == 0) t.fail("axis", "must not be zero");
-        p.frequency = t.real("frequency", Bound::positive);
-        p.length = t.real("length", 0, Bound::non_negative);
+        read({"center", "axis", "frequency", "length"});
         break;
       case DrivePath::Kind::keyframes:
         keyframes(t, p);
@@ -281,23 +236,17 @@ class SceneReader {
 
   // [[geometric_point]]: a shape placed by an affine map (docs/scene-format.md).
   void geometric_point(TomlCursor& t, Model& m) {
-    GeometricPoint g;
-    g.name = t.text("name");
+    GeometricPointTable table;  // geometric_point_keys()
+    GeometricPoint& g = table.point;
+    read_key(t, table, geometric_point_keys(), "name");
     for (const auto& other : m.geometric_points)
       if (other.name == g.name) t.fail("name", "another geometric point is named '" + g.name + "'");
-    g.shape = t.choice("shape", g.shape);
+    read_key(t, table, geometric_point_keys(), "shape");
     if (g.shape != ShapeKind::torus && t.has("tube")) t.fail("tube", "only a torus has a tube");
     if (g.shape != ShapeKind::cone && t.has("top")) t.fail("top", "only a cone has a top radius");
-    g.tube = t.real("tube", g.tube, Bound::positive);
-    if (g.tube > 1) t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
-    g.top = t.real("top", g.top, Bound::non_negative);
-    if (g.top > 1) t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
-    const Vec3 position = t.vec3("position", {0, 0, 0});
-    const Vec3 rotation = t.vec3("rotation", {0, 0, 0});
-    const Vec3 scale = t.vec3("scale", {1, 1, 1});
-    if (!(scale.x > 1e-9 && scale.y > 1e-9 && scale.z > 1e-9))
-      t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
-    g.place = shapes::Affine::from(position, rotation, scale);
+    for (const char* key : {"tube", "top", "position", "rotation", "scale"})
+      read_key(t, table, geometric_point_keys(), key);
+    g.place = shapes::Affine::from(table.position, table.rotation, table.scale);
     m.geometric_points.push_back(std::move(g));
     t.finish();
   }
@@ -305,19 +254,19 @@ class SceneReader {
   // [[link]] kind = "geometric_contact": a = a geometric point, b = a free mass (or a group:
   // one contact per free point of it).
   void geometric_contact(TomlCursor& t, const Model& m) {
-    const std::string a = t.text("a");
+    GeometricContactTable table;  // geometric_contact_keys()
+    read_key(t, table, geometric_contact_keys(), "a");
+    const std::string& a = table.a;
     std::uint32_t g = 0;
     while (g < m.geometric_points.size() && m.geometric_points[g].name != a) ++g;
     if (g == m.geometric_points.size())
       t.fail("a", "no geometric point named '" + a +
                       "': a geometric contact links a [[geometric_point]] (a) to a free mass (b)");
-    GeometricContact c;
+    for (const char* key : {"stiffness", "damping", "normal"})
+      read_key(t, table, geometric_contact_keys(), key);
+    GeometricContact& c = table.contact;
     c.geometric = g;
-    c.stiffness = t.real("stiffness", Bound::non_negative);
-    t.check_range("stiffness", c.stiffness, 0, limits::max_stiffness, "N/m");
-    c.damping = t.real("damping", 0, Bound::non_negative);
-    t.check_range("damping", c.damping, 0, limits::max_stiffness, "N.s/m");
-    c.world_normal = t.choice("normal", ContactNormal::canonical) == ContactNormal::world;
+    c.world_normal = table.normal == ContactNormal::world;
     const toml::node* b = t.node("b");
     const Group* group = b && b->is_string() ? m.group(*b->value<std::string>()) : nullptr;
     std::vector<std::uint32_t> points;
@@ -345,7 +294,9 @@ class SceneReader {
   }
 
   void link(TomlCursor& t, Model& m) {
-    const std::string kind = t.text("kind");
+    LinkTable table;  // link_keys(); the kind's own keys are its fields
+    read_key(t, table, link_keys(), "kind");
+    const std::string& kind = table.kind;
     if (kind == "geometric_contact") return geometric_contact(t, m);
     const LinkKindRegistry::Entry* entry = kinds_.find(kind);
     if (!entry)

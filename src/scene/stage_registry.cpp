@@ -1,8 +1,11 @@
 #include "maille/stage_registry.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
+#include "audio_keys.hpp"
+#include "builder_keys.hpp"
 #include "maille/fields.hpp"
 #include "maille/group_contact.hpp"
 #include "maille/integrator.hpp"
@@ -10,6 +13,7 @@
 #include "maille/obstacle.hpp"
 #include "maille/self_collision.hpp"
 #include "maille/stage_keys.hpp"
+#include "scene_keys.hpp"
 #include "stage_tables.hpp"
 
 namespace maille {
@@ -74,30 +78,148 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
 
 }  // namespace
 
-std::vector<DeclaredTable> declared_tables(const StageRegistry& stages) {
+namespace {
+
+template <class S>
+DeclaredTable declared(std::string table, std::string description,
+                       std::span<const StageKey<S>> keys, const S& defaults = S{}) {
+  return {std::move(table), std::move(description), describe_keys(keys, defaults)};
+}
+
+// A link kind's fields (link_kind.hpp: ParamField) as the docs show them, with the bound and
+// the range the scene reader checks ([[link]]: limits::max_parameter).
+std::vector<KeyInfo> describe_fields(const LinkKindRegistry::Entry& kind) {
+  using key_detail::number_text;
+  std::vector<KeyInfo> out;
+  for (const ParamInfo& f : kind.fields) {
+    KeyInfo i;
+    i.key = f.name;
+    i.type = "number";
+    i.unit = unit_for_docs(f.unit);
+    // Built by appending: GCC 12's -Wrestrict misreads "literal" + std::string at -O3.
+    if (f.default_value)
+      i.default_value = std::string("`").append(number_text(double(*f.default_value))).append("`");
+    else if (f.default_is_distance)
+      i.default_value = "the points' distance";
+    else if (!f.default_from.empty())
+      i.default_value = std::string("`").append(f.default_from).append("`");
+    else
+      i.default_value = "required";
+    const std::string most = number_text(double(limits::max_parameter(f.unit)));
+    i.range = f.bound == Bound::positive       ? std::string("(0, ")
+              : f.bound == Bound::non_negative ? std::string("[0, ")
+                                               : std::string("[-").append(most).append(", ");
+    i.range.append(most).append("]");
+    i.methods = "all";
+    i.doc = f.doc;
+    if (out.empty()) i.group = std::string("`").append(kind.keyword).append("`");
+    out.push_back(std::move(i));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
+                                           const LinkKindRegistry& kinds) {
   std::vector<DeclaredTable> out;
+  out.push_back(declared("[scene]", "the scene's name and description", scene_keys()));
+  out.push_back(
+      declared("[simulation]", "the time step, the scheme and the run", simulation_keys()));
+  out.push_back(declared("[simulation.implicit]",
+                         "implicit Euler's solver and its iterations (methods: the solvers)",
+                         implicit_keys()));
+  out.push_back(declared("[fields]", "forces on every free point", fields_keys()));
+  out.push_back(declared("[fields.wind]", "wind on the surface's faces: mean velocity and gusts",
+                         wind_keys()));
+  out.push_back(
+      declared("[[mass]]", "an explicit point: [[mass]] (free) or [[fixed]]", point_keys()));
+  out.push_back(
+      declared("drive", "a scripted path for fixed points (methods: the paths)", drive_keys()));
+  out.push_back(declared("[[link]]", "one link between two points", link_keys()));
+  {
+    DeclaredTable fields{
+        "[[link]] kinds", "each link kind's parameters (link_kind.hpp: fields)", {}};
+    fields.group_column = "kind";
+    for (const auto& kind : kinds.entries())
+      for (auto& k : describe_fields(kind)) fields.keys.push_back(std::move(k));
+    out.push_back(std::move(fields));
+  }
+  out.push_back(declared("[[contact]]",
+                         "conditional spring-dampers between the points of two groups (CORDIS "
+                         "contacts)",
+                         contact_keys()));
+  out.push_back(declared("[[listen]]", "one channel of the scene's sound", listen_keys()));
+  out.push_back(declared("[audio]", "the sound's rate, format, gain and resampler", audio_keys()));
   for (const auto& e : stages.entries())
     out.push_back({e.array ? "[[" + e.table + "]]" : "[" + e.table + "]", e.description, e.keys});
-  out.push_back({"[fields.wind]", "wind on the surface's faces: mean velocity and gusts",
-                 describe_keys(wind_keys(), WindField{})});
-  out.push_back({"[simulation.implicit]",
-                 "implicit Euler's solver and its iterations (methods: the solvers)",
-                 describe_keys(implicit_keys(), ImplicitSettings{})});
-  out.push_back({"[[contact]]",
-                 "conditional spring-dampers between the points of two groups (CORDIS contacts)",
-                 describe_keys(contact_keys(), GroupContactSpec{})});
+  out.push_back(
+      declared("[[obstacle]] motion", "an obstacle's motion (methods: the paths)", motion_keys()));
+  out.push_back(
+      declared("[[geometric_point]]", "a shape placed by an affine map", geometric_point_keys()));
+  out.push_back(declared("geometric_contact", "[[link]] kind = \"geometric_contact\"",
+                         geometric_contact_keys()));
+  out.push_back(declared("[[flag]]", "cloth on a pole", flag_keys()));
+  out.push_back(declared("[[rope]]", "rope or chain", rope_keys()));
+  out.push_back(declared("[[net]]", "net of cords", net_keys()));
+  out.push_back(declared("[[membrane]]", "drum skin with a closed boundary", membrane_keys()));
+  out.push_back(declared("[[lattice]]", "soft 3-D block or ball", lattice_keys()));
+  out.push_back(declared("[[floor]]", "ground of fixed points", floor_keys()));
   for (DeclaredTable& t : out)
     for (const auto& k : t.keys) t.methods = t.methods || k.methods != "all";
   return out;
 }
 
+std::vector<DeclaredTable> declared_tables(const StageRegistry& stages) {
+  return declared_tables(stages, LinkKindRegistry::with_builtins());
+}
+
 std::vector<std::string> markdown_table(const DeclaredTable& t) {
-  std::vector<std::string> lines{
-      t.methods ? "| key | type | unit | default | range | methods | meaning |"
-                : "| key | type | unit | default | range | meaning |",
-      t.methods ? "|---|---|---|---|---|---|---|" : "|---|---|---|---|---|---|"};
-  for (auto& row : markdown_rows(t.keys, t.methods)) lines.push_back(std::move(row));
+  std::string header, rule;
+  if (!t.group_column.empty())
+    header.append("| ").append(t.group_column).append(" "), rule = "|---";
+  header.append("| key | type | unit | default | range | ");
+  rule.append("|---|---|---|---|---|");
+  if (t.methods) header.append("methods | "), rule.append("---|");
+  std::vector<std::string> lines{header.append("meaning |"), rule.append("---|")};
+  const auto rows = markdown_rows(t.keys, t.methods);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::string line;
+    if (!t.group_column.empty())
+      line.append("| ").append(t.keys[i].group).append(t.keys[i].group.empty() ? "" : " ");
+    lines.push_back(line.append(rows[i]));
+  }
   return lines;
+}
+
+std::string key_table_marker(const DeclaredTable& t) {
+  return std::string("<!-- keys: ").append(t.table).append(" -->");
+}
+
+std::string with_declared_tables(std::string_view doc, std::span<const DeclaredTable> tables) {
+  std::vector<std::string> lines;
+  for (std::size_t at = 0; at <= doc.size();) {
+    const std::size_t end = std::min(doc.find('\n', at), doc.size());
+    lines.emplace_back(doc.substr(at, end - at));
+    at = end + 1;
+  }
+  std::string out;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    out += lines[i];
+    if (i + 1 < lines.size()) out += '\n';
+    const DeclaredTable* found = nullptr;
+    for (const auto& t : tables)
+      if (lines[i] == key_table_marker(t)) found = &t;
+    if (!found) {
+      if (lines[i].rfind("<!-- keys: ", 0) == 0)
+        throw std::invalid_argument(
+            std::string("'").append(lines[i]).append("' names no declared table"));
+      continue;
+    }
+    for (const std::string& row : markdown_table(*found)) out.append(row).append("\n");
+    while (i + 1 < lines.size() && lines[i + 1].rfind("|", 0) == 0) ++i;  // the old table
+  }
+  return out;
 }
 
 // Built-in stage tables register here, one line each.

@@ -149,27 +149,69 @@ TEST(Names, AChoiceOffTheTableIsRefusedWithTheTablesList) {
   EXPECT_EQ(r.error().message, "must be one of " + name_list<RopeFixed>() + " (got 'middle')");
 }
 
-// docs/scene-format.md's tables of declared keys are the declarations, row for row
-// (`maille info --keys` prints them to paste).
+// docs/scene-format.md's key tables are the declarations, row for row, for every table a scene
+// may hold: each stands after its `<!-- keys: TABLE -->` line, and the file equals itself with
+// every such table regenerated (`maille info --keys --update-docs docs/scene-format.md`).
 TEST(StageKeys, TheDocsTablesAreTheDeclarations) {
   const auto doc = doc_lines("docs/scene-format.md");
+  std::string text;
+  for (const auto& line : doc) text += line + "\n";
   const auto tables = declared_tables(StageRegistry::with_builtins());
-  ASSERT_GE(tables.size(), 3u);
+  ASSERT_GE(tables.size(), 20u);
+  std::set<std::string> names;
   for (const DeclaredTable& t : tables) {
-    const std::vector<std::string> want = markdown_table(t);
-    // The table starts at its header line right after the section naming the table.
+    EXPECT_TRUE(names.insert(t.table).second) << t.table << " is declared twice";
     std::size_t i = 0;
-    while (i < doc.size() &&
-           !(doc[i].rfind("#", 0) == 0 && doc[i].find("`" + t.table + "`") != std::string::npos))
-      ++i;
-    ASSERT_LT(i, doc.size()) << "no section for " << t.table;
-    while (i < doc.size() && doc[i] != want[0]) ++i;
-    ASSERT_LT(i, doc.size()) << t.table << ": no table with the header " << want[0];
+    while (i < doc.size() && doc[i] != key_table_marker(t)) ++i;
+    ASSERT_LT(i, doc.size()) << "docs/scene-format.md has no " << key_table_marker(t);
+    const std::vector<std::string> want = markdown_table(t);
     for (std::size_t k = 0; k < want.size(); ++k)
-      EXPECT_EQ(i + k < doc.size() ? doc[i + k] : "", want[k]) << t.table << " row " << k;
-    EXPECT_TRUE(i + want.size() >= doc.size() || doc[i + want.size()].rfind("|", 0) != 0)
+      EXPECT_EQ(i + 1 + k < doc.size() ? doc[i + 1 + k] : "", want[k]) << t.table << " row " << k;
+    EXPECT_TRUE(i + 1 + want.size() >= doc.size() || doc[i + 1 + want.size()].rfind("|", 0) != 0)
         << t.table << ": the docs have more rows than declared keys";
   }
+  EXPECT_EQ(with_declared_tables(text, tables), text);
+  // No key table is written by hand: every one follows a marker.
+  for (std::size_t i = 0; i < doc.size(); ++i) {
+    if (doc[i].rfind("| key |", 0) == 0 || doc[i].rfind("| kind | key |", 0) == 0) {
+      EXPECT_TRUE(i > 0 && doc[i - 1].rfind("<!-- keys: ", 0) == 0)
+          << "line " << i + 1 << ": a key table without its <!-- keys: TABLE --> line";
+    }
+  }
+  EXPECT_THROW(with_declared_tables("<!-- keys: [nothing] -->\n", tables), std::invalid_argument);
+}
+
+// The scene's own tables and the builders read through their declarations: a default taken
+// from another key, a bound, a range and a check, with the messages the getters always gave.
+TEST(StageKeys, SceneAndBuilderKeysComeFromTheirDeclarations) {
+  auto error = [](const std::string& table) {
+    const auto r = parse(table);
+    return r ? std::string("no error") : r.error().key + " | " + r.error().message;
+  };
+  EXPECT_EQ(error("[simulation]\nstep = 0\n[[mass]]\nposition = [0, 0, 0]\n"),
+            "simulation.step | must be > 0 (got 0)");
+  EXPECT_EQ(error("[simulation]\nintegrator = \"euler\"\n"),
+            "simulation.integrator | unknown integrator 'euler' (known: " +
+                IntegratorRegistry::builtin().names() + ")");
+  EXPECT_EQ(error("[[mass]]\nmass = 1\n"), "mass[0].position | is required but missing");
+  EXPECT_EQ(error("[[rope]]\npretension = 1\n"), "rope[0].pretension | must be < 1");
+  EXPECT_EQ(error("[[flag]]\nstiffness = 2e12\n"),
+            "flag[0].stiffness | must be in [0, 1e+12] N/m (got 2e+12)");
+  EXPECT_EQ(error("[[fixed]]\nposition = [0, 0, 0]\nvelocity = [1, 0, 0]\n")
+                .rfind("fixed[0].velocity | unknown key", 0),
+            0u);
+  auto r = parse("[[flag]]\nstiffness = 400\nresolution = [4, 3]\n");
+  ASSERT_TRUE(r) << r.error().to_string();
+  FlagParams want;
+  want.material.stiffness = 400;
+  want.shear_stiffness = 200;   // stiffness / 2
+  want.bending_stiffness = 40;  // stiffness / 10
+  want.nx = 4;
+  want.ny = 3;
+  Model m;
+  build_flag(m, want, "flag0");
+  EXPECT_EQ(r->model.points.size(), m.points.size());
+  EXPECT_EQ(r->model.links.total(), m.links.total());
 }
 
 const char* kCloth = R"(
