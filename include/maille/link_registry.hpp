@@ -33,7 +33,8 @@ class LinkKindRegistry {
   std::span<const Entry> entries() const { return entries_; }
   std::string keywords() const;  // "spring, damper, ..." for messages
 
-  // A registry holding the built-in kinds (spring, damper, spring_damper, conditional).
+  // A registry holding the built-in kinds (src/links/builtin_kinds.cpp: spring, damper,
+  // spring_damper, conditional, friction).
   static LinkKindRegistry with_builtins();
 
  private:

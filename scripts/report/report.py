@@ -899,7 +899,7 @@ def gpu(d, v):
             "correctness path, not a GPU; "
             f"it runs at {g(min(ratios)) if ratios else 'n/a'}–{g(max(ratios)) if ratios else 'n/a'}x "
             "the CPU backend's one thread. The bytes each particle-step moves, and the bandwidth "
-            "bound they set on a real GPU, are in [rendering.md](rendering.md#the-gpu-backend-theme-3-t32).")
+            "bound they set on a real GPU, are in [gpu.md](gpu.md#bytes-per-particle-step-and-the-bandwidth-bound).")
     if any(r["config"] == "gpu" and r["status"] != "ok" for r in rows):
         text.append("\"refused\": the scene's self-collision stage has no GPU version in this "
                     "build, and the GPU backend refuses it by name rather than run it wrongly.")
