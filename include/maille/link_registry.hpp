@@ -33,8 +33,7 @@ class LinkKindRegistry {
   std::span<const Entry> entries() const { return entries_; }
   std::string keywords() const;  // "spring, damper, ..." for messages
 
-  // A registry holding the built-in kinds (src/links/builtin_kinds.cpp: spring, damper,
-  // spring_damper, conditional, friction).
+  // A registry holding the built-in kinds (the list: src/links/builtin_kinds.cpp).
   static LinkKindRegistry with_builtins();
 
  private:
