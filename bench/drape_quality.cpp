@@ -1,6 +1,6 @@
 // drape_quality: a scene's speed and its quality in one run, for the large-step frontier of
-// docs/implicit.md (issue 34: "real time at the largest step that keeps stretch <= 10 %, no
-// crossing triangle pair, depth <= 2 mm").
+// docs/implicit.md (the target: real time at the largest step that keeps stretch <= 10 %, no
+// crossing triangle pair, depth <= 2 mm).
 //
 //   drape_quality SCENE [--set KEY=VALUE]... [--threads N] [--duration T] [--every S]
 //

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The CPU/GPU table of issue 10: particle-steps per second of a square flag in gusty wind
+# The CPU/GPU table: particle-steps per second of a square flag in gusty wind
 # (bench/scenes/gpu_flag.toml) at N x N particles, on the CPU with one thread, the CPU with all
 # threads and the GPU backend, with and without self-collision, as one CSV:
 #   size,particles,config,self_collision,threads,steps,seconds,particle_steps_per_second,

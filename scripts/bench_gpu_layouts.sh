@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The GPU backend's two layouts for grid cloth (issue 23; docs/rendering.md, "The structured
-# layout"): particle-steps per second of a square flag in gusty wind (bench/scenes/gpu_flag.toml,
+# The GPU backend's two layouts for grid cloth (docs/gpu.md, "The structured layout"):
+# particle-steps per second of a square flag in gusty wind (bench/scenes/gpu_flag.toml,
 # without self-collision: the link forces are what the layouts change) at N x N particles, with
 # MAILLE_GPU_LAYOUT=general and =structured, in alternating rounds (the fastest round of each is
 # kept: a shared machine's noise lands on both). One CSV:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The largest live model per kind (issue 37; the report's "Playing live" section, docs/sound.md):
+# The largest live model per kind (the report's "Playing live" section, docs/sound.md):
 # `maille play --benchmark` on one thread, 48 kHz, 64-frame periods, for a string (rope with
 # fixed ends, examples/play_string.toml's bead and spacing), a square drum
 # (bench/scenes/play_square_drum.toml) and a lattice bar (bench/scenes/play_lattice_bar.toml) at

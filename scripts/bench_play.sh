@@ -7,7 +7,7 @@
 #   scripts/bench_play.sh [BUILD_DIR] [RINGS...]             the round drum, examples/play_drum.toml
 #                                                            (default rings 8 12 14 18 22 26)
 #   scripts/bench_play.sh [BUILD_DIR] --square [SIDES...]    the square drum, n x n beads with
-#                                                            fixed edges (the measure;
+#                                                            fixed edges (the live budget's measure;
 #                                                            bench/scenes/play_square_drum.toml,
 #                                                            default sides 16 24 32 40 48)
 # Columns: the size (rings or side), points (all, the rim's fixed ones included), threads, then

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The default thread count against 1 and 2 threads on every example (issue 24: "threads that
-# never make a run slower"), on the machine as it is ("idle": no load of ours) and with one core
+# The default thread count against 1 and 2 threads on every example (the rule: threads
+# never make a run slower), on the machine as it is ("idle": no load of ours) and with one core
 # kept busy by a spinning shell loop.
 #
 # Each scene runs a fixed number of steps (after 10 untimed), set by a first run of 20 steps on

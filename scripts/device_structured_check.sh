@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The device check of the GPU's structured layout (issue 23): both layouts on 128^2, 512^2 and
+# The device check of the GPU's structured layout: both layouts on 128^2, 512^2 and
 # 1024^2 flags in gusty wind (bench/scenes/gpu_flag.toml, no self-collision) with --backend
 # gpu, one round each, about 1e8 particle-steps per run (at most 2000 steps); prints a small CSV
 # to stdout:

@@ -98,7 +98,7 @@ if [ -x "$peer" ]; then
 else
   echo "report: $peer not built (Bullet not found): no peer comparison"
 fi
-# The CPU-against-GPU table (issue 10): the GPU backend on whatever EGL finds (llvmpipe when
+# The CPU-against-GPU table: the GPU backend on whatever EGL finds (llvmpipe when
 # there is no GPU, where it is slow: small flags only).
 t=$(now)
 gpu_s=0 gpu_status=absent
@@ -111,7 +111,7 @@ if "$maille" info --backend gpu >/dev/null 2>&1; then
        --out "$data.new/gpu/flags.csv" 2>/dev/null; then gpu_status=ran; else gpu_status=failed; fi
   gpu_s=$(since "$t")
 fi
-# The largest live model per kind (issue 37): `maille play --benchmark` on one thread by size,
+# The largest live model per kind: `maille play --benchmark` on one thread by size,
 # string, square drum and lattice bar (scripts/bench_live.sh).
 t=$(now)
 live_status=failed

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 37's offline sound targets in one run (docs/sound.md, "A lean step"): `maille run --audio
+# The offline sound targets in one run (docs/sound.md, "A lean step"): `maille run --audio
 # --no-frames --threads 1` of examples/sound_drum.toml (target: 4x real time) and
 # examples/sound_plucked_string.toml (25x), as simulated seconds per second of the process's CPU
 # time (user + system: a shared machine inflates wall time, which is shown too), and the same

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 34's performance targets, measured in one run (docs/implicit.md, "The issue's speed
+# VBD's performance targets, measured in one run (docs/implicit.md, "The issue's speed
 # targets"): each part writes its raw output to OUT/ and prints what it measured.
 #   sweep    BM_VbdSweep at 128^2 (and 64^2): ns per point per sweep, scalar and each width the
 #            CPU runs (bench_step)

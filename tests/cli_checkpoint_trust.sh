@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checkpoints refuse what they cannot vouch for (issue 24), each refusal exit 1 naming the file:
+# Checkpoints refuse what they cannot vouch for, each refusal exit 1 naming the file:
 # - a file changed anywhere (a flipped byte in the frame counter, the scheme's history, the
 #   positions; a truncated file): the checksum;
 # - an edited scene (--set of the wind's density, drag, gusts, an obstacle's position, stiffness

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SIGINT and SIGTERM during scene loading stop `maille validate`, `info` and `run` at once with
-# exit 130 and a message (issue 24: loading used to ignore them, and a hanging set-up could only
+# exit 130 and a message (loading used to ignore them, and a hanging set-up could only
 # be killed with SIGKILL). The scene (a 60^3 lattice, 2.8 million links) takes seconds to build.
 set -u
 maille=$1 scene=$2 out=$3

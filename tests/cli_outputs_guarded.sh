@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Outputs never destroy what the user did not name as an output (issue: never a lost file):
+# Outputs never destroy what the user did not name as an output (never a lost file):
 # --audio into a FIFO (a player's pipe) or a device writes into it, leaving the node; --audio
 # naming the scene, stats.csv or a frame is refused before anything is written; an empty path
 # is a usage error; a recording beyond the memory budget is refused up front; a bad

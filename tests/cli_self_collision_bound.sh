@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Self-collision contacts beyond the memory budget: exit 1 with a message naming the radius,
-# never std::bad_alloc and SIGABRT, under a 3 GB address-space limit (issue 24). The fourth
+# never std::bad_alloc and SIGABRT, under a 3 GB address-space limit. The fourth
 # argument is the words the message must hold (default: the particle pairs').
 set -u
 maille=$1 scene=$2 out=$3 words=${4:-contact pairs}

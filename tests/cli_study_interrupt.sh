@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Ctrl-C (SIGINT) and SIGTERM stop `maille study` and scripts/report.sh with exit 130, leaving
-# no *.tmp and no half-made data folder; report.sh keeps the previous data (issue 24: zero-byte
+# no *.tmp and no half-made data folder; report.sh keeps the previous data (zero-byte
 # crossover.csv.tmp and incline.csv.tmp used to stay behind).
 # Usage: cli_study_interrupt.sh MAILLE OUT SOURCE_DIR
 set -u

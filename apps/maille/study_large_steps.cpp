@@ -12,7 +12,7 @@
 //   drape   examples/cloth_on_sphere.toml (read from the file, `--examples`) at 64^2: a 1 m, 0.25
 //   kg cloth (400 N/m, bending
 //           2 N/m) dropped on a ball standing on the ground, with self-collision (the
-//           example's thin layer: particle-face contacts 8 mm thick); the real-time
+//           example's thin layer: particle-face contacts 8 mm thick); the real-time
 //           case, on two threads, VBD only (leapfrog at its limit with self-collision is
 //           minutes), 3 s simulated: the fall, the drape and the folds settling
 //
@@ -190,7 +190,7 @@ void study_large_steps(const StudyOptions& o, const StudyWriter& write) {
       const double spacing = (scene == "heap" ? 0.8 : 1.0) / (c.n - 1);
       for (const Setting& set : drape ? drape_settings : settings) {
         // matrix_free with 3 Newton iterations only at 32^2: at 64^2 it took 398 s per simulated
-        // second on the heap (session 29's data), minutes of study for a row known to lose.
+        // second on the heap (measured), minutes of study for a row known to lose.
         if (set.solver == "matrix_free" && set.iterations > 1 && c.n > 32) continue;
         const Outcome r =
             run(study_scene(scene, c.n, o.examples), spacing, set, drape ? 3.0 : duration);

@@ -1,5 +1,5 @@
 // `maille study obstacles`: the three obstacle methods (geometric, facets, conditional) on the
-// same shapes, as the brief's comparison asks (T2.5). CSV files:
+// same shapes, so that their errors and costs compare. CSV files:
 //
 //   obstacles.csv  a 24 x 24 cloth dropped on a sphere, a cube and a rotated cube, per method:
 //                  the deepest penetration into the true (canonical) shape over the run, the
@@ -8,8 +8,8 @@
 //   incline.csv    a bead released on a plane tilted by theta: the distance slid in T against
 //                  the analytic 0.5 g (sin theta - mu cos theta) T^2 (mu = beta for facets; the
 //                  geometric and conditional methods have no friction: mu = 0)
-//   lean.csv       the brief's mapping through M_d under a non-uniform scale: the angle between
-//                  its force and the ellipsoid's true normal, over the surface, per aspect ratio
+//   lean.csv       the canonical force mapped through M_d under a non-uniform scale: its angle
+//                  to the ellipsoid's true normal, over the surface, per aspect ratio
 //                  (the `normal = "world"` variant is along the normal by construction)
 //
 // The cloth starts 0.8 m up, clear of every shape (the rotated cube's corner reaches 0.73 m).
@@ -164,7 +164,8 @@ void incline_table(std::ostream& f, bool quick) {
 }
 
 // Over the ellipsoid x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 (a sphere scaled a, b, c), points just
-// inside the surface: the angle between the brief's force (through M_d) and the true normal.
+// inside the surface: the angle between the canonical force mapped through M_d and the true
+// normal.
 void lean_table(std::ostream& f) {
   f << "scale_x,scale_y,scale_z,mean_lean_deg,max_lean_deg\n";
   const Vec3 scales[] = {{1, 1, 1}, {1, 0.8, 1}, {1, 0.5, 1}, {1, 0.5, 0.25}, {1, 0.2, 0.2}};

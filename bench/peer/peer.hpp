@@ -1,4 +1,4 @@
-// The peer comparison (issue 11): one scene, two engines, one measuring function.
+// The peer comparison: one scene, two engines, one measuring function.
 //
 //   PeerScene     the physical scene both engines build: a square cloth of side L and mass M,
 //                 n x n particles, flat and horizontal, dropped on a fixed sphere

@@ -1,4 +1,4 @@
-// The GPU backend (Theme 3, T3.2): the step in OpenGL 4.5 compute shaders, behind the backend
+// The GPU backend: the step in OpenGL 4.5 compute shaders, behind the backend
 // seam of backend.hpp. Headless through EGL: Mesa's llvmpipe software driver where there is no
 // GPU (CI), an EGL device otherwise. Built with the renderer (MAILLE_BUILD_RENDER).
 #pragma once
@@ -37,7 +37,7 @@ struct SelfCollisionDebug {
 std::optional<SelfCollisionDebug> self_collision_debug(Backend& b);
 
 // How the GPU runs the links of grid cloth (the grids the CPU's structured kernel takes,
-// detail/structured_grid.hpp; docs/rendering.md, "The structured layout"):
+// detail/structured_grid.hpp; docs/gpu.md, "The structured layout"):
 //   automatic   structured on the grids where it pays (at least kStructuredMinPoints points),
 //               general elsewhere
 //   structured  structured on every grid the CPU takes

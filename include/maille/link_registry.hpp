@@ -33,7 +33,7 @@ class LinkKindRegistry {
   std::span<const Entry> entries() const { return entries_; }
   std::string keywords() const;  // "spring, damper, ..." for messages
 
-  // A registry holding the built-in kinds (spring, damper, spring_damper, conditional).
+  // A registry holding the built-in kinds (the list: src/links/builtin_kinds.cpp).
   static LinkKindRegistry with_builtins();
 
  private:

@@ -13,7 +13,8 @@
 //                                built-in stage runs here: self-collision bins its grid in its
 //                                own force pass)
 //
-// One virtual call per stage per step, never per brick. Stages are installed by code
+// One virtual call per stage per step in the force pass; implicit solvers call a stage's
+// PointContacts per point where they probe one point (VBD's bisection and coarse step). Stages are installed by code
 // (Simulator::add_stage) or by scene tables through StageRegistry (stage_registry.hpp).
 #pragma once
 

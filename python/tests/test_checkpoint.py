@@ -44,7 +44,7 @@ def test_stats_rows_continue(tmp_path):
 
 def test_corrupt_edited_and_restepped_checkpoints_are_refused(tmp_path):
     """A checksum closes the file; the fingerprint covers every key that changes a trajectory
-    (the wind's density here); another step is shown to 17 digits (issue 24)."""
+    (the wind's density here); another step is shown to 17 digits."""
     path = tmp_path / "c.bin"
     a = maille.Simulation(FLAG, threads=1)
     a.step(10)

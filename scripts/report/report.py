@@ -728,7 +728,7 @@ def large_steps(d, figures, v):
           g(r["max_penetration_m"] * 1e3), g(r["final_kinetic_J"]),
           g(r["max_residual"]) if r["solver"] != "leapfrog" else "",
           "yes" if r["stable"] else "**no**", str(threads_of(r))] for r in rows])
-    # The issue's quality bar (stretch at most 10 %, penetration at most 2 mm) at 1/60 s.
+    # The quality bar (stretch at most 10 %, penetration at most 2 mm) at 1/60 s.
     at60 = [r for r in rows if r["solver"] != "leapfrog" and abs(r["step_s"] - 1 / 60) < 1e-6]
     good = [r for r in at60 if r["stable"] and r["max_stretch"] <= 0.1
             and r["max_penetration_m"] <= 2e-3]
@@ -736,7 +736,7 @@ def large_steps(d, figures, v):
         f"{len(good)} of {len(at60)} implicit runs at 1/60 s keep the largest stretch within 10 % "
         f"and the deepest penetration within 2 mm")
     v["large_steps_duration"] = g(max(r["sim_s"] for r in rows if r["scene"] != "drape"), 2)
-    # The issue's first target: VBD at 1/60 s (10 sweeps) at most 0.1x Bullet tuned's time on
+    # The large-step target: VBD at 1/60 s (10 sweeps) at most 0.1x Bullet tuned's time on
     # the sphere, within 10 % stretch: a loss wherever a size misses it.
     missed = []
     for r in rows:
@@ -753,10 +753,10 @@ def large_steps(d, figures, v):
                           f"({pct(r['max_stretch'])} stretch against Bullet's "
                           f"{pct(tuned[0]['max_stretch'])})")
     v["large_steps_loss"] = (
-        "- **VBD is not 10x faster than Bullet** on the cloth on a sphere (the target of issue 20: "
+        "- **VBD is not 10x faster than Bullet** on the cloth on a sphere (the large-step target: "
         "at 1/60 s with 10 sweeps, at most 0.1x Bullet tuned's wall time within 10 % stretch): "
         + "; ".join(missed) + ". docs/implicit.md says where the time goes.") if missed else ""
-    # The issue's real-time case: the drape on two threads, the fastest run within the bar.
+    # The real-time case: the drape on two threads, the fastest run within the bar.
     drape = [r for r in rows if r["scene"] == "drape" and threads_of(r) == 2 and r["stable"]
              and r["max_stretch"] <= 0.1 and r["max_penetration_m"] <= 2e-3]
     best = min(drape, key=lambda r: r["wall_s_per_sim_s"]) if drape else None
@@ -899,7 +899,7 @@ def gpu(d, v):
             "correctness path, not a GPU; "
             f"it runs at {g(min(ratios)) if ratios else 'n/a'}–{g(max(ratios)) if ratios else 'n/a'}x "
             "the CPU backend's one thread. The bytes each particle-step moves, and the bandwidth "
-            "bound they set on a real GPU, are in [rendering.md](rendering.md#the-gpu-backend-theme-3-t32).")
+            "bound they set on a real GPU, are in [gpu.md](gpu.md#bytes-per-particle-step-and-the-bandwidth-bound).")
     if any(r["config"] == "gpu" and r["status"] != "ok" for r in rows):
         text.append("\"refused\": the scene's self-collision stage has no GPU version in this "
                     "build, and the GPU backend refuses it by name rather than run it wrongly.")
@@ -910,7 +910,7 @@ def gpu(d, v):
                          "its bandwidth bound on a real GPU is unknown to this report.")
 
 
-# The anchors' published live figures (issue 37): elements at 44.1 kHz and the share of one core.
+# The anchors' published live figures: elements at 44.1 kHz and the share of one core.
 LIVE_ANCHORS = [("mi-gen~ (Max/MSP, generated code)", "506 one-dimensional masses", 0.67),
                 ("Faust mass-interaction library (generated code)", "598 masses", 0.45)]
 LIVE_KINDS = [("string", "string (a rope with fixed ends, `examples/play_string.toml`'s bead)"),
@@ -961,7 +961,7 @@ def live(d, v):
             "Maille's budget here is stricter."]
     v["live_section"] = "\n\n".join(text)
     if losses:
-        v["live_loss"] = ("- **Live sound below the issue's target**: " + "; ".join(losses) +
+        v["live_loss"] = ("- **Live sound below its target**: " + "; ".join(losses) +
                           " (docs/sound.md, \"A lean step\": where the step's time goes).")
 
 

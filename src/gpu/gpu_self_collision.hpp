@@ -13,7 +13,7 @@
 //   contacts  per particle: candidates of the 27 cells, |d| < s, not excluded (binary search
 //             in its row of the exclusion matrix), normal law and friction summed into f
 //
-// Why these choices (docs/rendering.md, "Self-collision on the GPU", has the measurements):
+// Why these choices (docs/gpu.md, "Self-collision on the GPU", has the measurements):
 // - The box is reduced on the device every step: the positions live there, so a host-side box
 //   would need a download (a stall every few steps) and a margin guessed against the fastest
 //   particle; the reduction is one pass over n, no read-back. Particles outside the grid (not

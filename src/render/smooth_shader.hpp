@@ -1,4 +1,4 @@
-// The smooth-surface compute shader (T3.1): evaluates include/maille/smooth_math.glsl (the math
+// The smooth-surface compute shader: evaluates include/maille/smooth_math.glsl (the math
 // the CPU evaluation in src/surface/smooth_surface.cpp compiles too) at every vertex of the
 // smooth mesh, straight from the positions and vertex-normal buffers the renderer already
 // holds, into a vertex buffer the surface pass draws. Layout as SmoothSurface::evaluate: the

@@ -102,13 +102,13 @@ std::span<const StageKey<SimulationSettings>> simulation_keys() {
             "backend",
             {.doc = "where the step runs: `cpu` (every stage and scheme, double precision, "
                     "OpenMP) or `gpu` (OpenGL 4.5 compute shaders, float: link forces of every "
-                    "built-in kind, gravity, drag, wind, driven points, conditional contacts, "
+                    "built-in kind but `friction`, gravity, drag, wind, driven points, conditional contacts, "
                     "`[self_collision]` with `primitive = \"points\"` and `broad_phase = "
                     "\"uniform\"`, `[[obstacle]]` with `method = \"geometric\"` (every shape, "
                     "motion, friction), `leapfrog`, `symplectic_euler`, and `implicit_euler` "
                     "with `solver = \"vbd\"` and `coarse = \"off\"` on models whose only stages "
                     "are geometric obstacles; a stage or scheme it lacks is refused by name). "
-                    "`--backend` overrides it; see docs/rendering.md, \"The GPU backend\""}),
+                    "`--backend` overrides it; see docs/gpu.md"}),
         integer<&S::backend_options, &BackendOptions::device>(
             "gpu_device", -1, 64,
             {.doc = "the EGL device the `gpu` backend uses (`maille info --backend gpu` lists "

@@ -1,5 +1,5 @@
-// Drawing straight from the GPU backend's buffers (T3.2: "the renderer draws straight from the
-// GPU position buffer"): device snapshots leave the positions on the device, the snapshot
+// Drawing straight from the GPU backend's buffers (the renderer draws from the GPU's position
+// buffer, nothing read back): device snapshots leave the positions on the device, the snapshot
 // exchange hands them from a physics thread's context to a drawing one in the same share group
 // with fences, and the renderer draws, lights (normals) and frames (bounds) them without reading
 // them back. Checked against the host path on the same positions: the same floats, the same

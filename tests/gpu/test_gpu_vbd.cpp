@@ -103,8 +103,8 @@ TEST_F(GpuVbd, MatchesTheCpuWithoutAcceleration) {
 
 // The flag in gusty wind: wind faces taken at the step's start on both (f_ext). Six steps of
 // 1/120 s: from the seventh the top edge, compressed by the wind, buckles, and there the runs
-// part by more than the bound for a few steps (docs/rendering.md, "Implicit Euler by vertex
-// block descent on the GPU", has the measurements).
+// part by more than the bound for a few steps (docs/gpu.md, "Implicit Euler by vertex block
+// descent on the GPU", has the measurements).
 TEST_F(GpuVbd, MatchesTheCpuOnAFlagInWind) {
   const Scene s = test::example_scene("flag_in_wind");
   expect_parity(s.model, vbd(1.0 / 120, 10, 0.9, "cpu"), 6, "flag in wind");
@@ -136,7 +136,7 @@ TEST_F(GpuVbd, EachStepMatchesTheCpuThroughTheFlagsBuckling) {
 
 // Driven points (a pole shaken up and down) move along their path and are never solved for; the
 // cloth follows them as on the CPU. Eight steps: as the flag in wind, the flag then goes through
-// a few steps where the runs part by more than the bound (docs/rendering.md).
+// a few steps where the runs part by more than the bound (docs/gpu.md).
 TEST_F(GpuVbd, MatchesTheCpuWithDrivenPoints) {
   const Scene s = test::example_scene("shaken_flag");
   ASSERT_FALSE(s.model.drives.empty());

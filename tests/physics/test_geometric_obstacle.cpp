@@ -1,7 +1,7 @@
 // Geometric obstacles against physics: a particle resting on each canonical shape (uniform scale)
 // settles exactly m g / k below its top (leapfrog's static equilibrium is exact; damping settles
 // it); under a non-uniform scale the "world" variant pushes along the world normal while the
-// brief's mapping through M_d leans off it; a key the method does not use is an error.
+// canonical force mapped through M_d leans off it; a key the method does not use is an error.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -50,7 +50,7 @@ TEST(GeometricObstacle, ARestingParticleSinksMgOverK) {
 
 // An ellipsoid (sphere scaled 0.6, 0.3, 0.3): at a point inside near the surface off the axes,
 // the world variant's force is along the ellipsoid's normal (the gradient of x^2/a^2 + ...);
-// the brief's mapping leans off it (measured, and reported by the study).
+// the canonical force mapped through M_d leans off it (measured, and reported by the study).
 TEST(GeometricObstacle, WorldNormalVariantUnderNonUniformScale) {
   auto force = [](bool world) {
     Model m;

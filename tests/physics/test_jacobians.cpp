@@ -19,7 +19,7 @@ double frobenius(const Mat3& a) {
 }
 
 // Central differences with step 1e-6 m (or m/s): truncation error ~1e-12 relative, rounding
-// ~1e-10 relative for forces of order 10 N: 1e-5 relative is the bound and has margin.
+// ~1e-10 relative for forces of order 10 N: 1e-5 relative is the bound and has margin.
 template <class K>
 void expect_jacobian_matches(const typename K::Params& p) {
   const Vec3 xa{0.1, -0.2, 0.05}, xb{0.6, 0.15, -0.2}, va{0.3, -1, 0.5}, vb{-0.7, 0.4, 1.1};

@@ -1,4 +1,4 @@
-// Large steps on every cloth example with an obstacle or self-collision (issue 20): implicit
+// Large steps on every cloth example with an obstacle or self-collision: implicit
 // Euler by vertex block descent (the default acceleration) at h = 1/60 s and 1/240 s, run for
 // one simulated second. With 10 sweeps each run stays finite and no point sinks into a
 // geometric obstacle deeper than the penalty's bound (below), and a self-colliding cloth never
@@ -146,7 +146,7 @@ TEST_P(LargeSteps, VbdAtASixtiethAndAQuarterOfThatIsStableApartAndOutOfObstacles
   }
 }
 
-// The issue's real-time case: cloth_on_sphere at 64^2, by VBD at the largest step that keeps
+// The real-time case: cloth_on_sphere at 64^2, by VBD at the largest step that keeps
 // the quality (study `drape`, docs/implicit.md: at h = 1/20 s and 6 sweeps on two threads it
 // runs faster than real time), for the example's 3 s: stable, its folds apart, within 10 %
 // stretch (9.6 % measured, over every spring-damper) and the penalty's depth bound. Two threads:

@@ -598,7 +598,7 @@ TEST(RenderCamera, ProjectAndRayAgree) {
   EXPECT_NEAR(camera.project(camera.target, 640, 480)->y, 240, 1e-9);
 }
 
-// --- smooth surfaces (T3.1) ----------------------------------------------------------------------
+// --- smooth surfaces ----------------------------------------------------------------------------
 
 // The cloth of `name` after `steps` steps, as a snapshot.
 Snapshot curved_snapshot(const char* name, std::uint64_t steps, Scene& scene) {

@@ -134,7 +134,7 @@ stiffness = 10.0
 namespace {
 
 // A spring whose energy is not a number while its force is finite (a kind with a bad energy
-// law): the run must stop as a blow-up that says so in words, never "-nan J" (issue 24).
+// law): the run must stop as a blow-up that says so in words, never "-nan J".
 struct NanEnergySpring {
   static constexpr std::string_view keyword = "nan_energy_spring";
   struct Params {

@@ -1,5 +1,6 @@
 // Trust under bad input: the stability estimate always terminates, sizes are refused before
-// anything is allocated, and only regular scene files of sane size are read.
+// anything is allocated, only regular scene files of sane size are read, and cadences stop at the
+// named "never".
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,8 +9,10 @@
 #include <limits>
 
 #include "maille/limits.hpp"
+#include "maille/link_registry.hpp"
 #include "maille/links/spring.hpp"
 #include "maille/scene.hpp"
+#include "maille/simulator.hpp"
 #include "maille/stability.hpp"
 
 namespace maille {
@@ -102,6 +105,17 @@ TEST(SceneFile, OversizedFileIsRefusedWithoutReading) {
   const Result<Scene> r = load_scene(file);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("limited to"), std::string::npos) << r.error().to_string();
+}
+
+// The cadences (output_every, sample_every) stop at kNeverEvery, the named "never": a larger
+// value is refused with that bound in the message.
+TEST(Limits, TheLargestCadenceIsTheNamedNever) {
+  static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
+  const auto r = parse_scene(
+      "[simulation]\noutput_every = 1073741825\n[[mass]]\nposition = [0, 0, 0]\n", "t.toml", kinds);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message,
+            "must be in [1, " + std::to_string(kNeverEvery) + "] (got 1073741825)");
 }
 
 }  // namespace

@@ -3,7 +3,7 @@
 // for every link, f_a += force, f_b -= force. Every built-in kind, on a random graph and on a
 // grid (which makes runs), on 1 and 2 threads. The sums are the same up to summation order.
 // Also: the greedy colourings (colour_sets, colour_elements) never put two sets sharing a
-// point in one colour.
+// point in one colour, and a conditional kind has a Jacobian for the Euclidean distance only.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -13,12 +13,14 @@
 #include <vector>
 
 #include "maille/colouring.hpp"
+#include "maille/integrator.hpp"
 #include "maille/link_loops.hpp"
 #include "maille/link_pool.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/damper.hpp"
 #include "maille/links/spring.hpp"
 #include "maille/links/spring_damper.hpp"
+#include "maille/model.hpp"
 
 namespace maille {
 namespace {
@@ -237,6 +239,30 @@ TEST(LinkPools, ColouringsNeverShareAPointWithinAColour) {
       },
       40 * 30);
   EXPECT_LE(faces.offsets.size() - 1, 12u);  // greedy on a grid: a handful of colours
+}
+
+// A distance that is not Euclidean (the law acts along it, its Jacobian would differ): the kind
+// has no Jacobian, so implicit Euler refuses it by name instead of using the Euclidean blocks.
+struct ScaledDistance {
+  static constexpr std::string_view keyword = "scaled_conditional";
+  static Separation separation(const Vec3& xa, const Vec3& xb) {
+    return maille::separation(xa, xb * Real(2));
+  }
+  static bool within(const Vec3& xa, const Vec3& xb, Real s) {
+    return norm2(xb * Real(2) - xa) < s * s;
+  }
+};
+
+TEST(LinkPools, TheConditionalJacobianExistsForTheEuclideanDistanceOnly) {
+  EXPECT_TRUE(LinkPool<ConditionalSpringDamper>{}.has_jacobian());
+  EXPECT_FALSE(LinkPool<ConditionalSpringDamperT<ScaledDistance>>{}.has_jacobian());
+  Model m;
+  m.points.add(PointKind::fixed, 1, {0, 0, 0});
+  m.points.add(PointKind::free, 1, {0.1, 0, 0});
+  m.links.pool<ConditionalSpringDamperT<ScaledDistance>>().add({0, 1}, {100, 0, 0.5, 0.5});
+  const auto scheme = IntegratorRegistry::builtin().find("implicit_euler")->make({});
+  EXPECT_NE(scheme->check(m).find("'scaled_conditional' provides no Jacobian"), std::string::npos)
+      << scheme->check(m);
 }
 
 }  // namespace

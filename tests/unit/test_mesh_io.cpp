@@ -304,7 +304,7 @@ TEST(mesh_io, MalformedStlIsRefused) {
 namespace maille {
 namespace {
 
-// One parse (issue 22): the reader triangulates the faces itself. Quads split along the shorter
+// One parse: the reader triangulates the faces itself. Quads split along the shorter
 // diagonal (as tinyobjloader did), larger polygons by ear clipping, non-convex ones included;
 // a polygon with no ear is refused at its line.
 TEST(mesh_io, ObjFacesAreTriangulatedByTheReader) {

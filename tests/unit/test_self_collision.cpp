@@ -255,7 +255,7 @@ namespace {
 
 // A radius below half the spacing lets points slip between particles: the stage says so, with
 // the radius, the spacing and both fixes; at half the spacing, by default, or with triangles, it
-// says nothing (issue 24: a 24 x 24 cloth 3.5 cm apart at radius 1.2 cm folded through itself).
+// says nothing (a 24 x 24 cloth 3.5 cm apart at radius 1.2 cm folded through itself unwarned).
 TEST(SelfCollision, WarnsWhenPointsCanSlipBetweenParticles) {
   Model m;
   FlagParams p;

@@ -1,4 +1,4 @@
-// Smooth surfaces over the physical mesh (T3.1): the surface must pass through every particle,
+// Smooth surfaces over the physical mesh: the surface must pass through every particle,
 // its normals must be those of the surface (finite differences), and a flat cloth must stay flat.
 #include <gtest/gtest.h>
 

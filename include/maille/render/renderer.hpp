@@ -1,7 +1,7 @@
 // The renderer: one OpenGL 4.5 core renderer for the viewer's window and for headless frames.
 //
 // It sees only what the physics publishes (snapshot positions) and the model's static topology;
-// it never calls into the simulator (requirement S5). All methods need the OpenGL context they
+// it never calls into the simulator. All methods need the OpenGL context they
 // were created in to be current on the calling thread; nothing here is thread-safe.
 //
 // What it draws, back to front:

@@ -1,7 +1,7 @@
 // The hand-off between the physics thread and the render thread: a lock-free triple buffer of
 // snapshots. The physics publishes at its own rate and never waits; the renderer takes the latest
 // complete snapshot when it draws and never sees one being written. Snapshots (positions,
-// overlays, placed solids) are all the two threads share (requirement S5); solids' meshes are
+// overlays, placed solids) are all the two threads share; solids' meshes are
 // shared read-only through their shared_ptr, whose count is atomic.
 //
 //   physics thread                 latest_ (atomic)              render thread
