@@ -83,10 +83,10 @@ class GroupContact {
     }
     std::uint64_t tested = 0;
     for (const auto& s : sinks_) tested += s.tested;
-    build_rows();
+    rows_.build(sinks_, near_.size());
     return tested;
   }
-  std::uint64_t pairs() const { return partners_.size() / 2; }
+  std::uint64_t pairs() const { return rows_.pairs(); }
 
   // Each point sums its contacts in its partners' order, then adds the sum to its force: no
   // atomics, the same sums whatever the thread count. The law is evaluated as the link (a in A,
@@ -96,12 +96,12 @@ class GroupContact {
     const Real k = spec_.stiffness, z = spec_.damping, s = spec_.threshold, l0 = spec_.rest_length;
     const auto one = [&](std::int64_t a) {
       const std::size_t qa = std::size_t(a);
-      if (start_[qa] == start_[qa + 1]) return;
+      if (rows_.start[qa] == rows_.start[qa + 1]) return;
       const std::uint32_t pa = set_[near_[qa]];
       const bool b_side = (qtag_[qa] & kSideB) != 0;
       Vec3 sum{};
-      for (std::uint32_t e = start_[qa]; e < start_[qa + 1]; ++e) {
-        const std::uint32_t pb = set_[near_[partners_[e]]];
+      for (std::uint32_t e = rows_.start[qa]; e < rows_.start[qa + 1]; ++e) {
+        const std::uint32_t pb = set_[near_[rows_.partners[e]]];
         if (b_side)
           sum -= law::conditional_law(x[pb], x[pa], v[pb], v[pa], k, z, s, l0);
         else
@@ -121,10 +121,10 @@ class GroupContact {
   // Every pair of the rows once, as (A's point, B's point).
   template <class F>
   void for_each_pair(F&& fn) const {
-    for (std::uint32_t a = 0; a + 1 < start_.size(); ++a)
+    for (std::uint32_t a = 0; a + 1 < rows_.start.size(); ++a)
       if (!(qtag_[a] & kSideB))
-        for (std::uint32_t e = start_[a]; e < start_[a + 1]; ++e)
-          fn(set_[near_[a]], set_[near_[partners_[e]]]);
+        for (std::uint32_t e = rows_.start[a]; e < rows_.start[a + 1]; ++e)
+          fn(set_[near_[a]], set_[near_[rows_.partners[e]]]);
   }
 
  private:
@@ -147,24 +147,6 @@ class GroupContact {
            p.z <= b.hi.z;
   }
 
-  void build_rows() {
-    const std::size_t n = near_.size();
-    start_.assign(n + 1, 0);
-    std::size_t total = 0;
-    for (const auto& s : sinks_) {
-      for (std::size_t k = 0; k < s.pairs.size(); k += 2) ++start_[s.pairs[k] + 1];
-      total += s.pairs.size() / 2;
-    }
-    for (std::size_t a = 0; a < n; ++a) start_[a + 1] += start_[a];
-    partners_.resize(total);
-    cursor_.assign(start_.begin(), start_.end() - 1);
-    for (const auto& s : sinks_)
-      for (std::size_t k = 0; k < s.pairs.size(); k += 2)
-        partners_[cursor_[s.pairs[k]]++] = s.pairs[k + 1];
-    for (std::size_t a = 0; a < n; ++a)
-      std::sort(partners_.begin() + start_[a], partners_.begin() + start_[a + 1]);
-  }
-
   GroupContactSpec spec_;
   std::vector<std::uint32_t> set_;         // global ids: A's points, then B's
   std::vector<std::uint8_t> tag_;          // per local point: side (bit 0), fixed (bit 1)
@@ -175,7 +157,7 @@ class GroupContact {
   std::vector<std::uint8_t> qtag_;         // their tags
   collision::UniformGrid grid_;
   std::vector<collision::Sink> sinks_;
-  std::vector<std::uint32_t> start_, cursor_, partners_;
+  collision::PartnerRows rows_;  // close partners per point
 };
 
 class GroupContactStage final : public Stage {
@@ -298,13 +280,8 @@ class GroupContactStage final : public Stage {
     links_.clear();
     const auto v = s.v();
     for (auto& c : contacts_) {
-      Vec3 mean{};
-      for (const std::uint32_t p : c.set()) mean += v[p];
-      mean = mean * (Real(1) / Real(c.set().size()));
-      Real dv2 = 0;
-      for (const std::uint32_t p : c.set()) dv2 = std::max(dv2, norm2(v[p] - mean));
       const GroupContactSpec& sp = c.spec();
-      const Real margin = std::max(collision::kMotionFactor * std::sqrt(dv2) * h,
+      const Real margin = std::max(collision::motion_margin(v.data(), c.set(), h),
                                    collision::kMinMarginFraction * sp.threshold);
       tested += c.find(s.x().data(), sp.threshold + margin, threads);
       c.for_each_pair([&](std::uint32_t a, std::uint32_t b) {

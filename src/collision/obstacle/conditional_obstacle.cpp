@@ -27,6 +27,7 @@
 #include "maille/state.hpp"
 #include "obstacle_check.hpp"
 #include "obstacle_surface.hpp"
+#include "point_contact_stage.hpp"
 
 namespace maille {
 
@@ -76,7 +77,7 @@ std::vector<Vec3> sample_surface(const TriMesh& mesh, const shapes::Affine& plac
   return samples;
 }
 
-class ConditionalObstacleStage final : public Stage, public PointContacts {
+class ConditionalObstacleStage final : public PointContactStage {
  public:
   ConditionalObstacleStage(const Model& m, Obstacle o)
       : o_(std::move(o)),
@@ -112,20 +113,7 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
     return e;
   }
 
-  void apply(const Model&, State& s, const StageContext& ctx) override {
-    scan(s, ctx, s.f().data());
-  }
-
-  // Implicit schemes: the solver evaluates the samples' springs at its iterates (PointContacts
-  // below); the step's pass only counts the contacts at x_n.
-  bool finds_contacts() const override { return true; }
-  void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) override {
-    scan(s, ctx, nullptr);
-    set.add(*this);
-  }
-
-  // The contacts at (x_n, t_n): their forces into f (when not null) and the counters.
-  void scan(const State& s, const StageContext& ctx, Vec3* f) {
+  void scan(const State& s, const StageContext& ctx, Vec3* f) override {
     // The rigid motion since t = 0 (x_now = R x_0 + d): particles go back by its inverse.
     const shapes::Affine now = o_.motion.at(shapes::Affine{}, ctx.t);
     const Vec3* x = s.x().data();
@@ -139,12 +127,7 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
       deepest = std::max(deepest, o_.threshold - std::sqrt(near.nearest2));
       if (f) f[p] += near.force;
     }
-    if (!ctx.profile) return;
-    if (ids_[0] < 0)
-      ids_ = {ctx.profile->counter("obstacle_" + o_.name + "_contacts"),
-              ctx.profile->gauge("obstacle_" + o_.name + "_depth")};
-    ctx.profile->set_count(ids_[0], contacts);
-    ctx.profile->set_gauge(ids_[1], deepest);
+    count(ctx, o_.name, contacts, deepest);
   }
 
   void stability_terms(std::span<const Real>, std::span<Real> k_row,
@@ -246,7 +229,6 @@ class ConditionalObstacleStage final : public Stage, public PointContacts {
   Vec3 lo_, hi_;  // the samples' box grown by the threshold
   Real inv_cell_ = 1;
   ConditionalSpringDamper::Params params_;
-  std::array<int, 2> ids_{-1, -1};
   double time_ = 0;     // the implicit solve's time (set_time)
   shapes::Affine now_;  // the rigid motion at time_
 };

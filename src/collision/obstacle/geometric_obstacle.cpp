@@ -14,6 +14,7 @@
 #include "maille/shared_laws.hpp"
 #include "maille/state.hpp"
 #include "obstacle_surface.hpp"
+#include "point_contact_stage.hpp"
 
 namespace maille {
 
@@ -39,7 +40,7 @@ Real canonical_reach(const Obstacle& o) {
   return std::numeric_limits<Real>::infinity();
 }
 
-class GeometricObstacleStage final : public Stage, public PointContacts {
+class GeometricObstacleStage final : public PointContactStage {
  public:
   GeometricObstacleStage(const Model& m, Obstacle o)
       : o_(std::move(o)),
@@ -63,20 +64,7 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   GeometricObstacleView view() const { return {&o_, set_, reach_, thickness()}; }
   Phase phase() const override { return obstacle_phase(o_.method); }
 
-  void apply(const Model&, State& s, const StageContext& ctx) override {
-    scan(s, ctx, s.f().data());
-  }
-
-  // Implicit schemes: the solver evaluates the shape's law at its iterates (PointContacts
-  // below); the step's pass only counts the contacts at x_n.
-  bool finds_contacts() const override { return true; }
-  void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) override {
-    scan(s, ctx, nullptr);
-    set.add(*this);
-  }
-
-  // The contacts at (x_n, t_n): their forces into f (when not null) and the counters.
-  void scan(const State& s, const StageContext& ctx, Vec3* f) {
+  void scan(const State& s, const StageContext& ctx, Vec3* f) override {
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
     std::uint64_t contacts = 0;
@@ -98,12 +86,7 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
       deepest = std::max(deepest, c.depth);
       if (f) f[p] += c.force;
     }
-    if (!ctx.profile) return;
-    if (ids_[0] < 0)
-      ids_ = {ctx.profile->counter("obstacle_" + o_.name + "_contacts"),
-              ctx.profile->gauge("obstacle_" + o_.name + "_depth")};
-    ctx.profile->set_count(ids_[0], contacts);
-    ctx.profile->set_gauge(ids_[1], deepest);
+    count(ctx, o_.name, contacts, deepest);
   }
 
   // The penalty's energy, 1/2 k d^2 with d the world penetration: exact where the force is k d
@@ -228,7 +211,6 @@ class GeometricObstacleStage final : public Stage, public PointContacts {
   std::vector<std::uint32_t> set_;
   ObstacleSurface surface_;
   Real reach_ = 0;
-  std::array<int, 2> ids_{-1, -1};
   std::vector<std::uint8_t> member_;  // [points] 1 for the colliding points
   double time_ = 0;                   // of place_now_ (implicit solvers)
   shapes::Affine place_now_;

@@ -29,6 +29,33 @@ constexpr std::array<std::array<int, 3>, 13> kForward = {{{-1, -1, 1},
 
 // After a pass: any thread may find every pair next time (thread_lists.hpp). The callers give
 // every sink the same cap.
+void PartnerRows::build(const std::vector<Sink>& sinks, std::size_t points) {
+  start.assign(points + 1, 0);
+  std::size_t total = 0;
+  for (const auto& s : sinks) {
+    for (std::size_t k = 0; k < s.pairs.size(); k += 2) ++start[s.pairs[k] + 1];
+    total += s.pairs.size() / 2;
+  }
+  for (std::size_t a = 0; a < points; ++a) start[a + 1] += start[a];
+  partners.resize(total);
+  cursor.assign(start.begin(), start.end() - 1);
+  for (const auto& s : sinks)
+    for (std::size_t k = 0; k < s.pairs.size(); k += 2)
+      partners[cursor[s.pairs[k]]++] = s.pairs[k + 1];
+  for (std::size_t a = 0; a < points; ++a)
+    std::sort(partners.begin() + start[a], partners.begin() + start[a + 1]);
+}
+
+Real motion_margin(const Vec3* v, const std::vector<std::uint32_t>& set, Real h, bool absolute) {
+  Vec3 mean{};
+  if (!absolute)
+    for (const std::uint32_t p : set) mean += v[p];
+  mean = mean * (Real(1) / Real(std::max<std::size_t>(set.size(), 1)));
+  Real dv2 = 0;
+  for (const std::uint32_t p : set) dv2 = std::max(dv2, norm2(v[p] - mean));
+  return kMotionFactor * std::sqrt(dv2) * h;
+}
+
 void make_room(std::vector<Sink>& sinks) {
   if (!sinks.empty()) room_for_any_split(sinks, sinks.front().cap, &Sink::pairs);
 }

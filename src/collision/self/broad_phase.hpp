@@ -53,6 +53,21 @@ struct Sink {
   void clear() { pairs.clear(), tested = excluded = skipped = 0, full = false; }
 };
 
+// Close partners per point gathered from the threads' sinks (both orders of each pair) into
+// rows, each sorted: point a's partners are partners[start[a] .. start[a + 1]). The same order
+// whatever thread found which pair. Buffers keep their capacity (no allocation once warm).
+struct PartnerRows {
+  std::vector<std::uint32_t> start, cursor, partners;
+  void build(const std::vector<Sink>& sinks, std::size_t points);
+  std::size_t pairs() const { return partners.size() / 2; }
+};
+
+// The motion margin of the points `set` over a step of h: kMotionFactor h times their largest
+// speed relative to their mean velocity (a common motion, a fall under gravity included, brings
+// no pair closer), or relative to rest when `absolute`.
+Real motion_margin(const Vec3* v, const std::vector<std::uint32_t>& set, Real h,
+                   bool absolute = false);
+
 struct Query {
   const Vec3* x = nullptr;  // [n] positions of the colliding particles
   std::uint32_t n = 0;

@@ -171,9 +171,9 @@ class SelfCollision {
   // cells in use (grid cells around the particles, or the octree's leaves).
   template <class F>
   void for_each_contact(F&& f) const {
-    for (std::uint32_t a = 0; a + 1 < start_.size(); ++a)
-      for (std::uint32_t k = start_[a]; k < start_[a + 1]; ++k)
-        if (partners_[k] > a) f(set_[a], set_[partners_[k]]);
+    for (std::uint32_t a = 0; a + 1 < rows_.start.size(); ++a)
+      for (std::uint32_t k = rows_.start[a]; k < rows_.start[a + 1]; ++k)
+        if (rows_.partners[k] > a) f(set_[a], set_[rows_.partners[k]]);
   }
   std::vector<collision::Box> cell_boxes(const Vec3* x, double cell) const {
     if (s_.broad_phase == BroadPhase::hierarchical) return octree_.leaf_boxes();
@@ -241,8 +241,8 @@ class SelfCollision {
       st.skipped_cells += sink.skipped;
       if (sink.full) refuse_contacts();
     }
-    build_rows();
-    st.contacts = partners_.size() / 2;
+    rows_.build(sinks_, set_.size());
+    st.contacts = rows_.partners.size() / 2;
     return st;
   }
 
@@ -258,8 +258,8 @@ class SelfCollision {
     find(x, threads);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
     for (std::uint32_t a = 0; a < set_.size(); ++a)
-      for (std::uint32_t k = start_[a]; k < start_[a + 1]; ++k)
-        if (partners_[k] > a) out.push_back({set_[a], set_[partners_[k]]});
+      for (std::uint32_t k = rows_.start[a]; k < rows_.start[a + 1]; ++k)
+        if (rows_.partners[k] > a) out.push_back({set_[a], set_[rows_.partners[k]]});
     std::sort(out.begin(), out.end());
     return out;
   }
@@ -314,8 +314,9 @@ class SelfCollision {
     for (std::int64_t a = 0; a < n; ++a) {
       const std::uint32_t pa = set_[std::size_t(a)];
       Vec3 sum{};
-      for (std::uint32_t e = start_[std::size_t(a)]; e < start_[std::size_t(a) + 1]; ++e) {
-        const std::uint32_t pb = set_[partners_[e]];
+      for (std::uint32_t e = rows_.start[std::size_t(a)]; e < rows_.start[std::size_t(a) + 1];
+           ++e) {
+        const std::uint32_t pb = set_[rows_.partners[e]];
         // The laws the GPU runs too (include/maille/detail/link_laws.glsl).
         const Vec3 fn = law::contact_normal_law(x[pa], x[pb], v[pa], v[pb], k, z, r);
         sum += fn;
@@ -437,24 +438,6 @@ class SelfCollision {
     throw std::invalid_argument(why.str());
   }
 
-  void build_rows() {
-    const std::size_t n = set_.size();
-    start_.assign(n + 1, 0);
-    std::size_t total = 0;
-    for (const auto& s : sinks_) {
-      for (std::size_t k = 0; k < s.pairs.size(); k += 2) ++start_[s.pairs[k] + 1];
-      total += s.pairs.size() / 2;
-    }
-    for (std::size_t a = 0; a < n; ++a) start_[a + 1] += start_[a];
-    partners_.resize(total);
-    cursor_.assign(start_.begin(), start_.end() - 1);
-    for (const auto& s : sinks_)
-      for (std::size_t k = 0; k < s.pairs.size(); k += 2)
-        partners_[cursor_[s.pairs[k]]++] = s.pairs[k + 1];
-    for (std::size_t a = 0; a < n; ++a)
-      std::sort(partners_.begin() + start_[a], partners_.begin() + start_[a + 1]);
-  }
-
   void rebuild_exclusion() {
     if (s_.exclusion == Exclusion::none) return;
     exclusion_ = std::make_unique<collision::TopologicalExclusion>(
@@ -470,9 +453,9 @@ class SelfCollision {
   collision::HashedGrid hashed_;
   collision::Octree octree_;
   std::unique_ptr<collision::TriangleProximity> triangles_;
-  std::unique_ptr<collision::EdgeProximity> edges_;       // with triangles_: the faces' edge pairs
-  std::vector<collision::Sink> sinks_;                    // one per thread
-  std::vector<std::uint32_t> start_, cursor_, partners_;  // close partners per particle (CSR)
+  std::unique_ptr<collision::EdgeProximity> edges_;  // with triangles_: the faces' edge pairs
+  std::vector<collision::Sink> sinks_;               // one per thread
+  collision::PartnerRows rows_;                      // close partners per point
   std::vector<SelfCollisionEngine::TuneRecord> tuning_;
   double tuned_cell_ = 0, tuned_diag_ = 0, tuned_density_ = 0;
 };
@@ -763,22 +746,11 @@ class SelfCollisionStage final : public Stage {
     return false;
   }
 
-  static Real motion_margin(const State& s, const std::vector<std::uint32_t>& set, Real h,
-                            bool absolute) {
-    const auto v = s.v();
-    Vec3 mean{};
-    if (!absolute)
-      for (const std::uint32_t p : set) mean += v[p];
-    mean = mean * (Real(1) / Real(std::max<std::size_t>(set.size(), 1)));
-    Real dv2 = 0;
-    for (const std::uint32_t p : set) dv2 = std::max(dv2, norm2(v[p] - mean));
-    return collision::kMotionFactor * std::sqrt(dv2) * h;
-  }
-
   void contacts_as_links(const Model& m, State& s, const StageContext& ctx) {
     contacts_.clear();
     const auto& st = engine_.settings();
-    const Real needed = motion_margin(s, engine_.set(), Real(ctx.h), anchored_);
+    const Real needed =
+        collision::motion_margin(s.v().data(), engine_.set(), Real(ctx.h), anchored_);
     // Grown to twice what is needed when too small, shrunk when four times too large (a cloth
     // come to rest): the wide engine (grid and exclusion) is rebuilt rarely, never per step.
     // The margin in use is part of the state (the candidates, and so the solve's summation

@@ -173,28 +173,29 @@ void TriangleContactTerms::apply(Real a, Real b, const Vec3* u, Vec3* out) const
   }
 }
 
+// An active candidate's block B (block (i, j) of its stencil is c_i c_j B): s n n^T while
+// touching (s = a k + b z), plus friction's damper b mu F_n / max(|v_t|, slip) across the held
+// normal.
+Mat3 TriangleContactTerms::block(const Active& ac, Real s, Real b) const {
+  Mat3 out = ac.touching ? Mat3::outer(ac.n, ac.n) * s : Mat3{};
+  if (ac.friction > 0) {
+    const Vec3& n = lag_normal_[ac.e];
+    out += (Mat3::identity() - Mat3::outer(n, n)) * (b * ac.friction);
+  }
+  return out;
+}
+
 void TriangleContactTerms::couplings(Real a, Real b, std::vector<StencilCoupling>& out) const {
   const Real s = a * stiffness_ + b * damping_;
-  for (const Active& ac : active_) {
-    Mat3 block = ac.touching ? Mat3::outer(ac.n, ac.n) * s : Mat3{};
-    if (ac.friction > 0) {
-      const Vec3& n = lag_normal_[ac.e];
-      block += (Mat3::identity() - Mat3::outer(n, n)) * (b * ac.friction);
-    }
-    out.push_back({candidates_[ac.e], ac.c, block});
-  }
+  for (const Active& ac : active_) out.push_back({candidates_[ac.e], ac.c, block(ac, s, b)});
 }
 
 void TriangleContactTerms::add_diagonal(Real a, Real b, Mat3* diagonal) const {
   const Real s = a * stiffness_ + b * damping_;
   for (const Active& ac : active_) {
-    Mat3 block = ac.touching ? Mat3::outer(ac.n, ac.n) * s : Mat3{};
-    if (ac.friction > 0) {
-      const Vec3& n = lag_normal_[ac.e];
-      block += (Mat3::identity() - Mat3::outer(n, n)) * (b * ac.friction);
-    }
+    const Mat3 stencil = block(ac, s, b);
     for (std::size_t j = 0; j < 4; ++j)
-      diagonal[candidates_[ac.e][j]] += block * (ac.c[j] * ac.c[j]);
+      diagonal[candidates_[ac.e][j]] += stencil * (ac.c[j] * ac.c[j]);
   }
 }
 

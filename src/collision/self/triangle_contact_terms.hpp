@@ -85,6 +85,7 @@ class TriangleContactTerms final : public TriangleContacts {
     bool touching;
     Real friction;
   };
+  Mat3 block(const Active& ac, Real s, Real b) const;
   std::vector<Active> active_;  // linearise's contacts
 };
 

@@ -1,0 +1,46 @@
+// What the obstacle stages whose contacts enter implicit solves as PointContacts (the geometric
+// and conditional methods) share: apply() adds the contact forces at the step's start (explicit
+// schemes); under an implicit scheme find_contacts() puts the stage into the step's contact set
+// (contact_set.hpp: the solver evaluates it at every iterate) and only counts. Both go through
+// the stage's one scan of its points.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "maille/contact_set.hpp"
+#include "maille/profile.hpp"
+#include "maille/stage.hpp"
+#include "maille/state.hpp"
+
+namespace maille {
+
+class PointContactStage : public Stage, public PointContacts {
+ public:
+  void apply(const Model&, State& s, const StageContext& ctx) final { scan(s, ctx, s.f().data()); }
+  bool finds_contacts() const final { return true; }
+  void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) final {
+    scan(s, ctx, nullptr);
+    set.add(*this);
+  }
+
+ protected:
+  // The contacts at (x_n, t_n): their forces into f (when not null), then count().
+  virtual void scan(const State& s, const StageContext& ctx, Vec3* f) = 0;
+  // The counters obstacle_<name>_contacts and obstacle_<name>_depth (m, the deepest).
+  void count(const StageContext& ctx, const std::string& obstacle, std::uint64_t contacts,
+             Real deepest) {
+    if (!ctx.profile) return;
+    if (ids_[0] < 0)
+      ids_ = {ctx.profile->counter("obstacle_" + obstacle + "_contacts"),
+              ctx.profile->gauge("obstacle_" + obstacle + "_depth")};
+    ctx.profile->set_count(ids_[0], contacts);
+    ctx.profile->set_gauge(ids_[1], deepest);
+  }
+
+ private:
+  std::array<int, 2> ids_{-1, -1};
+};
+
+}  // namespace maille
