@@ -9,26 +9,6 @@
 
 namespace maille::collision {
 
-namespace {
-
-// The 13 neighbour offsets after (0, 0, 0) in (z, y, x) order: with the cell itself they cover
-// each pair of adjacent cells exactly once.
-constexpr std::array<std::array<int, 3>, 13> kForward = {{{-1, -1, 1},
-                                                          {0, -1, 1},
-                                                          {1, -1, 1},
-                                                          {-1, 0, 1},
-                                                          {0, 0, 1},
-                                                          {1, 0, 1},
-                                                          {-1, 1, 1},
-                                                          {0, 1, 1},
-                                                          {1, 1, 1},
-                                                          {-1, 1, 0},
-                                                          {0, 1, 0},
-                                                          {1, 1, 0},
-                                                          {1, 0, 0}}};
-
-// After a pass: any thread may find every pair next time (thread_lists.hpp). The callers give
-// every sink the same cap.
 void PartnerRows::build(const std::vector<Sink>& sinks, std::size_t points) {
   start.assign(points + 1, 0);
   std::size_t total = 0;
@@ -56,6 +36,26 @@ Real motion_margin(const Vec3* v, const std::vector<std::uint32_t>& set, Real h,
   return kMotionFactor * std::sqrt(dv2) * h;
 }
 
+namespace {
+
+// The 13 neighbour offsets after (0, 0, 0) in (z, y, x) order: with the cell itself they cover
+// each pair of adjacent cells exactly once.
+constexpr std::array<std::array<int, 3>, 13> kForward = {{{-1, -1, 1},
+                                                          {0, -1, 1},
+                                                          {1, -1, 1},
+                                                          {-1, 0, 1},
+                                                          {0, 0, 1},
+                                                          {1, 0, 1},
+                                                          {-1, 1, 1},
+                                                          {0, 1, 1},
+                                                          {1, 1, 1},
+                                                          {-1, 1, 0},
+                                                          {0, 1, 0},
+                                                          {1, 1, 0},
+                                                          {1, 0, 0}}};
+
+// After a pass: any thread may find every pair next time (thread_lists.hpp). The callers give
+// every sink the same cap.
 void make_room(std::vector<Sink>& sinks) {
   if (!sinks.empty()) room_for_any_split(sinks, sinks.front().cap, &Sink::pairs);
 }
