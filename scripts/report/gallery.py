@@ -30,12 +30,14 @@ GALLERY_TIME = {
     "drum_membrane": 0.3, "lattice_balls_collide": 0.8, "pendulum_chain": 0.53,
     "cloth_heap": 2.5, "cloth_heap_vbd": 2.5, "flag_storm": 3.0, "cloth_wringing": 2.5,
     "cloth_down_stairs": 3.0, "rope_coil": 3.0, "net_and_rotating_cube": 2.0, "shaken_flag": 2.0,
+    "wrung_cloth": 4.0,
 }
 
 # Camera (yaw, pitch[, zoom]) where the automatic framing is not the best view; these are the
 # views of the README's pictures.
 GALLERY_CAMERA = {
     "cloth_heap": "35,25,0.7", "cloth_heap_vbd": "35,25,0.7", "cloth_wringing": "20,20,0.9",
+    "wrung_cloth": "20,20,0.9",
     "two_cloths": "30,30,0.7",
     "flag_storm": "40,10", "tablecloth_on_table": "30,25,0.9", "cloth_down_stairs": "50,20,0.9",
     "cloth_in_bowl": "20,35,0.9", "cloth_on_torus": "30,30,0.9", "cloth_over_rock": "30,25,0.9",
@@ -52,6 +54,13 @@ GALLERY_TIME["smooth_drum"] = 0.3
 GALLERY_FLAGS = {"smooth_flag_16": ["--smooth", "--lod", "4"],
                  "smooth_drum": ["--smooth", "--lod", "6"]}
 
+# Scenes whose stats.csv columns are plotted over their whole duration beside the thumbnail
+# (`maille run SCENE --no-frames`): the wrung strip's crossing triangle pairs, which stay 0 while
+# its point-triangle and edge-edge contacts act.
+GALLERY_PLOTS = {
+    "wrung_cloth": ["intersecting_pairs", "self_triangle_contacts", "self_edge_contacts"],
+}
+
 # The binary the page's commands name: the README's build (the thumbnails may come from another
 # preset's identical build).
 SHOWN_MAILLE = "build/release/apps/maille/maille"
@@ -67,6 +76,47 @@ def kept_timings(md):
         return []
     block = text.split(TIMINGS_BEGIN, 1)[1].split(TIMINGS_END, 1)[0]
     return [""] + (TIMINGS_BEGIN + block + TIMINGS_END).split("\n")
+
+
+def plot_counts(maille, path, name, columns, png):
+    """Runs the scene whole without frames and plots `columns` of its stats.csv against time
+    into png; returns the run's command, or None when the run or the plot failed."""
+    import csv
+    import tempfile
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    with tempfile.TemporaryDirectory() as out:
+        cmd = [maille, "run", path, "--no-frames", "--out", out]
+        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if r.returncode != 0:
+            print(f"gallery: {name}: run for its plot: exit {r.returncode}: "
+                  f"{r.stderr.strip()[-300:]}", file=sys.stderr)
+            return None
+        with open(os.path.join(out, "stats.csv")) as f:
+            rows = list(csv.DictReader(f))
+    t = [float(r["time"]) for r in rows]
+    fig, ax = plt.subplots(figsize=(4.8, 2.4), dpi=100)
+    for c in columns:
+        ax.plot(t, [float(r[c]) for r in rows], label=c, lw=1.2)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("count")
+    ax.legend(fontsize=7, loc="upper left")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(png)
+    plt.close(fig)
+    return [SHOWN_MAILLE, "run", path, "--no-frames"]
+
+
+def with_plot(row, name, rel, shown_run):
+    """The row with the plot of its stats.csv columns after the description."""
+    cells = row.split(" | ")
+    run = " ".join(shlex.quote(c) for c in shown_run)
+    cells[2] += (f"<br>![{name} counts]({rel})<br>{', '.join(GALLERY_PLOTS[name])} over the "
+                 f"whole run (`{run}`, stats.csv)")
+    return " | ".join(cells)
 
 
 def main():
@@ -111,6 +161,10 @@ def main():
         shown = " ".join(shlex.quote(c) for c in [SHOWN_MAILLE] + cmd[1:])
         row = f"| ![{name}]({rel}) | `{name}` | {description} (t = {t:g} s) | `{shown}` |"
         if only and name not in only:
+            plot = os.path.join(a.out, name + "_counts.png")
+            if name in GALLERY_PLOTS and os.path.exists(plot):
+                row = with_plot(row, name, os.path.relpath(plot, md_dir),
+                                [SHOWN_MAILLE, "run", path, "--no-frames"])
             if os.path.exists(png):
                 kept.append(name)
                 rows.append(row)
@@ -129,6 +183,13 @@ def main():
             continue
         size = os.path.getsize(png)
         print(f"gallery: {name:24s} t = {t:5.2f} s  {wall:6.1f} s wall  {size / 1e3:5.1f} kB")
+        if name in GALLERY_PLOTS and not a.quick:
+            plot = os.path.join(a.out, name + "_counts.png")
+            shown_run = plot_counts(a.maille, path, name, GALLERY_PLOTS[name], plot)
+            if shown_run is None:
+                failed.append(name)
+                continue
+            row = with_plot(row, name, os.path.relpath(plot, md_dir), shown_run)
         rows.append(row)
     total = time.monotonic() - started
     page = [
