@@ -2,8 +2,9 @@
 // scene's keys, so that every key a table of the scene declares gets a slider with its
 // documented range, as `maille info --keys` and docs/scene-format.md list them
 // (declared_tables: the stage tables' StageKey declarations, [fields.wind],
-// [simulation.implicit], [[contact]]); and the numbers of the text no table declares (builders,
-// [simulation], [fields]), bounded by the link kinds' ParamField of that name where there is one.
+// [simulation.implicit], [[contact]]: slider_table); and the other numbers of the text
+// (builders, [simulation], [fields]), bounded by the link kinds' ParamField of that name where
+// there is one.
 #include <cstdio>
 #include <cstdlib>
 #include <set>
@@ -102,6 +103,18 @@ void table_sliders(const DeclaredTable& t, const toml::table* written, const std
   }
 }
 
+// The tables whose declared keys get sliders with their declared ranges: the stages' tables and
+// [fields.wind], [simulation.implicit], [[contact]], whose every key a live set() takes alone at
+// either end of its range. The builders', [simulation]'s and [fields]' keys are bounded together
+// by the model they make (a flag's width by its origin and the 1e6 m box, its mass by the mass
+// per point, a step by the duration): their numbers get the sliders of the numbers the text
+// writes, below.
+bool slider_table(const std::string& table, const StageRegistry& registry) {
+  for (const auto& e : registry.entries())
+    if (table == (e.array ? "[[" + e.table + "]]" : "[" + e.table + "]")) return true;
+  return table == "[fields.wind]" || table == "[simulation.implicit]" || table == "[[contact]]";
+}
+
 Bound link_field_bound(const std::string& name, bool& found) {
   static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
   for (const auto& e : kinds.entries())
@@ -127,6 +140,7 @@ std::vector<SliderKey> Playground::slider_keys() const {
   }
   static const StageRegistry registry = StageRegistry::with_builtins();
   for (const DeclaredTable& t : declared_tables(registry)) {
+    if (!slider_table(t.table, registry)) continue;
     const bool array = t.table.rfind("[[", 0) == 0;
     const std::string path = t.table.substr(array ? 2 : 1, t.table.size() - (array ? 4 : 2));
     const toml::node* node = root.at_path(path).node();
