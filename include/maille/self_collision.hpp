@@ -152,6 +152,11 @@ class SelfCollisionEngine {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> close_pairs(const Vec3* x, int threads);
   // Adds contact forces into f (all points); returns what the pass found.
   SelfCollisionStats apply(const Vec3* x, const Vec3* v, Vec3* f, int threads);
+  // After apply() at x, primitive = "triangles": each colliding point's displacement bound for
+  // the step, `share` of its distance to the faces and edges its Verlet lists hold and of the
+  // radius, into bound[global id] (only lowered; the caller fills it with +inf). False when the
+  // pass had no lists (primitive = "points", a list over its budget): nothing is bounded.
+  bool motion_bounds(const Vec3* x, Real share, std::vector<Real>& bound) const;
   const SelfCollisionSettings& settings() const;
   std::size_t particles() const;
   std::size_t exclusion_bytes() const;  // memory held by the exclusion structures

@@ -14,6 +14,7 @@
 #include "follow_cores.hpp"
 #include "free_cores.hpp"
 #include "health.hpp"
+#include "maille/motion_bound.hpp"
 #include "maille/stage_keys.hpp"
 #include "maille/threads.hpp"
 #include "simulator_detail.hpp"
@@ -241,6 +242,17 @@ void Simulator::restore(State state, std::uint64_t frames_published) {
 
 // The step, as a table of contents. Energies are sampled between the force pass and the
 // integration, when forces and (synchronised) velocities belong to the same time t_n.
+// Explicit schemes: the force stages that bound each point's motion in a step (motion_bound.hpp:
+// self-collision's displacement bounds) clamp the scheme's move, before the step ends.
+namespace {
+template <class Stages>
+void bound_motions(Stages& stages, const Model& m, State& s, Real h, Profile& profile) {
+  for (auto& st : stages)
+    if (auto* bounded = dynamic_cast<MotionBound*>(st.stage.get()))
+      bounded->bound_motion(m, s, h, profile);
+}
+}  // namespace
+
 bool Simulator::step() {
   interrupted_ = false;
   if (blow_up_) return false;
@@ -269,6 +281,7 @@ bool Simulator::step() {
     if (responses == ResponseTiming::after_solve) keep_step_start();
     if (!advance_or_stop(h)) return false;
     if (blow_up_) return false;  // a stage refused the solver's iterate (stage_input_finite)
+    if (!integrator_->uses_jacobians()) bound_motions(force_stages_, model_, state_, h, profile_);
     if (responses == ResponseTiming::after_solve) respond_to_solved_motion();
     if (blow_up_) return false;
   }

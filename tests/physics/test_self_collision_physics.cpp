@@ -244,6 +244,34 @@ TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
   EXPECT_NEAR(run(Primitive::triangles, 0.2, 0.2), rest, 1e-6);
 }
 
+// Displacement bounds in explicit steps (MotionBound, self_collision.cpp): a bead shot at 60 m/s
+// at a fixed cloth of triangles moves 6 cm per leapfrog step of 1 ms, three times the contact
+// layer (2 cm): with the penalty alone it would go from above the layer to below the cloth
+// between two steps, unseen (measured without the bounds: it falls through). Each step's move is held within 0.4 of the bead's distance to the faces and
+// edges of its lists, and of the layer's thickness when none is near: the bead closes at most
+// 0.4 of its gap a step (the cloth is fixed), never reaches the face, and the penalty stops it.
+// It then rests at the penalty's equilibrium s - m g / k, as a bead set down gently does (the
+// clamp leaves a slow motion alone: 1e-6 m, the bound of the test above).
+TEST(SelfCollisionPhysics, DisplacementBoundsStopABeadFasterThanTheContactLayer) {
+  Model m = bead_over_fixed_cloth(Primitive::triangles, 0.17, 0.12);
+  m.points.initial_velocity.back() = {0, -60, 0};
+  Simulator sim(std::move(m), test::settings(1e-3));
+  double lowest = 1;
+  std::uint64_t clamped = 0, unbounded = 0;
+  for (int i = 0; i < 30000; ++i) {
+    ASSERT_TRUE(sim.step()) << "step " << i;
+    lowest = std::min(lowest, double(sim.state().x().back().y));
+    for (const auto& c : sim.profile().counters()) {
+      if (c.name == "self_clamped_points") clamped += c.last;
+      if (c.name == "self_unbounded_steps") unbounded += c.last;
+    }
+  }
+  EXPECT_GT(lowest, 0.0) << "the bead went through the cloth";
+  EXPECT_GT(clamped, 0u);
+  EXPECT_EQ(unbounded, 0u);
+  EXPECT_NEAR(sim.state().x().back().y, 0.02 - 0.01 * 9.81 / 500, 1e-6);
+}
+
 }  // namespace
 
 namespace {

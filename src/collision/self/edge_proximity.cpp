@@ -210,6 +210,17 @@ bool EdgeProximity::pairs_hold(const Vec3* x, Real radius, Real reach,
   return 2 * std::sqrt(moved2) <= reach - radius;
 }
 
+bool EdgeProximity::bound_motion(const Vec3* x, Real share, Real* bound) const {
+  if (edges_.size() < 2) return true;
+  if (pairs_reach_ < 0) return false;
+  for (const auto& [a, b] : pairs_) {
+    const auto &ea = edges_[a], &eb = edges_[b];
+    const Real d = share * norm(closest(ea, eb, x).d);
+    for (const std::uint32_t c : {ea[0], ea[1], eb[0], eb[1]}) bound[c] = std::min(bound[c], d);
+  }
+  return true;
+}
+
 std::uint64_t EdgeProximity::apply(const Vec3* x, const Vec3* v, Vec3* f, const TriangleResponse& r,
                                    const TopologicalExclusion* exclusion, int threads) {
   full_ = false;

@@ -17,6 +17,7 @@
 #include "maille/limits.hpp"
 #include "maille/links/conditional.hpp"
 #include "maille/links/spring_damper.hpp"
+#include "maille/motion_bound.hpp"
 #include "maille/profile.hpp"
 #include "maille/shared_laws.hpp"
 #include "maille/simulator.hpp"
@@ -304,6 +305,18 @@ class SelfCollision {
     return e + triangles_->energy(s_.stiffness) + edges_->energy(s_.stiffness);
   }
 
+  // apply()'s displacement bounds at x (MotionBound): `share` times the radius for every
+  // colliding particle, lowered by the distances of the point-triangle and edge-edge Verlet
+  // lists' pairs (bound: by global id). False without both lists (primitive = "points", or a
+  // list over its budget): then nothing is bounded.
+  bool motion_bounds(const Vec3* x, Real share, std::vector<Real>& bound) const {
+    if (!triangles_) return false;
+    for (const std::uint32_t p : set_) bound[p] = share * s_.radius;
+    const bool faces = triangles_->bound_motion(x, share, bound.data());
+    const bool edges = edges_->bound_motion(x, share, bound.data());
+    return faces && edges;
+  }
+
   // Each particle sums its own contacts in its partners' order: no atomics, and the same sums
   // whatever the broad phase, the cell size or the thread count.
   SelfCollisionStats apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
@@ -474,6 +487,9 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> SelfCollisionEngine::close_
 SelfCollisionStats SelfCollisionEngine::apply(const Vec3* x, const Vec3* v, Vec3* f, int threads) {
   return impl_->apply(x, v, f, threads);
 }
+bool SelfCollisionEngine::motion_bounds(const Vec3* x, Real share, std::vector<Real>& bound) const {
+  return impl_->motion_bounds(x, share, bound);
+}
 const SelfCollisionSettings& SelfCollisionEngine::settings() const {
   return impl_->settings();
 }
@@ -513,7 +529,7 @@ std::vector<Triangle> group_faces(const Model& m, const std::vector<std::string>
   return out;
 }
 
-class SelfCollisionStage final : public Stage {
+class SelfCollisionStage final : public Stage, public MotionBound {
  public:
   SelfCollisionStage(const Model& m, const SelfCollisionSettings& s)
       : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {
@@ -575,6 +591,46 @@ class SelfCollisionStage final : public Stage {
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
     count(ctx, st);
+    if (ctx.step != bounded_step_ && engine_.settings().primitive == Primitive::triangles)
+      take_bounds(s, ctx.step);
+  }
+
+  // Explicit schemes, primitive = "triangles": the displacement bounds of the step's first force
+  // pass (x_n), kBoundShare of each point's distance to the faces and edges of its lists and of
+  // the radius. Two points closing in by at most 0.8 of their distance in a step never meet, and
+  // a pair off the lists is farther than the radius at x_n: no triangle passes through another
+  // during the step (docs/implicit.md, "Intersection-free cloth: what holds").
+  static constexpr Real kBoundShare = Real(0.4);
+  void take_bounds(const State& s, std::uint64_t step) {
+    const auto x = s.x();
+    xn_.assign(x.begin(), x.end());
+    bound_.assign(x.size(), std::numeric_limits<Real>::infinity());
+    bounded_ = engine_.motion_bounds(x.data(), kBoundShare, bound_);
+    bounded_step_ = step;
+  }
+
+  // MotionBound: the scheme's move of each colliding point clamped to its bound.
+  std::uint64_t bound_motion(const Model& m, State& s, Real h, Profile& profile) override {
+    if (!enabled_ || bounded_step_ != s.step) return 0;
+    if (clamp_ids_[0] < 0)
+      clamp_ids_ = {profile.counter("self_clamped_points"),
+                    profile.counter("self_unbounded_steps")};
+    profile.set_count(clamp_ids_[1], bounded_ ? 0 : 1);
+    if (!bounded_) return 0;
+    const auto x = s.x(), v = s.v();
+    std::uint64_t clamped = 0;
+    for (const std::uint32_t p : engine_.set()) {
+      if (!(m.points.inv_mass[p] > 0)) continue;
+      const Vec3 dx = x[p] - xn_[p];
+      const Real d2 = norm2(dx), b = bound_[p];
+      if (!(d2 > b * b)) continue;
+      const Vec3 kept = dx * (b / std::sqrt(d2));
+      x[p] = xn_[p] + kept;
+      v[p] = kept * (Real(1) / h);
+      ++clamped;
+    }
+    profile.set_count(clamp_ids_[0], clamped);
+    return clamped;
   }
 
   // Implicit schemes: this step's candidates within s + margin, once (no explicit pass); the
@@ -705,6 +761,11 @@ class SelfCollisionStage final : public Stage {
   SelfCollision engine_;
   std::vector<std::string> warnings_;  // leak_warnings of the resolved settings
   std::array<int, 9> ids_{-1, -1, -1, -1, -1, -1, -1, -1, -1};
+  std::array<int, 2> clamp_ids_{-1, -1};  // self_clamped_points, self_unbounded_steps
+  std::vector<Vec3> xn_;                  // positions of the step's first force pass
+  std::vector<Real> bound_;               // each point's displacement bound from xn_ (m)
+  std::uint64_t bounded_step_ = ~std::uint64_t{0};
+  bool bounded_ = false;  // the bounds of bounded_step_ hold (both Verlet lists were in use)
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
   std::vector<Vec3> energy_scratch_;  // energy(): the triangles' forces, discarded
   int threads_ = 1;                   // of the last apply()
