@@ -12,8 +12,8 @@
 //   counters   active pairs are added to `active_conditional_links`, as the links counted them;
 //              `group_contact_candidates` counts the pairs whose distance was tested
 //   implicit   for implicit schemes the stage offers this step's pairs within the threshold plus
-//              the step's motion margin as conditional links (Stage::find_contacts, contact_set.hpp), like
-//              self-collision's contacts
+//              the step's motion margin as conditional links (Stage::find_contacts,
+//              contact_set.hpp), like self-collision's contacts
 //
 // Installed by the scene reader, one stage ("group_contacts") for every [[contact]] table of a
 // scene whose method is "broad_phase" (the default).

@@ -14,8 +14,9 @@
 //                                own force pass)
 //
 // One virtual call per stage per step in the force pass; implicit solvers call a stage's
-// PointContacts per point where they probe one point (VBD's bisection and coarse step). Stages are installed by code
-// (Simulator::add_stage) or by scene tables through StageRegistry (stage_registry.hpp).
+// PointContacts per point where they probe one point (VBD's bisection and coarse step). Stages are
+// installed by code (Simulator::add_stage) or by scene tables through StageRegistry
+// (stage_registry.hpp).
 #pragma once
 
 #include <array>

@@ -102,7 +102,8 @@ std::span<const StageKey<SimulationSettings>> simulation_keys() {
             "backend",
             {.doc = "where the step runs: `cpu` (every stage and scheme, double precision, "
                     "OpenMP) or `gpu` (OpenGL 4.5 compute shaders, float: link forces of every "
-                    "built-in kind but `friction`, gravity, drag, wind, driven points, conditional contacts, "
+                    "built-in kind but `friction`, gravity, drag, wind, driven points, conditional "
+                    "contacts, "
                     "`[self_collision]` with `primitive = \"points\"` and `broad_phase = "
                     "\"uniform\"`, `[[obstacle]]` with `method = \"geometric\"` (every shape, "
                     "motion, friction), `leapfrog`, `symplectic_euler`, and `implicit_euler` "

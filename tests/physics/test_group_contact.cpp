@@ -166,10 +166,10 @@ TEST(GroupContact, NoLinkPerPair) {
   EXPECT_FALSE(has_stage(all.model));
 }
 
-// Implicit Euler sees the stage's pairs as conditional links (the step's ContactSet, Stage::find_contacts): with
-// the matrix-free CG the same solve as with the model's links (inactive links have zero
-// blocks), to rounding; vertex block descent gathers each point's links and contacts per
-// point, where an inactive link adds nothing (measured identical; bound as for CG).
+// Implicit Euler sees the stage's pairs as conditional links (the step's ContactSet,
+// Stage::find_contacts): with the matrix-free CG the same solve as with the model's links (inactive
+// links have zero blocks), to rounding; vertex block descent gathers each point's links and
+// contacts per point, where an inactive link adds nothing (measured identical; bound as for CG).
 void expect_implicit_agrees(const std::string& solver, double bound) {
   const std::vector<std::string> common = {"lattice[0].origin=[-0.25,0.06,-0.25]",
                                            "simulation.integrator=\"implicit_euler\"",

@@ -247,11 +247,12 @@ TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
 // Displacement bounds in explicit steps (MotionBound, self_collision.cpp): a bead shot at 60 m/s
 // at a fixed cloth of triangles moves 6 cm per leapfrog step of 1 ms, three times the contact
 // layer (2 cm): with the penalty alone it would go from above the layer to below the cloth
-// between two steps, unseen (measured without the bounds: it falls through). Each step's move is held within 0.4 of the bead's distance to the faces and
-// edges of its lists, and of the layer's thickness when none is near: the bead closes at most
-// 0.4 of its gap a step (the cloth is fixed), never reaches the face, and the penalty stops it.
-// It then rests at the penalty's equilibrium s - m g / k, as a bead set down gently does (the
-// clamp leaves a slow motion alone: 1e-6 m, the bound of the test above).
+// between two steps, unseen (measured without the bounds: it falls through). Each step's move is
+// held within 0.4 of the bead's distance to the faces and edges of its lists, and of the layer's
+// thickness when none is near: the bead closes at most 0.4 of its gap a step (the cloth is fixed),
+// never reaches the face, and the penalty stops it. It then rests at the penalty's equilibrium s -
+// m g / k, as a bead set down gently does (the clamp leaves a slow motion alone: 1e-6 m, the bound
+// of the test above).
 TEST(SelfCollisionPhysics, DisplacementBoundsStopABeadFasterThanTheContactLayer) {
   Model m = bead_over_fixed_cloth(Primitive::triangles, 0.17, 0.12);
   m.points.initial_velocity.back() = {0, -60, 0};
