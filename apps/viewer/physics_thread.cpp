@@ -222,6 +222,7 @@ void PhysicsThread::stop_sound() {
     source_stale_ = false;
     std::lock_guard lock(mutex_);
     status_.sound_notice.clear();
+    status_.sound = false;
   });
 }
 
@@ -242,8 +243,11 @@ void PhysicsThread::rebuild_source() {
   } catch (const std::exception& e) {
     notice = std::string("sound: ") + e.what();
   }
+  // Published now, not with the batch's status: a listener may drain a whole change's sound
+  // inside the first batch that plays it, and must then read sound on.
   std::lock_guard lock(mutex_);
   status_.sound_notice = std::move(notice);
+  status_.sound = source_ != nullptr;
 }
 
 // Renders until the ring holds its lead or a batch's time is spent. The producer says it plays

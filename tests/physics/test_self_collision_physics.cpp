@@ -273,6 +273,22 @@ TEST(SelfCollisionPhysics, DisplacementBoundsStopABeadFasterThanTheContactLayer)
   EXPECT_NEAR(sim.state().x().back().y, 0.02 - 0.01 * 9.81 / 500, 1e-6);
 }
 
+// The bounds are taken at the step's own start: positions written between steps after an
+// energies() call (a pass at the same step and time) are the ones bounded, not the pass's.
+// A bead lifted by 5 cm between two steps stays lifted (a stale start would clamp it back to
+// within 0.4 of the layer, 8 mm, of its old place).
+TEST(SelfCollisionPhysics, DisplacementBoundsFollowPositionsWrittenBetweenSteps) {
+  Simulator sim(bead_over_fixed_cloth(Primitive::triangles, 0.17, 0.12), test::settings(1e-3));
+  ASSERT_TRUE(sim.run_steps(100));
+  sim.energies();  // a force pass at this step's start
+  State lifted = sim.state();
+  lifted.x().back().y += Real(0.05);
+  const double y = double(lifted.x().back().y);
+  sim.restore(std::move(lifted), 0);
+  ASSERT_TRUE(sim.step());
+  EXPECT_NEAR(double(sim.state().x().back().y), y, 1e-3);
+}
+
 }  // namespace
 
 namespace {

@@ -591,8 +591,12 @@ class SelfCollisionStage final : public Stage, public MotionBound {
         engine_.apply(s.x().data(), s.v().data(), s.f().data(), ctx.threads);
     last_cell_ = st.cell_size;
     count(ctx, st);
-    if (ctx.step != bounded_step_ && engine_.settings().primitive == Primitive::triangles)
-      take_bounds(s, ctx.step);
+    // The step's first pass: a new step, or its start evaluated again (Simulator::energies()
+    // between steps, then step(), with positions a user may have written in between). The
+    // intermediate passes of multi-pass schemes (RK4, velocity Verlet) are at later times.
+    if (engine_.settings().primitive == Primitive::triangles &&
+        (ctx.step != bounded_step_ || ctx.t == bounded_time_))
+      take_bounds(s, ctx.step, ctx.t);
   }
 
   // Explicit schemes, primitive = "triangles": the displacement bounds of the step's first force
@@ -601,12 +605,13 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   // a pair off the lists is farther than the radius at x_n: no triangle passes through another
   // during the step (docs/implicit.md, "Intersection-free cloth: what holds").
   static constexpr Real kBoundShare = Real(0.4);
-  void take_bounds(const State& s, std::uint64_t step) {
+  void take_bounds(const State& s, std::uint64_t step, double t) {
     const auto x = s.x();
     xn_.assign(x.begin(), x.end());
     bound_.assign(x.size(), std::numeric_limits<Real>::infinity());
     bounded_ = engine_.motion_bounds(x.data(), kBoundShare, bound_);
     bounded_step_ = step;
+    bounded_time_ = t;
   }
 
   // MotionBound: the scheme's move of each colliding point clamped to its bound.
@@ -765,7 +770,8 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   std::vector<Vec3> xn_;                  // positions of the step's first force pass
   std::vector<Real> bound_;               // each point's displacement bound from xn_ (m)
   std::uint64_t bounded_step_ = ~std::uint64_t{0};
-  bool bounded_ = false;  // the bounds of bounded_step_ hold (both Verlet lists were in use)
+  double bounded_time_ = -1;  // the time of bounded_step_'s first pass
+  bool bounded_ = false;      // the bounds of bounded_step_ hold (both Verlet lists were in use)
   bool enabled_ = true, draw_contacts_ = false, draw_cells_ = false;
   std::vector<Vec3> energy_scratch_;  // energy(): the triangles' forces, discarded
   int threads_ = 1;                   // of the last apply()
