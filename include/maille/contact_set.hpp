@@ -122,6 +122,16 @@ class TriangleContacts {
   // stencil is c_i c_j B, B = (a k + b z) n n^T plus friction's b-scaled tangent block, appended
   // to out.
   virtual void couplings(Real a, Real b, std::vector<StencilCoupling>& out) const = 0;
+  // The search's guarantee beyond its candidates (re-detection, docs/implicit.md,
+  // "Intersection-free cloth: what holds"): the pairs of the stage's points that are not
+  // candidates (nor excluded) cannot meet while every point of points() (its colliding particles
+  // and the fixed or driven corners of its faces) stays within drift_limit() of its predicted
+  // place plus one displacement common to them all. The prediction: at the step's search, the
+  // point's place there moved by h times its velocity there; after a search again inside the
+  // step, its place at that search. A solver that would take a free point farther searches
+  // again first (ForceEvaluator::find_contacts_again). +inf: no such guarantee (the default).
+  virtual Real drift_limit() const { return std::numeric_limits<Real>::infinity(); }
+  virtual std::span<const std::uint32_t> points() const { return {}; }
 };
 
 // The step's contacts as the solvers read them: views of the stages' typed arrays, refilled at

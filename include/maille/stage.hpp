@@ -109,6 +109,13 @@ class Stage {
   virtual bool finds_contacts() const { return false; }
   virtual void find_contacts(const Model& /*m*/, State& /*s*/, const StageContext& /*ctx*/,
                              ContactSet& /*set*/) {}
+  // The same search again inside the step, at a solver's iterate s (x, and v = (x - x_n) / h),
+  // into the arrays already in the set (a point went past its TriangleContacts::drift_limit()).
+  // False when the stage has nothing to search again (the default: obstacles' contacts are
+  // evaluated wherever the points are).
+  virtual bool find_contacts_again(const Model& /*m*/, State& /*s*/, const StageContext& /*ctx*/) {
+    return false;
+  }
   // The potential energy of the stage's conservative forces at s (J): a contact's penalty
   // (1/2 k depth^2 for an obstacle, 1/2 k (s - d)^2 for a pair closer than its contact distance
   // s), none for dampers, friction, wind or velocity responses. The stage finds its contacts at

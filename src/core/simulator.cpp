@@ -464,6 +464,19 @@ void Simulator::evaluate_stages(State& s, bool find) {
   }
 }
 
+// A solve's iterate went past what the step's search guarantees: the contact stages that can
+// search again do so at s, into the arrays the set already holds.
+bool Simulator::find_contacts_again(State& s) {
+  const StageContext ctx = context(s);
+  bool searched = false;
+  for (auto& st : force_stages_) {
+    if (!st.stage->finds_contacts()) continue;
+    Timed t(profile_, st.profile_id);
+    searched = st.stage->find_contacts_again(model_, s, ctx) || searched;
+  }
+  return searched;
+}
+
 // Response stages rewrite forces and velocities once per step, after the force pass; a
 // non-finite value they leave is theirs.
 void Simulator::respond() {

@@ -144,11 +144,11 @@ class ImplicitEuler final : public Integrator {
     // or through a thin one, stops where it entered it (continuous detection, as in VBD).
     entry_.stop_at_entry(free_, x.data(), v.data(), h);
     // Point-triangle candidates: no point crosses a face on its way to the solved position
-    // (conservative bounds, implicit_vbd.hpp).
+    // (conservative bounds, implicit_vbd.hpp), nor meets a pair the search left out.
     if (const auto tri = forces.contacts().stencils(); !tri.empty()) {
       target_.assign(x.begin(), x.end());
       std::copy(x0_.begin(), x0_.end(), x.begin());
-      advance_within_bounds(tri, x, target_, m.points.inv_mass, bound_, kBoundStages);
+      advance_guarded(m, s, h, forces);
       for (std::size_t i = 0; i < n; ++i)
         if (m.points.inv_mass[i] > 0) v[i] = (x[i] - x0_[i]) * (Real(1) / h);
     }
@@ -156,6 +156,31 @@ class ImplicitEuler final : public Integrator {
     profile.set_gauge(cg_residual_, residual);
     profile.set_gauge(newton_residual_, newton_residual_value_);
     return iterations;
+  }
+
+  // From x_n toward the solved positions (target_) in at most kBoundStages stages: each point
+  // within its conservative bound and its drift limit (drift_guard.hpp); a point held at its
+  // drift limit has the stages search again at the stage's positions before the next one.
+  void advance_guarded(const Model& m, State& s, Real h, ForceEvaluator& forces) {
+    const auto tri = forces.contacts().stencils();
+    const auto x = s.x(), v = s.v();
+    guard_.first_search(tri, m, x0_.data(), v0_.data(), h);
+    guard_.take_common(target_.data());
+    bound_.resize(x.size());
+    for (int k = 0; k < kBoundStages; ++k) {
+      conservative_bounds(tri, x.data(), bound_);
+      bool arrived = true;
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        if (!(m.points.inv_mass[i] > 0)) continue;
+        x[i] = guard_.hold(std::uint32_t(i), x[i], within_bound(x[i], target_[i], bound_[i]));
+        arrived = arrived && x[i] == target_[i];
+      }
+      if (arrived) return;
+      if (!guard_.search_due() || k + 1 == kBoundStages) continue;
+      for (std::size_t i = 0; i < x.size(); ++i)
+        if (m.points.inv_mass[i] > 0) v[i] = (x[i] - x0_[i]) * (Real(1) / h);
+      if (forces.find_contacts_again(s)) guard_.searched_again(tri, m, x.data());
+    }
   }
 
   // (I - hA)^-1 - I = (I - hA)^-1 hA with A = [[0, 1], [-w2, -c]]: every step is stable.
@@ -232,6 +257,7 @@ class ImplicitEuler final : public Integrator {
   std::unique_ptr<ImplicitSystem> system_;
   std::vector<Real> bound_;   // conservative bounds of the CG solvers' step
   std::vector<Vec3> target_;  // the solved positions, reached in bounded stages
+  DriftGuard guard_;          // the stencil stages' drift limits in those stages
   // Stages toward the solved positions: each closes at most 0.8 of a gap, so a point within a
   // contact's reach of its face stops there after a few; eight leave 0.2^8 of a far one's way.
   static constexpr int kBoundStages = 8;

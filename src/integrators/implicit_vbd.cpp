@@ -20,6 +20,9 @@
 //             thrown at a 1 cm box at 1/60 s moves 17 cm a step)
 //   bounds    points of point-triangle candidates move at most 0.4 of their distances at the
 //             step's start (conservative bounds: guess, Newton steps and extrapolation)
+//   drift     points of a stencil stage stay within its drift limit of their predicted places
+//             (drift_guard.hpp); a move held there has the stages search again before the next
+//             sweep (re-detection: the pairs they had left out may have come near)
 //   end       v = (x - x_n) / h
 //
 // Determinism: a point's g and H sum its links in a fixed order (pool by pool, slot by slot)
@@ -137,22 +140,6 @@ void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3
       const Real b = kBoundFraction * t->distance(e, x);
       for (const std::uint32_t p : cand[e]) bound[p] = std::min(bound[p], b);
     }
-  }
-}
-
-void advance_within_bounds(std::span<TriangleContacts* const> contacts, std::span<Vec3> x,
-                           std::span<const Vec3> target, std::span<const Real> inv_mass,
-                           std::vector<Real>& bound, int stages) {
-  bound.resize(x.size());
-  for (int k = 0; k < stages; ++k) {
-    conservative_bounds(contacts, x.data(), bound);
-    bool arrived = true;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      if (inv_mass[i] == 0) continue;
-      x[i] = within_bound(x[i], target[i], bound[i]);
-      arrived = arrived && x[i] == target[i];
-    }
-    if (arrived) return;
   }
 }
 
@@ -356,6 +343,7 @@ void VertexBlockDescent::begin(const Model& m, const State& s, Real h, double t_
 
   const Vec3* x = s.x().data();
   const Vec3* v = s.v().data();
+  guard_.first_search(set.stencils(), m, x, v, h);
   std::copy(x, x + n, xn_.begin());
   std::copy(v, v + n, vn_.begin());
   // f_ext: the evaluated forces without the model's links, which the solve takes implicitly
@@ -525,6 +513,15 @@ void VertexBlockDescent::update_block(std::uint32_t colour, std::uint32_t offset
 void VertexBlockDescent::newton_step(std::uint32_t i, const Vec3* x, const Vec3& dx, Real inv_h) {
   trial_x_[i] = is_finite(dx) ? x[i] + dx : x[i];
   if (bounded_) trial_x_[i] = within_bound(x[i], trial_x_[i], bound_[i]);
+  // Within its drift limit; a point touching an obstacle goes where the obstacle's rules send it
+  // (held there, a point pressed into a sphere by the cloth above it came out a ball's limit a
+  // sweep at most: 3 cm deep at 1/20 s), and only has the stages search again after the sweep.
+  if (guard_.active()) {
+    if (touching_[i])
+      guard_.note(i, trial_x_[i]);
+    else
+      trial_x_[i] = guard_.hold(i, x[i], trial_x_[i]);
+  }
   trial_v_[i] = (trial_x_[i] - xn_[i]) * inv_h;
   trial_touch_[i] = 0;
   trial_g_[i] = Vec3{};
@@ -619,7 +616,18 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   Vec3* v = s.v().data();
   entry_.stop_at_first_touch(free_, x, v, h,
                              false);  // the guess: the solve starts at the first contact
-  if (dynamic_) {
+  if (guard_.active()) {              // the guess is one straight move from x_n, held on it
+    guard_.take_common(x);
+    for (const std::uint32_t i : free_) {
+      const Vec3 held = guard_.hold(i, xn_[i], x[i]);
+      if (held == x[i]) continue;
+      x[i] = held;
+      v[i] = (x[i] - xn_[i]) * (Real(1) / h);
+    }
+  }
+  if (guard_.active() && guard_.search_due() && search_again(m, s)) {
+    // found again where the guess was held: candidates, colours and compaction done there
+  } else if (dynamic_) {
     find_candidates(m, xn_.data(), margin_for(x));
     colour();
     compact(x);
@@ -662,8 +670,11 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
     // smooth what the correction leaves between aggregates).
     if (coarse && k % kCoarseEvery == 0 && k < settings_.iterations && coarse_step(m, x, v, h))
       ++result.coarse_corrections;
-    // Contacts found for a smaller motion: find them again (and colour again) before going on.
-    if (dynamic_ && k < settings_.iterations && 2 * largest_motion(x) > margin_) {
+    // A point held at its drift limit: the stages search again before the next sweep.
+    if (guard_.active() && k < settings_.iterations && guard_.search_due() && search_again(m, s)) {
+      // candidates, colours and compaction taken at the new search
+    } else if (dynamic_ && k < settings_.iterations && 2 * largest_motion(x) > margin_) {
+      // Contacts found for a smaller motion: find them again (and colour again) first.
       find_candidates(m, xn_.data(), margin_for(x));
       colour();
       compact(x);
@@ -675,7 +686,23 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
   entry_.stop_at_first_touch(free_, x, v, h, true);  // the solve's result: only if it went through
   result.candidates = candidates_;
   result.candidates_swept = candidates_swept_;
+  result.searches_again = guard_.searches_again();
   return result;
+}
+
+// The stages' search again at the iterate (x, and v = (x - x_n) / h, as the sweeps leave them):
+// their arrays refilled in place, so the set's views stand; the rows, colours and compaction
+// follow. False when no stage searched (the guard then stays as it was).
+bool VertexBlockDescent::search_again(const Model& m, State& s) {
+  if (!forces_ || !forces_->find_contacts_again(s)) return false;
+  const Vec3* x = s.x().data();
+  const ContactSet& set = forces_->contacts();
+  triangle_rows(set.stencils());
+  guard_.searched_again(set.stencils(), m, x);
+  find_candidates(m, xn_.data(), margin_for(x));
+  colour();
+  compact(x);
+  return true;
 }
 
 // Chebyshev's extrapolation after sweep k: x = omega (x - x^(k-2)) + x^(k-2).
@@ -689,9 +716,9 @@ void VertexBlockDescent::extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3
       // Nor points near a face (a bound): the extrapolation could carry them across it.
       if (touching_[i] || bound_[i] < std::numeric_limits<Real>::infinity()) continue;
       // Nor by more than half the thinnest contact region: a jump that long could cross a thin
-      // box unseen (the sweeps' own steps are watched in update_block).
+      // box unseen (the sweeps' own steps are watched in update_block); nor past its drift limit.
       const Vec3 to = (x[i] - prev2_[i]) * omega + prev2_[i];
-      if (norm2(to - x[i]) > half_thinnest * half_thinnest) continue;
+      if (norm2(to - x[i]) > half_thinnest * half_thinnest || !guard_.inside(i, to)) continue;
       x[i] = to;
       v[i] = (x[i] - xn_[i]) * (Real(1) / h);
     }
@@ -757,6 +784,7 @@ bool VertexBlockDescent::coarse_step(const Model& m, Vec3* x, Vec3* v, Real h) {
     }
     const Vec3 to = x[i] + d;
     if (!is_finite(d) || norm2(d) > half_thinnest * half_thinnest) continue;
+    if (!guard_.inside(i, to)) continue;  // past its drift limit: left to the sweeps
     if (!contacts_.empty()) {
       if (touches_at(i, to, inv_h) && !touching_[i]) {
         x[i] += d * contact_change(i, x[i], d, inv_h).second;

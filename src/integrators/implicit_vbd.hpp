@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "contact_entry.hpp"
+#include "drift_guard.hpp"
 #include "maille/integrator.hpp"
 #include "maille/mat3.hpp"
 #include "maille/model.hpp"
@@ -27,16 +28,12 @@ namespace maille {
 // bounds again before every sweep (each point moves once per sweep), so over a step a point
 // goes as far as its Newton steps take it, approaching a face geometrically until the contact
 // holds it; the CG solvers advance their solved positions in stages the same way
-// (advance_within_bounds). bound[i] = +inf for points of no candidate. VBD bounds the points of
-// the stages' point-point contact pairs (self-collision with primitive = "points") the same
-// way, by their pair distances (VertexBlockDescent::take_bounds).
+// (implicit_euler.cpp, advance_guarded). bound[i] = +inf for points of no candidate. VBD bounds the
+// points of the stages' point-point contact pairs (self-collision with primitive = "points") the
+// same way, by their pair distances (VertexBlockDescent::take_bounds).
 inline constexpr Real kBoundFraction = Real(0.4);
 void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3* x,
                          std::vector<Real>& bound);
-// Moves x toward `target` in at most `stages` bounded stages (points of no candidate jump).
-void advance_within_bounds(std::span<TriangleContacts* const> contacts, std::span<Vec3> x,
-                           std::span<const Vec3> target, std::span<const Real> inv_mass,
-                           std::vector<Real>& bound, int stages);
 // `to`, pulled back toward `from` to lie within `bound` of it.
 inline Vec3 within_bound(const Vec3& from, const Vec3& to, Real bound) {
   const Vec3 d = to - from;
@@ -78,7 +75,8 @@ struct VbdResult {
   // Contact candidates of the step (conditional and stage links, point-triangle candidates) at
   // the last find_candidates, and those near enough to act that the sweeps load.
   std::uint64_t candidates = 0, candidates_swept = 0;
-  bool stopped = false;  // a stop was requested between two sweeps: x, v are unfinished
+  int searches_again = 0;  // the stages' searches inside the step (a point at its drift limit)
+  bool stopped = false;    // a stop was requested between two sweeps: x, v are unfinished
 };
 
 // The implicit Euler step as a minimisation (Chen, Macklin et al., "Vertex Block Descent",
@@ -148,6 +146,7 @@ class VertexBlockDescent {
   void candidate_rows(const TriangleRows& t, const std::vector<std::uint8_t>* kept,
                       std::vector<std::uint32_t>& row, std::vector<std::uint32_t>& entries) const;
   bool beyond_allowance(const Vec3* x) const;
+  bool search_again(const Model& m, State& s);
   void rows_from_slots(PoolRows& r, std::size_t n, std::span<const std::uint32_t> slots);
   void colour();
   void point_terms(std::span<const std::uint32_t> points, const Model& m, const Vec3* x,
@@ -205,6 +204,7 @@ class VertexBlockDescent {
   bool compacted_ = false;                               // compact() ran this step
   std::uint64_t candidates_ = 0, candidates_swept_ = 0;  // at the last find_candidates
   Real thinnest_ = 0;   // the point contacts' thinnest region this step (PointContacts::thickness)
+  DriftGuard guard_;    // the stencil stages' drift limits (re-detection, drift_guard.hpp)
   ContactEntry entry_;  // continuous detection against contacts_ from x_n (contact_entry.hpp)
   Real gravity_ = 0;
   VbdLanes lanes_;                       // the sweeps in SIMD lanes (vbd_lanes.hpp)

@@ -535,6 +535,7 @@ class SelfCollisionStage final : public Stage, public MotionBound {
       : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {
     anchored_ = anchored_triangles(m);
     faces_ = group_faces(m, settings_.groups);
+    take_members();
   }
   std::string name() const override { return std::string(kSelfCollisionStage); }
   Phase phase() const override { return kSelfCollisionPhase; }
@@ -545,7 +546,17 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     warnings_ = leak_warnings(m, engine_.settings());
     anchored_ = anchored_triangles(m);
     faces_ = group_faces(m, settings_.groups);
+    take_members();
     last_cell_ = 0;
+  }
+  // The points a solver's drift guard watches: the colliding particles and the fixed or driven
+  // corners of the faces (they do not move inside a solve; the common displacement must suit
+  // them too).
+  void take_members() {
+    members_ = engine_.set();
+    for (const auto& f : faces_) members_.insert(members_.end(), f.begin(), f.end());
+    std::sort(members_.begin(), members_.end());
+    members_.erase(std::unique(members_.begin(), members_.end()), members_.end());
   }
 
   // [self_collision] check: the pairs of the groups' faces that cross (intersections.hpp), at
@@ -667,6 +678,28 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     }
     st.cell_size = last_cell_;
     count(ctx, st);
+    searches_ = 1;
+    count_searches(ctx);
+  }
+
+  // A solver's iterate went past a point's drift limit: the same search at the iterate, into the
+  // same arrays (the friction's lag taken there too). The margin follows the iterate's motion
+  // from x_n, so the pairs closing within the step are found again.
+  bool find_contacts_again(const Model& m, State& s, const StageContext& ctx) override {
+    if (!enabled_ || engine_.settings().primitive != Primitive::triangles) return false;
+    contacts_.clear();
+    triangle_terms_.storage().clear();
+    triangle_terms_.set_edge_begin(0);
+    contacts_as_links(m, s, ctx, true);
+    ++searches_;
+    count_searches(ctx);
+    return true;
+  }
+
+  void count_searches(const StageContext& ctx) {
+    if (!ctx.profile) return;
+    if (searches_id_ < 0) searches_id_ = ctx.profile->counter("self_searches");
+    ctx.profile->set_count(searches_id_, searches_);
   }
 
   void count(const StageContext& ctx, const SelfCollisionStats& st) {
@@ -813,8 +846,17 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     return false;
   }
 
-  void contacts_as_links(const Model& m, State& s, const StageContext& ctx) {
+  // `again`: a search inside the step, at a solver's iterate, with the wide engine of the step's
+  // search as it is (its margin caps each pair's; any pair's is at least a quarter radius, all
+  // the drift limit needs): neither rebuilt nor its margin kept, so the next step searches as if
+  // the iterate had not been seen.
+  void contacts_as_links(const Model& m, State& s, const StageContext& ctx, bool again = false) {
     contacts_.clear();
+    if (!again || !wide_) take_wide_margin(m, s, ctx);
+    search_pairs(s, ctx);
+  }
+
+  void take_wide_margin(const Model& m, State& s, const StageContext& ctx) {
     const auto& st = engine_.settings();
     const Real needed =
         collision::motion_margin(s.v().data(), engine_.set(), Real(ctx.h), anchored_);
@@ -827,6 +869,10 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     const Real target = std::max(needed, collision::kMinMarginFraction * st.radius);
     if (!wide_ || needed > wide_margin_ || wide_margin_ > 4 * target) build_wide(m, 2 * target);
     kept.assign(1, double(wide_margin_));
+  }
+
+  void search_pairs(State& s, const StageContext& ctx) {
+    const auto& st = engine_.settings();
     const Vec3* x = s.x().data();
     const Vec3* v = s.v().data();
     wide_->for_each_close_pair(x, ctx.threads, [&](std::uint32_t a, std::uint32_t b) {
@@ -852,7 +898,17 @@ class SelfCollisionStage final : public Stage, public MotionBound {
                                 triangle_terms_.edge_particles());
     triangle_terms_.set_edge_begin(edge_begin);
     triangle_terms_.lag(x, v);
+    triangle_terms_.set_drift(kDriftShare * st.radius, members_);
   }
+  // Every pair off the candidates was farther than s + m at the search, m >= s / 4 its margin,
+  // and closes by at most 0.8 m from the points' predicted motion (m >= 2.5 h times its closing
+  // speed, or the wide margin that covers it) plus its two points' drifts from their
+  // predictions: drifts below s / 2 each close it by less than s + 0.05 s <= s + m / 5: it
+  // cannot meet (docs/implicit.md, "Intersection-free cloth: what holds").
+  static constexpr Real kDriftShare = Real(0.5);
+  std::uint64_t searches_ = 0;
+  int searches_id_ = -1;
+  std::vector<std::uint32_t> members_;  // take_members()
   double last_cell_ = 0;
 };
 

@@ -58,6 +58,13 @@ class TriangleContactTerms final : public TriangleContacts {
   void apply(Real a, Real b, const Vec3* u, Vec3* out) const override;
   void add_diagonal(Real a, Real b, Mat3* diagonal) const override;
   void couplings(Real a, Real b, std::vector<StencilCoupling>& out) const override;
+  // The search's guarantee, set by the stage with each search (TriangleContacts).
+  void set_drift(Real limit, std::span<const std::uint32_t> points) {
+    drift_limit_ = limit;
+    points_ = points;
+  }
+  Real drift_limit() const override { return drift_limit_; }
+  std::span<const std::uint32_t> points() const override { return points_; }
 
  private:
   // Candidate e at x, v: whether it acts (closer than s, not a shared feature counted by an
@@ -72,6 +79,8 @@ class TriangleContactTerms final : public TriangleContacts {
   bool finish(std::size_t e, const Vec3& d, Real d2, bool rubbing, const Vec3* v, Eval& out) const;
 
   Real radius_ = 0, stiffness_ = 0, damping_ = 0, friction_ = 0;
+  Real drift_limit_ = std::numeric_limits<Real>::infinity();
+  std::span<const std::uint32_t> points_;
   std::vector<std::array<std::uint32_t, 4>> candidates_;
   // candidates_ from here on are edge pairs (none until the stage says where they start)
   std::size_t edge_begin_ = std::numeric_limits<std::size_t>::max();

@@ -1,0 +1,91 @@
+#include "drift_guard.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace maille {
+
+void DriftGuard::take_limits(std::span<TriangleContacts* const> stencils, const Model& m) {
+  const std::size_t n = m.points.size();
+  limit_.assign(n, kUnguarded);
+  held_.assign(n, 0);
+  guarded_.clear();
+  anchors_.clear();
+  active_ = false;
+  std::vector<std::uint8_t>& anchor = held_;  // a scratch mask until the end
+  for (const TriangleContacts* t : stencils) {
+    const Real limit = t->drift_limit();
+    if (!(limit < kUnguarded)) continue;
+    active_ = true;
+    for (const std::uint32_t p : t->points()) {
+      if (m.points.inv_mass[p] > 0)
+        limit_[p] = std::min(limit_[p], limit);
+      else
+        anchor[p] = 1;
+    }
+  }
+  for (std::uint32_t p = 0; p < n; ++p) {
+    if (limit_[p] < kUnguarded) guarded_.push_back(p);
+    if (anchor[p]) anchors_.push_back(p);
+  }
+  std::fill(held_.begin(), held_.end(), 0);
+}
+
+void DriftGuard::first_search(std::span<TriangleContacts* const> stencils, const Model& m,
+                              const Vec3* x, const Vec3* v, Real h) {
+  take_limits(stencils, m);
+  searches_again_ = 0;
+  common_ = Vec3{};
+  predicted_.resize(limit_.size());
+  for (const std::uint32_t p : guarded_) predicted_[p] = x[p] + v[p] * h;
+  for (const std::uint32_t p : anchors_) predicted_[p] = x[p] + v[p] * h;
+}
+
+void DriftGuard::searched_again(std::span<TriangleContacts* const> stencils, const Model& m,
+                                const Vec3* x) {
+  take_limits(stencils, m);
+  ++searches_again_;
+  common_ = Vec3{};
+  predicted_.resize(limit_.size());
+  for (const std::uint32_t p : guarded_) predicted_[p] = x[p];
+  for (const std::uint32_t p : anchors_) predicted_[p] = x[p];
+}
+
+void DriftGuard::take_common(const Vec3* x) {
+  common_ = Vec3{};
+  if (!active_ || guarded_.empty()) return;
+  Vec3 lo = x[guarded_.front()] - predicted_[guarded_.front()], hi = lo;
+  auto widen = [&](std::uint32_t p) {
+    const Vec3 d = x[p] - predicted_[p];
+    lo = {std::min(lo.x, d.x), std::min(lo.y, d.y), std::min(lo.z, d.z)};
+    hi = {std::max(hi.x, d.x), std::max(hi.y, d.y), std::max(hi.z, d.z)};
+  };
+  for (const std::uint32_t p : guarded_) widen(p);
+  for (const std::uint32_t p : anchors_) widen(p);
+  common_ = (lo + hi) * Real(0.5);
+}
+
+// The largest s in [0, 1] with from + s (to - from) in the ball |y - c| <= r: the roots of
+// |from - c + s d|^2 = r^2.
+Vec3 DriftGuard::held_move(std::uint32_t i, const Vec3& from, const Vec3& to) {
+  const Real limit = limit_[i];
+  held_[i] = 1;
+  const Vec3 f = from - predicted_[i] - common_, d = to - from;
+  const Real a = norm2(d), b = dot(f, d), c = norm2(f) - limit * limit;
+  if (!(a > 0)) return from;
+  const Real disc = b * b - a * c;
+  const Real nearest = std::clamp(-b / a, Real(0), Real(1));  // the segment's point nearest c
+  if (disc < 0) return from + d * nearest;
+  const Real root = std::sqrt(disc);
+  const Real in = (-b - root) / a, out = (-b + root) / a;  // the segment's line in the ball
+  if (out < 0 || in > 1) return from + d * nearest;
+  return from + d * std::min(out, Real(1));
+}
+
+bool DriftGuard::search_due() const {
+  for (const std::uint32_t p : guarded_)
+    if (held_[p]) return true;
+  return false;
+}
+
+}  // namespace maille
