@@ -568,6 +568,39 @@ def self_collision(d, figures, v):
     v["sc_flag_on"] = g(fw["on"]["ns_per_particle_step"])
     v["sc_flag_ratio"] = g(fw["on"]["ns_per_particle_step"] / fw["off"]["ns_per_particle_step"], 3)
     v["sc_flag_steps"] = str(int(fw["on"]["steps"]))
+    intersections(d, v)
+
+
+def intersections(d, v):
+    """Every self-colliding example with and without its self-collision: the most crossing
+    pairs of triangles over the run and the cost (intersections.csv)."""
+    rows = d("self-collision", "intersections.csv")
+    by = {}
+    for r in rows:
+        by.setdefault(r["example"], {})[r["self_collision"]] = r
+    out, crossing_without, crossing_with, ratios = [], 0, 0, []
+    for name in sorted(by):
+        on, off = by[name].get("on"), by[name].get("off")
+        if not on or not off:
+            continue
+        scheme = on["integrator"] + (f" ({on['solver']})" if on["solver"] else "")
+
+        def crossings(r):
+            n = int(r["most_intersecting_pairs"])
+            return f"{n} (first at {g(r['first_crossing_s'], 2)} s)" if n else "0"
+        ratio = on["wall_s"] / off["wall_s"] if off["wall_s"] > 0 else float("nan")
+        ratios.append(ratio)
+        crossing_without += int(off["most_intersecting_pairs"]) > 0
+        crossing_with += int(on["most_intersecting_pairs"]) > 0
+        out.append([name, scheme, g(on["step"], 2), g(on["simulated_s"], 3), crossings(off),
+                    crossings(on), g(off["wall_s"], 3), g(on["wall_s"], 3), g(ratio, 3)])
+    v["sc_intersections_table"] = table(
+        ["example", "scheme", "step (s)", "simulated (s)", "crossing pairs without",
+         "crossing pairs with", "wall s without", "wall s with", "cost"], out)
+    v["sc_intersections_claim"] = (
+        f"Of the {len(out)} self-colliding examples, {crossing_without} cross without their "
+        f"self-collision and {crossing_with} with it; self-collision costs "
+        f"{g(min(ratios), 3)}x to {g(max(ratios), 3)}x the run without it.")
 
 
 def obstacles(d, figures, v):

@@ -38,7 +38,10 @@ void DriftGuard::first_search(std::span<TriangleContacts* const> stencils, const
   common_ = Vec3{};
   predicted_.resize(limit_.size());
   for (const std::uint32_t p : guarded_) predicted_[p] = x[p] + v[p] * h;
-  for (const std::uint32_t p : anchors_) predicted_[p] = x[p] + v[p] * h;
+  // A driven point stays at x_n inside the solve and takes its drive's move at the next step's
+  // start, before the next search: over that interval it is where its velocity predicts (its
+  // drift nothing but the drive's curvature), so it enters the common part with none.
+  for (const std::uint32_t p : anchors_) predicted_[p] = x[p];
 }
 
 void DriftGuard::searched_again(std::span<TriangleContacts* const> stencils, const Model& m,

@@ -33,9 +33,10 @@ class DriftGuard {
 
   // The displacement common to the stages' points, from where they are (x) against their
   // predictions: the centre of the box of their differences, the fixed and driven points'
-  // included (they stay at x_n inside the solve, so theirs is minus h v_n: their balls are not
-  // held, the choice of the centre keeps them in). Taken once per search, before the solver's
-  // moves from it on (a ball must not move while points move within it).
+  // included with none (a fixed point does not move; a driven one takes its drive's move after
+  // the solve, before the next search, as its velocity predicts), so that the centre keeps
+  // them in their balls. Taken once per search, before the solver's moves from it on (a ball
+  // must not move while points move within it).
   void take_common(const Vec3* x);
 
   // A move of point i from `from` to `to`, held within its ball: `to` when inside, else the
