@@ -244,8 +244,8 @@ TEST(SelfCollisionPhysics, TrianglePrimitiveHoldsABeadBetweenParticles) {
   EXPECT_NEAR(run(Primitive::triangles, 0.2, 0.2), rest, 1e-6);
 }
 
-// Displacement bounds in explicit steps (MotionBound, self_collision.cpp): a bead shot at 60 m/s
-// at a fixed cloth of triangles moves 6 cm per leapfrog step of 1 ms, three times the contact
+// Displacement bounds in explicit steps (MotionBound, self_collision_stage.cpp): a bead shot at 60
+// m/s at a fixed cloth of triangles moves 6 cm per leapfrog step of 1 ms, three times the contact
 // layer (2 cm): with the penalty alone it would go from above the layer to below the cloth
 // between two steps, unseen (measured without the bounds: it falls through). Each step's move is
 // held within 0.4 of the bead's distance to the faces and edges of its lists, and of the layer's

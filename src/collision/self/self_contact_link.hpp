@@ -1,5 +1,5 @@
 // Internal: self-collision's point-point contacts as links for implicit solvers (the stage's
-// transient pool, self_collision.cpp), with their friction lagged into the solve.
+// transient pool, self_collision_stage.cpp), with their friction lagged into the solve.
 #pragma once
 
 #include <algorithm>

@@ -14,9 +14,10 @@
 // to within the radius (a triangle's points move no farther than its corners). The contacts,
 // and so the forces, are the same as a full search's, bit for bit.
 //
-// Contacts are bounded like the particle pairs (self_collision.cpp): a pass that would collect
-// more than `max_contacts` is stopped and flagged (full()), and the stage refuses it by name,
-// rather than a radius taking in every triangle ending in std::bad_alloc inside a parallel region.
+// Contacts are bounded like the particle pairs (self_collision_engine.hpp): a pass that would
+// collect more than `max_contacts` is stopped and flagged (full()), and the stage refuses it by
+// name, rather than a radius taking in every triangle ending in std::bad_alloc inside a parallel
+// region.
 #pragma once
 
 #include <array>
