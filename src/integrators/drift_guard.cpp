@@ -44,9 +44,9 @@ void DriftGuard::first_search(std::span<TriangleContacts* const> stencils, const
   for (const std::uint32_t p : anchors_) predicted_[p] = x[p];
 }
 
-void DriftGuard::searched_again(std::span<TriangleContacts* const> stencils, const Model& m,
-                                const Vec3* x) {
-  take_limits(stencils, m);
+void DriftGuard::searched_again(const Vec3* x) {
+  // The stages, their limits and points are the step's: only the predictions start again.
+  for (const std::uint32_t p : guarded_) held_[p] = 0;
   ++searches_again_;
   common_ = Vec3{};
   predicted_.resize(limit_.size());

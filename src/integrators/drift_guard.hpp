@@ -28,7 +28,7 @@ class DriftGuard {
   void first_search(std::span<TriangleContacts* const> stencils, const Model& m, const Vec3* x,
                     const Vec3* v, Real h);
   // After a search again at x: each point is predicted where it is, with no common part.
-  void searched_again(std::span<TriangleContacts* const> stencils, const Model& m, const Vec3* x);
+  void searched_again(const Vec3* x);
   bool active() const { return active_; }
 
   // The displacement common to the stages' points, from where they are (x) against their

@@ -435,7 +435,7 @@ bool VertexBlockDescent::search_again(const Model& m, State& s) {
   const Vec3* x = s.x().data();
   const ContactSet& set = forces_->contacts();
   triangle_rows(set.stencils());
-  guard_.searched_again(set.stencils(), m, x);
+  guard_.searched_again(x);
   find_candidates(m, xn_.data(), margin_for(x));
   colour();
   compact(x);

@@ -198,8 +198,8 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   }
 
   // A solver's iterate went past a point's drift limit: the same search at the iterate, into the
-  // same arrays (the friction's lag taken there too). The margin follows the iterate's motion
-  // from x_n, so the pairs closing within the step are found again.
+  // same arrays (the friction's lag taken there too), each pair's margin from the iterate's
+  // motion since x_n within the step's wide margin (contacts_as_links, `again`).
   bool find_contacts_again(const Model& m, State& s, const StageContext& ctx) override {
     if (!enabled_ || engine_.settings().primitive != Primitive::triangles) return false;
     contacts_.clear();
