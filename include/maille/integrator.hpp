@@ -38,8 +38,11 @@ class ForceEvaluator {
     return none;
   }
   // The contact stages search again at the iterate s (Stage::find_contacts_again): the set's
-  // arrays are refilled in place. False when no stage searched.
-  virtual bool find_contacts_again(State& /*s*/) { return false; }
+  // arrays are refilled in place, everywhere or (`moved` not empty) around those points only.
+  // False when no stage searched.
+  virtual bool find_contacts_again(State& /*s*/, std::span<const std::uint32_t> /*moved*/) {
+    return false;
+  }
   // Whether to abandon the step now (Ctrl-C during a step that may last minutes). Solvers ask
   // between their iterations (sweeps, CG and Newton iterations) and return at once when true;
   // the simulator then puts the state back to the step's start (Simulator::on_stop_request).

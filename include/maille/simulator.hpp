@@ -259,7 +259,7 @@ class Simulator : private ForceEvaluator {
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
   void evaluate_keeping_contacts(State& s) override;
-  bool find_contacts_again(State& s) override;
+  bool find_contacts_again(State& s, std::span<const std::uint32_t> moved) override;
   // The force pass; `find`: contact stages find the step's set (implicit schemes).
   void evaluate_stages(State& s, bool find);
   // The first stage of a list that needs a finite state (not reads_only), or null.

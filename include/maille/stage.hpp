@@ -111,9 +111,14 @@ class Stage {
                              ContactSet& /*set*/) {}
   // The same search again inside the step, at a solver's iterate s (x, and v = (x - x_n) / h),
   // into the arrays already in the set (a point went past its TriangleContacts::drift_limit()).
-  // False when the stage has nothing to search again (the default: obstacles' contacts are
-  // evaluated wherever the points are).
-  virtual bool find_contacts_again(const Model& /*m*/, State& /*s*/, const StageContext& /*ctx*/) {
+  // `moved` empty: everywhere. Otherwise only around those points (sorted global ids): a stage
+  // that keeps a drift limit L adds to its arrays, keeping what they hold, every pair with one
+  // of them (a point of the pair, a corner of its face or edge) within its contact distance
+  // plus 4 L at s (docs/implicit.md, "Intersection-free cloth: what holds"). False when the
+  // stage has nothing to search again (the default: obstacles' contacts are evaluated
+  // wherever the points are).
+  virtual bool find_contacts_again(const Model& /*m*/, State& /*s*/, const StageContext& /*ctx*/,
+                                   std::span<const std::uint32_t> /*moved*/) {
     return false;
   }
   // The potential energy of the stage's conservative forces at s (J): a contact's penalty

@@ -466,13 +466,13 @@ void Simulator::evaluate_stages(State& s, bool find) {
 
 // A solve's iterate went past what the step's search guarantees: the contact stages that can
 // search again do so at s, into the arrays the set already holds.
-bool Simulator::find_contacts_again(State& s) {
+bool Simulator::find_contacts_again(State& s, std::span<const std::uint32_t> moved) {
   const StageContext ctx = context(s);
   bool searched = false;
   for (auto& st : force_stages_) {
     if (!st.stage->finds_contacts()) continue;
     Timed t(profile_, st.profile_id);
-    searched = st.stage->find_contacts_again(model_, s, ctx) || searched;
+    searched = st.stage->find_contacts_again(model_, s, ctx, moved) || searched;
   }
   return searched;
 }

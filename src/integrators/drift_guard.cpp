@@ -54,6 +54,28 @@ void DriftGuard::searched_again(const Vec3* x) {
   for (const std::uint32_t p : anchors_) predicted_[p] = x[p];
 }
 
+std::span<const std::uint32_t> DriftGuard::moved(const Vec3* x) {
+  moved_.clear();
+  for (const std::uint32_t p : guarded_) {
+    const Real renew = kRenewShare * limit_[p];
+    if (!held_[p] && norm2(x[p] - predicted_[p] - common_) <= renew * renew) continue;
+    if (double(moved_.size() + 1) > kNearShare * double(guarded_.size())) {
+      moved_.clear();
+      break;
+    }
+    moved_.push_back(p);
+  }
+  return moved_;
+}
+
+void DriftGuard::searched_near(const Vec3* x) {
+  for (const std::uint32_t p : moved_) {
+    held_[p] = 0;
+    predicted_[p] = x[p] - common_;  // its ball about x: the common part is everyone's
+  }
+  ++searches_again_;
+}
+
 void DriftGuard::take_common(const Vec3* x) {
   common_ = Vec3{};
   if (!active_ || guarded_.empty()) return;

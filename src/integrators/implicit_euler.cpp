@@ -179,7 +179,12 @@ class ImplicitEuler final : public Integrator {
       if (!guard_.search_due() || k + 1 == kBoundStages) continue;
       for (std::size_t i = 0; i < x.size(); ++i)
         if (m.points.inv_mass[i] > 0) v[i] = (x[i] - x0_[i]) * (Real(1) / h);
-      if (forces.find_contacts_again(s)) guard_.searched_again(x.data());
+      const std::span<const std::uint32_t> moved = guard_.moved(x.data());  // empty: everywhere
+      if (!forces.find_contacts_again(s, moved)) continue;
+      if (moved.empty())
+        guard_.searched_again(x.data());
+      else
+        guard_.searched_near(x.data());
     }
   }
 

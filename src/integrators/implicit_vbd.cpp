@@ -428,14 +428,19 @@ VbdResult VertexBlockDescent::solve(const Model& m, State& s, Real h) {
 }
 
 // The stages' search again at the iterate (x, and v = (x - x_n) / h, as the sweeps leave them):
-// their arrays refilled in place, so the set's views stand; the rows, colours and compaction
-// follow. False when no stage searched (the guard then stays as it was).
+// their arrays refilled in place, or added to around the held points when they are few
+// (DriftGuard::moved), so the set's views stand; the rows, colours and compaction follow. False
+// when no stage searched (the guard then stays as it was).
 bool VertexBlockDescent::search_again(const Model& m, State& s) {
-  if (!forces_ || !forces_->find_contacts_again(s)) return false;
+  const std::span<const std::uint32_t> moved = guard_.moved(s.x().data());  // empty: everywhere
+  if (!forces_ || !forces_->find_contacts_again(s, moved)) return false;
   const Vec3* x = s.x().data();
   const ContactSet& set = forces_->contacts();
   triangle_rows(set.stencils());
-  guard_.searched_again(x);
+  if (moved.empty())
+    guard_.searched_again(x);
+  else
+    guard_.searched_near(x);
   find_candidates(m, xn_.data(), margin_for(x));
   colour();
   compact(x);

@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <set>
 
 #include "intersections.hpp"
 #include "maille/builders.hpp"
 #include "maille/scene.hpp"
 #include "maille/self_collision.hpp"
+#include "maille/shared_laws.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -317,6 +319,87 @@ TEST(SelfCollisionPhysics, ImplicitSolversSearchAgainBeforeABeadCanCrossUnseen) 
     EXPECT_GT(lowest, 0.0) << "the bead went through the cloth";
     EXPECT_NEAR(double(sim.state().x()[bead].y), 0.02 - 0.01 * 800 / 500, 1e-3);
   }
+}
+
+// A search again around a few moved points (Stage::find_contacts_again with `moved`) keeps the
+// step's candidates and adds every pair of a moved point within the contact distance plus four
+// drift limits (s + 4 s/2: docs/implicit.md, "Intersection-free cloth: what holds"), as a
+// brute-force search over every face and edge of the strip finds them: the moved points as
+// particles against every face, every particle against the faces with a moved corner, and
+// every edge against the edges with a moved corner (faces and edges sharing a corner left
+// out, as topological_radius = 0 leaves them).
+TEST(SelfCollisionPhysics, ASearchAroundMovedPointsAddsEveryPairWithinItsReach) {
+  Scene scene = load("wrung_cloth");
+  scene.settings.threads = 1;
+  Simulator sim(scene.model, scene.settings);
+  for (int i = 0; i < 90; ++i) ASSERT_TRUE(sim.step()) << "step " << i;  // 1.5 s: wound
+  const Model& m = sim.model();
+  // The stage alone, as the simulator drives it under implicit Euler: the step's search at the
+  // wound state, then a search again around the moved points.
+  std::unique_ptr<Stage> stage;
+  for (const StageSpec& spec : m.stages)
+    if (spec.name == "self_collision") stage = spec.make(m);
+  ASSERT_TRUE(stage && stage->finds_contacts());
+  StageContext ctx;
+  ctx.h = scene.settings.step;
+  ctx.t = sim.state().time;
+  ctx.jacobians = true;
+  State y = sim.state();
+  ContactSet set;
+  stage->find_contacts(m, y, ctx, set);
+  ASSERT_EQ(set.stencils().size(), 1u);
+  const TriangleContacts& tc = *set.stencils()[0];
+  const std::size_t before = tc.candidates().size();
+  std::set<std::array<std::uint32_t, 4>> kept(tc.candidates().begin(), tc.candidates().end());
+
+  // Five free points spread over the strip moved 4.5 mm (past their 3 mm limit).
+  std::vector<std::uint32_t> moved;
+  for (std::uint32_t i = 0; i < m.points.size() && moved.size() < 5; i += 97)
+    if (m.points.inv_mass[i] > 0) moved.push_back(i);
+  for (const std::uint32_t i : moved) y.x()[i] += Vec3{0.0, 0.004, -0.002};
+  ASSERT_TRUE(stage->find_contacts_again(m, y, ctx, moved));
+
+  const auto after = tc.candidates();
+  std::set<std::array<std::uint32_t, 4>> found(after.begin(), after.end());
+  for (const auto& c : kept) EXPECT_TRUE(found.count(c)) << "a candidate of the step was lost";
+  EXPECT_GT(after.size(), before);
+
+  const Real reach = Real(0.999) * (0.006 + 4 * 0.003);
+  std::vector<std::uint8_t> is_moved(m.points.size(), 0);
+  for (const std::uint32_t i : moved) is_moved[i] = 1;
+  const Vec3* x = y.x().data();
+  std::size_t expected = 0, missing = 0;
+  for (const auto& t : m.surface.triangles)
+    for (std::uint32_t p = 0; p < m.points.size(); ++p) {
+      if (!(m.points.inv_mass[p] > 0) || p == t[0] || p == t[1] || p == t[2]) continue;
+      if (!is_moved[p] && !is_moved[t[0]] && !is_moved[t[1]] && !is_moved[t[2]]) continue;
+      const Vec3 w = law::triangle_closest_weights(x[p], x[t[0]], x[t[1]], x[t[2]]);
+      const Vec3 d = x[p] - (x[t[0]] * w.x + x[t[1]] * w.y + x[t[2]] * w.z);
+      if (!(norm(d) < reach)) continue;
+      ++expected;
+      missing += !found.count({p, t[0], t[1], t[2]});
+    }
+  std::set<std::array<std::uint32_t, 2>> edge_set;
+  for (const auto& t : m.surface.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)];
+      edge_set.insert({std::min(a, b), std::max(a, b)});
+    }
+  const std::vector<std::array<std::uint32_t, 2>> edges(edge_set.begin(), edge_set.end());
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    for (std::size_t j = i + 1; j < edges.size(); ++j) {
+      const auto &e = edges[i], &f = edges[j];
+      if (!is_moved[e[0]] && !is_moved[e[1]] && !is_moved[f[0]] && !is_moved[f[1]]) continue;
+      if (e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1]) continue;
+      Real a = 0, b = 0;
+      law::edge_edge_params(x[e[0]], x[e[1]], x[f[0]], x[f[1]], a, b);
+      const Vec3 d = x[e[0]] * (1 - a) + x[e[1]] * a - (x[f[0]] * (1 - b) + x[f[1]] * b);
+      if (!(norm(d) < reach)) continue;
+      ++expected;
+      missing += !found.count({e[0], e[1], f[0], f[1]}) && !found.count({f[0], f[1], e[0], e[1]});
+    }
+  EXPECT_GT(expected, 20u) << "the moved points have no neighbours: a test of nothing";
+  EXPECT_EQ(missing, 0u) << "of " << expected << " pairs within the reach";
 }
 
 }  // namespace

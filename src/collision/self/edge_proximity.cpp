@@ -65,7 +65,7 @@ std::size_t EdgeProximity::cell_of(const Vec3& p) const {
 
 // Cells of about the longest edge (at least the reach); each edge goes into the cells its box
 // grown by `grow` overlaps (counting sort, two passes), as TriangleProximity::bin does.
-void EdgeProximity::bin(const Vec3* x, Real grow) {
+void EdgeProximity::bin(const Vec3* x, Real grow, const std::vector<std::uint32_t>* only) {
   Vec3 lo = x[corners_.front()], hi = lo;
   for (const std::uint32_t c : corners_) {
     lo = {std::min(lo.x, x[c].x), std::min(lo.y, x[c].y), std::min(lo.z, x[c].z)};
@@ -100,14 +100,20 @@ void EdgeProximity::bin(const Vec3* x, Real grow) {
       for (std::int64_t j = j0; j <= j1; ++j)
         for (std::int64_t i = i0; i <= i1; ++i) fn(std::size_t((k * ny_ + j) * nx_ + i));
   };
-  for (std::size_t e = 0; e < edges_.size(); ++e)
-    each_cell(e, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  auto each_edge = [&](auto&& fn) {
+    if (only)
+      for (const std::uint32_t e : *only) fn(std::size_t(e));
+    else
+      for (std::size_t e = 0; e < edges_.size(); ++e) fn(e);
+  };
+  each_edge([&](std::size_t e) { each_cell(e, [&](std::size_t c) { ++cell_start_[c + 1]; }); });
   for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
   room(cell_edges_, cell_start_[cells]);
   cell_edges_.resize(cell_start_[cells]);
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t e = 0; e < edges_.size(); ++e)
+  each_edge([&](std::size_t e) {
     each_cell(e, [&](std::size_t c) { cell_edges_[cursor_[c]++] = std::uint32_t(e); });
+  });
 }
 
 // Whether a corner of the pair is a colliding particle (two fixed edges never meet).
@@ -145,11 +151,13 @@ bool EdgeProximity::linked(std::uint32_t p, std::uint32_t q) const {
 
 bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
                                int threads, std::vector<std::array<std::uint32_t, 2>>& out,
-                               const Real* grow) {
+                               const Real* grow, const std::vector<std::uint32_t>* only) {
   Real longest = 0;
   for (const auto& e : edges_) longest = std::max(longest, norm(x[e[1]] - x[e[0]]));
   // A pair within `reach` has a's midpoint within reach + |a| / 2 of b: in b's grown cells.
-  bin(x, reach + longest / 2);
+  // (Cells per edge share, as TriangleProximity::candidates has, were tried: on
+  // cloth_on_sphere_vbd the shares are near the largest and the overlaps' cells cost more.)
+  bin(x, reach + longest / 2, only);
   per_thread_pairs_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_pairs_) list.clear();
   thread_full_.assign(per_thread_pairs_.size(), 0);
@@ -165,27 +173,33 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
                  {std::max(p.x, q.x), std::max(p.y, q.y), std::max(p.z, q.z)}};
   }
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
-  for (std::int64_t a = 0; a < n; ++a) {
+  for (std::int64_t i = 0; i < n; ++i) {
     auto& list = per_thread_pairs_[std::size_t(thread_id())];
-    const auto& ea = edges_[std::size_t(a)];
-    const Box& ba = boxes_[std::size_t(a)];
+    const auto a = std::uint32_t(i);
+    const auto& ea = edges_[a];
+    const Box& ba = boxes_[a];
+    // Pair (a, b) past the boxes' test: the closest points within the reach.
+    auto consider = [&](std::uint32_t b) {
+      if (!moves(ea, edges_[b]) || excluded(a, b, exclusion)) return true;
+      const Closest cl = closest(ea, edges_[b], x);
+      if (!(dot(cl.d, cl.d) < reach * reach)) return true;
+      if (list.size() >= cap) {
+        thread_full_[std::size_t(thread_id())] = 1;
+        return false;
+      }
+      list.push_back({std::min(a, b), std::max(a, b)});
+      return true;
+    };
     const std::size_t c = cell_of((x[ea[0]] + x[ea[1]]) * Real(0.5));
     for (std::uint32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
       const std::uint32_t b = cell_edges_[k];
-      if (b <= std::uint32_t(a)) continue;
+      if (only ? b == a : b <= a) continue;  // with `only`: either order, once below
       const Box& bb = boxes_[b];
       const Real g = grow ? grow[a] + grow[b] : reach;
       if (ba.lo.x > bb.hi.x + g || bb.lo.x > ba.hi.x + g || ba.lo.y > bb.hi.y + g ||
           bb.lo.y > ba.hi.y + g || ba.lo.z > bb.hi.z + g || bb.lo.z > ba.hi.z + g)
         continue;
-      if (!moves(ea, edges_[b]) || excluded(std::uint32_t(a), b, exclusion)) continue;
-      const Closest cl = closest(ea, edges_[b], x);
-      if (!(dot(cl.d, cl.d) < reach * reach)) continue;
-      if (list.size() >= cap) {
-        thread_full_[std::size_t(thread_id())] = 1;
-        break;
-      }
-      list.push_back({std::uint32_t(a), b});
+      if (!consider(b)) break;
     }
   }
   for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
@@ -197,6 +211,7 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
   room(out, total);
   for (const auto& list : per_thread_pairs_) out.insert(out.end(), list.begin(), list.end());
   if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());  // threads
+  if (only) out.erase(std::unique(out.begin(), out.end()), out.end());
   return true;
 }
 
@@ -295,12 +310,18 @@ void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h
   for (const std::uint32_t c : corners_) mean += v[c];
   mean = mean * (Real(1) / Real(corners_.size()));
   grow_.resize(edges_.size());
+  Real widest = 0;
   for (std::size_t e = 0; e < edges_.size(); ++e) {
     const Real speed =
         std::sqrt(std::max(norm2(v[edges_[e][0]] - mean), norm2(v[edges_[e][1]] - mean)));
     grow_[e] = Real(0.5) * (radius + kMinMarginFraction * radius) + kMotionFactor * h * speed;
+    widest = std::max(widest, grow_[e]);
   }
-  if (!find_pairs(x, radius + max_margin, exclusion, threads, wide_pairs_, grow_.data())) return;
+  // No pair reaches farther than its two shares: the grid's cells are sized for this step's
+  // motion, not for the wide margin (kept for rebuilds, up to eight times a resting cloth's);
+  // the same pairs (a thousandth more for the rounding) with fewer edges per cell.
+  const Real reach = std::min(radius + max_margin, Real(1.001) * 2 * widest);
+  if (!find_pairs(x, reach, exclusion, threads, wide_pairs_, grow_.data())) return;
   for (const auto& pair : wide_pairs_) {
     const auto &ea = edges_[pair[0]], &eb = edges_[pair[1]];
     Real closing2 = 0;  // the largest speed of a corner of a relative to a corner of b, squared
@@ -310,6 +331,25 @@ void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h
         max_margin, std::max(kMinMarginFraction * radius, kMotionFactor * h * std::sqrt(closing2)));
     const Vec3 d = closest(ea, eb, x).d;
     if (!(dot(d, d) < (radius + margin) * (radius + margin))) continue;
+    out.push_back({ea[0], ea[1], eb[0], eb[1]});
+    particles.push_back(std::uint8_t((local_[ea[0]] >= 0) | (local_[ea[1]] >= 0) << 1 |
+                                     (local_[eb[0]] >= 0) << 2 | (local_[eb[1]] >= 0) << 3));
+  }
+}
+
+void EdgeProximity::candidates_near(const Vec3* x, const std::uint8_t* moved, Real reach,
+                                    const TopologicalExclusion* exclusion, int threads,
+                                    std::vector<std::array<std::uint32_t, 4>>& out,
+                                    std::vector<std::uint8_t>& particles) {
+  full_ = false;
+  if (edges_.size() < 2) return;
+  from_.clear();
+  for (std::size_t e = 0; e < edges_.size(); ++e)
+    if (moved[edges_[e][0]] || moved[edges_[e][1]]) from_.push_back(std::uint32_t(e));
+  if (from_.empty() || !find_pairs(x, reach, exclusion, threads, wide_pairs_, nullptr, &from_))
+    return;
+  for (const auto& pair : wide_pairs_) {
+    const auto &ea = edges_[pair[0]], &eb = edges_[pair[1]];
     out.push_back({ea[0], ea[1], eb[0], eb[1]});
     particles.push_back(std::uint8_t((local_[ea[0]] >= 0) | (local_[ea[1]] >= 0) << 1 |
                                      (local_[eb[0]] >= 0) << 2 | (local_[eb[1]] >= 0) << 3));

@@ -48,6 +48,12 @@ class EdgeProximity {
                   const TopologicalExclusion* exclusion, int threads,
                   std::vector<std::array<std::uint32_t, 4>>& out,
                   std::vector<std::uint8_t>& particles);
+  // The pairs with an edge of a `moved` point (mask by global id) within `reach` at x, as
+  // candidates() gives them (TriangleProximity::candidates_near).
+  void candidates_near(const Vec3* x, const std::uint8_t* moved, Real reach,
+                       const TopologicalExclusion* exclusion, int threads,
+                       std::vector<std::array<std::uint32_t, 4>>& out,
+                       std::vector<std::uint8_t>& particles);
   // The potential 1/2 k (radius - d)^2 of the contacts the last apply() pushed.
   double energy(Real stiffness) const;
   // After apply() at x: for every pair of its Verlet list, `share` times the segments' distance
@@ -70,9 +76,12 @@ class EdgeProximity {
   // Every pair (a < b) closer than `reach` into `out` (sorted); false when over the budget.
   // `grow` (may be null): per edge, a share of the reach such that a pair farther than the sum
   // of its edges' shares is not wanted (boxes farther apart are skipped before any distance).
+  // `only` (may be null): only the pairs with one of those edges (they alone are binned, and
+  // every edge looks for them).
   bool find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion, int threads,
-                  std::vector<std::array<std::uint32_t, 2>>& out, const Real* grow = nullptr);
-  void bin(const Vec3* x, Real grow);
+                  std::vector<std::array<std::uint32_t, 2>>& out, const Real* grow = nullptr,
+                  const std::vector<std::uint32_t>* only = nullptr);
+  void bin(const Vec3* x, Real grow, const std::vector<std::uint32_t>* only = nullptr);
   std::size_t cell_of(const Vec3& p) const;
   bool moves(const std::array<std::uint32_t, 2>& a, const std::array<std::uint32_t, 2>& b) const;
   bool excluded(std::uint32_t a, std::uint32_t b, const TopologicalExclusion* exclusion) const;
@@ -90,8 +99,9 @@ class EdgeProximity {
   Real cell_ = 1;
   std::int64_t nx_ = 1, ny_ = 1, nz_ = 1;
   std::vector<std::uint32_t> cell_start_, cell_edges_, cursor_;
-  std::vector<Box> boxes_;  // [edges] each edge's box at the last search
-  std::vector<Real> grow_;  // [edges] candidates(): each edge's share of a pair's reach
+  std::vector<Box> boxes_;           // [edges] each edge's box at the last search
+  std::vector<Real> grow_;           // [edges] candidates(): each edge's share of a pair's reach
+  std::vector<std::uint32_t> from_;  // candidates_near(): the edges with a moved corner
   std::vector<std::vector<std::array<std::uint32_t, 2>>> per_thread_pairs_;
   std::vector<std::array<std::uint32_t, 2>> pairs_;       // apply's Verlet list
   std::vector<std::array<std::uint32_t, 2>> wide_pairs_;  // candidates' search

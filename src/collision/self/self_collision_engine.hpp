@@ -210,6 +210,33 @@ class SelfCollision {
     if (edges_->full()) refuse_edge_contacts();
   }
 
+  // The candidates of the `moved` points (mask by global id) within `reach` at x
+  // (TriangleProximity::candidates_near), added where `out` lacks them: point-triangle ones at
+  // the end of its point-triangle part, edge-edge ones at its end. What `out` holds stays, in
+  // its order (a solver's search again around the points past their drift limit).
+  void triangle_candidates_near(const Vec3* x, const std::uint8_t* moved, Real reach, int threads,
+                                std::vector<std::array<std::uint32_t, 4>>& out,
+                                std::size_t& edge_begin,
+                                std::vector<std::uint8_t>& edge_particles) {
+    if (!triangles_) return;
+    const collision::TopologicalExclusion* ex =
+        s_.exclusion == Exclusion::none ? nullptr : exclusion_.get();
+    triangles_->candidates_near(x, moved, reach, ex, near_found_);
+    if (triangles_->full()) refuse_triangle_contacts();
+    near_edges_.clear();
+    near_bits_.clear();
+    edges_->candidates_near(x, moved, reach, ex, threads, near_edges_, near_bits_);
+    if (edges_->full()) refuse_edge_contacts();
+    const auto begin = out.begin(), split = out.begin() + std::ptrdiff_t(edge_begin);
+    merged_.assign(begin, split);
+    append_missing(begin, split, near_found_, merged_, nullptr, nullptr);
+    const std::size_t new_begin = merged_.size();
+    merged_.insert(merged_.end(), split, out.end());
+    append_missing(split, out.end(), near_edges_, merged_, &near_bits_, &edge_particles);
+    out.swap(merged_);
+    edge_begin = new_begin;
+  }
+
   // The contacts' potential at x: 1/2 k (s - d)^2 per close pair (in a < b order) and per
   // particle-triangle contact (counted as apply() pushes them: a shared edge or corner once).
   // The triangles' pass runs apply's search into `scratch` (forces discarded).
@@ -232,6 +259,38 @@ class SelfCollision {
     return e + triangles_->energy(s_.stiffness) + edges_->energy(s_.stiffness);
   }
 
+ private:
+  // The entries of `found` not in [first, last), appended to `to` in their order (with their
+  // `bits` to `bits_to` when given).
+  using Quad = std::array<std::uint32_t, 4>;
+  void append_missing(std::vector<Quad>::const_iterator first,
+                      std::vector<Quad>::const_iterator last, const std::vector<Quad>& found,
+                      std::vector<Quad>& to, const std::vector<std::uint8_t>* bits,
+                      std::vector<std::uint8_t>* bits_to) {
+    // The found are few (around a few points), the held many: the found sorted, each held
+    // entry looked up among them.
+    order_.resize(found.size());
+    for (std::size_t i = 0; i < found.size(); ++i) order_[i] = std::uint32_t(i);
+    std::sort(order_.begin(), order_.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return found[a] < found[b]; });
+    present_.assign(found.size(), 0);
+    for (auto it = first; it != last; ++it) {
+      const auto at =
+          std::lower_bound(order_.begin(), order_.end(), *it,
+                           [&](std::uint32_t i, const Quad& q) { return found[i] < q; });
+      if (at != order_.end() && found[*at] == *it) present_[*at] = 1;
+    }
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      if (present_[i]) continue;
+      to.push_back(found[i]);
+      if (bits) bits_to->push_back((*bits)[i]);
+    }
+  }
+  std::vector<Quad> near_found_, near_edges_, merged_;  // triangle_candidates_near()
+  std::vector<std::uint8_t> near_bits_, present_;
+  std::vector<std::uint32_t> order_;
+
+ public:
   // apply()'s displacement bounds at x (MotionBound): `share` times the radius for every
   // colliding particle, lowered by the distances of the point-triangle and edge-edge Verlet
   // lists' pairs (bound: by global id). False without both lists (primitive = "points", or a

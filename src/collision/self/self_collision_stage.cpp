@@ -199,16 +199,41 @@ class SelfCollisionStage final : public Stage, public MotionBound {
 
   // A solver's iterate went past a point's drift limit: the same search at the iterate, into the
   // same arrays (the friction's lag taken there too), each pair's margin from the iterate's
-  // motion since x_n within the step's wide margin (contacts_as_links, `again`).
-  bool find_contacts_again(const Model& m, State& s, const StageContext& ctx) override {
+  // motion since x_n within the step's wide margin (contacts_as_links, `again`); or, with
+  // `moved`, the stencil candidates of those points added (search_near).
+  bool find_contacts_again(const Model& m, State& s, const StageContext& ctx,
+                           std::span<const std::uint32_t> moved) override {
     if (!enabled_ || engine_.settings().primitive != Primitive::triangles) return false;
-    contacts_.clear();
-    triangle_terms_.storage().clear();
-    triangle_terms_.set_edge_begin(0);
-    contacts_as_links(m, s, ctx, true);
+    if (!moved.empty()) {
+      search_near(s, ctx, moved);
+    } else {
+      contacts_.clear();
+      triangle_terms_.storage().clear();
+      triangle_terms_.set_edge_begin(0);
+      contacts_as_links(m, s, ctx, true);
+    }
     ++searches_;
     count_searches(ctx);
     return true;
+  }
+
+  // The stencil candidates of the moved points within s + 4 L at the iterate (L the drift
+  // limit), added to the step's. A moved point's new ball (radius L about where it is) and any
+  // other point's (its first, which it may cross whole: 2 L) close a pair by at most 4 L, a
+  // face or an edge moving no farther than its farthest corner: a pair left out stays farther
+  // apart than s, the contact distance (docs/implicit.md). The point pairs are not guarded
+  // (no drift limit) and stay as found.
+  void search_near(State& s, const StageContext& ctx, std::span<const std::uint32_t> moved) {
+    const Real radius = engine_.settings().radius;
+    moved_mask_.assign(s.size(), 0);
+    for (const std::uint32_t p : moved) moved_mask_[p] = 1;
+    std::size_t edge_begin =
+        std::min(triangle_terms_.edge_begin(), triangle_terms_.storage().size());
+    engine_.triangle_candidates_near(
+        s.x().data(), moved_mask_.data(), radius + 4 * kDriftShare * radius, ctx.threads,
+        triangle_terms_.storage(), edge_begin, triangle_terms_.edge_particles());
+    triangle_terms_.set_edge_begin(edge_begin);
+    triangle_terms_.lag(s.x().data(), s.v().data());
   }
 
   void count_searches(const StageContext& ctx) {
@@ -423,7 +448,8 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   static constexpr Real kDriftShare = Real(0.5);
   std::uint64_t searches_ = 0;
   int searches_id_ = -1;
-  std::vector<std::uint32_t> members_;  // take_members()
+  std::vector<std::uint32_t> members_;    // take_members()
+  std::vector<std::uint8_t> moved_mask_;  // search_near(): by global id
   double last_cell_ = 0;
 };
 

@@ -44,7 +44,8 @@ TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint
 
 // A grid over the particles' box, cells of about the longest triangle box side; triangles go
 // into the cells their boxes grown by `grow` overlap (counting sort, two passes).
-void TriangleProximity::bin(const Vec3* x, Real grow_by) {
+void TriangleProximity::bin(const Vec3* x, Real grow_by, const std::vector<std::uint32_t>* only,
+                            const Real* grow_each) {
   xs_.resize(set_.size());
   for (std::size_t k = 0; k < set_.size(); ++k) xs_[k] = x[set_[k]];
   const Box box = bounds(xs_.data(), std::uint32_t(xs_.size()));
@@ -73,7 +74,8 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by) {
   const auto cells = std::size_t(nx * ny * nz);
   cell_start_.assign(cells + 1, 0);
   const Vec3 grow{grow_by, grow_by, grow_by};
-  auto each_cell = [&](std::size_t t, auto&& fn) {
+  boxes_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
     const auto& tri = tris_[t];
     Vec3 lo = x[tri[0]], hi = x[tri[0]];
     for (int k = 1; k < 3; ++k) {
@@ -81,19 +83,29 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by) {
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
     }
+    boxes_[t] = {lo, hi};
+  }
+  auto each_cell = [&](std::size_t t, auto&& fn) {
     std::array<std::int64_t, 6> c;
-    cell_range(lo - grow, hi + grow, c);
+    const Vec3 g = grow_each ? Vec3{grow_each[t], grow_each[t], grow_each[t]} : grow;
+    cell_range(boxes_[t][0] - g, boxes_[t][1] + g, c);
     for (std::int64_t k = c[4]; k <= c[5]; ++k)
       for (std::int64_t j = c[2]; j <= c[3]; ++j)
         for (std::int64_t i = c[0]; i <= c[1]; ++i) fn(std::size_t((k * ny + j) * nx + i));
   };
-  for (std::size_t t = 0; t < tris_.size(); ++t)
-    each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  auto each_triangle = [&](auto&& fn) {
+    if (only)
+      for (const std::uint32_t t : *only) fn(std::size_t(t));
+    else
+      for (std::size_t t = 0; t < tris_.size(); ++t) fn(t);
+  };
+  each_triangle([&](std::size_t t) { each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; }); });
   for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
   cell_tris_.resize(cell_start_[cells]);
   cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t t = 0; t < tris_.size(); ++t)
+  each_triangle([&](std::size_t t) {
     each_cell(t, [&](std::size_t c) { cell_tris_[cursor_[c]++] = std::uint32_t(t); });
+  });
 }
 
 template <class F>
@@ -123,8 +135,18 @@ void TriangleProximity::near(std::int64_t k, const Vec3* x, Real radius,
       (clampi(std::int64_t(q.z), grid_.nz) * grid_.ny + clampi(std::int64_t(q.y), grid_.ny)) *
           grid_.nx +
       clampi(std::int64_t(q.x), grid_.nx));
+  // A triangle whose box is farther than the radius along an axis is farther than the radius:
+  // six compares before the closest point's divisions, which most of a cell's triangles fail.
+  // The slack (a thousandth of the radius) keeps every pair the exact test would keep, whatever
+  // the closest point's rounding: the same pairs as without the test.
+  const Real g = radius * Real(1.001);
+  const Vec3 xp = x[p];
   for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
     const std::uint32_t t = cell_tris_[s];
+    const auto& box = boxes_[t];
+    if (xp.x < box[0].x - g || xp.x > box[1].x + g || xp.y < box[0].y - g || xp.y > box[1].y + g ||
+        xp.z < box[0].z - g || xp.z > box[1].z + g)
+      continue;
     const auto& tri = tris_[t];
     if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
     touch(k, t, x, radius, [&](std::uint32_t, const auto& w, const Vec3& d, Real d2) {
@@ -179,14 +201,91 @@ bool TriangleProximity::find_near(const Vec3* x, Real reach, const TopologicalEx
   return true;
 }
 
+// Each pair's reach, radius + its margin (at most max_margin, at least kMinMarginFraction
+// radius, else kMotionFactor h times the particle's largest speed relative to a corner), is at
+// most the triangle's share plus the particle's: a speed relative to a corner is at most the sum
+// of the two speeds relative to the mean of the tracked points. So the grid is searched for each
+// pair's own motion, not for the fastest point's (the cloth's resting parts stay in small
+// cells while its sides swing): the same candidates. A thousandth more keeps them whatever the
+// rounding.
+void TriangleProximity::take_shares(const Vec3* v, Real radius, Real h, Real max_margin) {
+  Vec3 mean{};
+  for (const std::uint32_t p : tracked_) mean += v[p];
+  mean = mean * (Real(1) / Real(std::max<std::size_t>(tracked_.size(), 1)));
+  constexpr Real kSlack = Real(1.001);
+  tri_share_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    Real u2 = 0;
+    for (const std::uint32_t c : tris_[t]) u2 = std::max(u2, norm2(v[c] - mean));
+    tri_share_[t] = kSlack * std::min(radius + max_margin, radius + kMinMarginFraction * radius +
+                                                               kMotionFactor * h * std::sqrt(u2));
+  }
+  particle_share_.resize(set_.size());
+  for (std::size_t k = 0; k < set_.size(); ++k)
+    particle_share_[k] = kSlack * std::min(max_margin, kMotionFactor * h * norm(v[set_[k]] - mean));
+}
+
+// Calls fn(t, d2) for every triangle t within the shares of particle k and t (take_shares),
+// neither the particle's own nor, by `exclusion`, its neighbourhood; d2: the squared distance.
+// The particle visits the cells its box (grown by its share) overlaps, a triangle lies in those
+// its box grown by its share overlaps, and a pair is taken in one cell only: the one holding
+// the low corner of the two grown boxes' overlap.
+template <class F>
+void TriangleProximity::near_grown(std::int64_t k, const Vec3* x,
+                                   const TopologicalExclusion* exclusion, F&& fn) const {
+  const std::uint32_t p = set_[std::size_t(k)];
+  const Vec3 xp = x[p];
+  const Real a = particle_share_[std::size_t(k)];
+  const Vec3 plo = xp - Vec3{a, a, a}, phi = xp + Vec3{a, a, a};
+  const auto c0 = cell_at(plo), c1 = cell_at(phi);
+  for (std::int64_t cz = c0[2]; cz <= c1[2]; ++cz)
+    for (std::int64_t cy = c0[1]; cy <= c1[1]; ++cy)
+      for (std::int64_t cx = c0[0]; cx <= c1[0]; ++cx) {
+        const auto c = std::size_t((cz * grid_.ny + cy) * grid_.nx + cx);
+        for (std::uint32_t s = cell_start_[c]; s < cell_start_[c + 1]; ++s) {
+          const std::uint32_t t = cell_tris_[s];
+          const Real g = tri_share_[t];
+          const Vec3 lo = boxes_[t][0] - Vec3{g, g, g}, hi = boxes_[t][1] + Vec3{g, g, g};
+          if (phi.x < lo.x || plo.x > hi.x || phi.y < lo.y || plo.y > hi.y || phi.z < lo.z ||
+              plo.z > hi.z)
+            continue;
+          const Vec3 corner{std::max(plo.x, lo.x), std::max(plo.y, lo.y), std::max(plo.z, lo.z)};
+          if (cell_at(corner) != std::array<std::int64_t, 3>{cx, cy, cz}) continue;
+          const auto& tri = tris_[t];
+          if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
+          const std::array<Real, 3> w = closest_weights(xp, x[tri[0]], x[tri[1]], x[tri[2]]);
+          const Vec3 d = xp - (x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2]);
+          const Real d2 = dot(d, d);
+          const Real r = g + a;
+          if (!(d2 < r * r) || d2 == 0) continue;
+          bool own = false;  // the triangle is the particle's own neighbourhood
+          if (exclusion)
+            for (auto corner_id : tri)
+              own |= local_[corner_id] >= 0 &&
+                     exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner_id]));
+          if (!own) fn(t, d2);
+        }
+      }
+}
+
+std::array<std::int64_t, 3> TriangleProximity::cell_at(const Vec3& p) const {
+  const Vec3 q = (p - grid_.lo) / grid_.cell;
+  auto clampi = [](Real a, std::int64_t n) {
+    return std::clamp<std::int64_t>(std::int64_t(std::floor(a)), 0, n - 1);
+  };
+  return {clampi(q.x, grid_.nx), clampi(q.y, grid_.ny), clampi(q.z, grid_.nz)};
+}
+
 void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h,
                                    Real max_margin, const TopologicalExclusion* exclusion,
                                    int threads, std::vector<std::array<std::uint32_t, 4>>& out) {
   out.clear();
   full_ = false;
   if (tris_.empty() || set_.empty()) return;
-  const Real reach = radius + max_margin;
-  bin(x, reach);
+  take_shares(v, radius, h, max_margin);
+  Real mean_share = 0;
+  for (const Real g : tri_share_) mean_share += g;
+  bin(x, mean_share / Real(tri_share_.size()), nullptr, tri_share_.data());
   per_thread_candidates_.resize(std::size_t(std::max(threads, 1)));
   for (auto& list : per_thread_candidates_) list.clear();
   thread_full_.assign(per_thread_candidates_.size(), 0);
@@ -196,7 +295,7 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
   for (std::int64_t k = 0; k < n; ++k) {
     auto& list = per_thread_candidates_[std::size_t(thread_id())];
     const std::uint32_t p = set_[std::size_t(k)];
-    near(k, x, reach, exclusion, [&](std::uint32_t t, const auto&, const Vec3&, Real d2) {
+    near_grown(k, x, exclusion, [&](std::uint32_t t, Real d2) {
       const auto& tri = tris_[t];
       Real closing2 = 0;  // the largest speed of the particle relative to a corner, squared
       for (const std::uint32_t c : tri) closing2 = std::max(closing2, norm2(v[p] - v[c]));
@@ -220,6 +319,49 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
   std::sort(all_candidates_.begin(), all_candidates_.end(), [](const auto& a, const auto& b) {
     return std::tie(a[0], a[4]) < std::tie(b[0], b[4]);
   });
+  for (const auto& c : all_candidates_) out.push_back({c[0], c[1], c[2], c[3]});
+}
+
+void TriangleProximity::candidates_near(const Vec3* x, const std::uint8_t* moved, Real reach,
+                                        const TopologicalExclusion* exclusion,
+                                        std::vector<std::array<std::uint32_t, 4>>& out) {
+  out.clear();
+  full_ = false;
+  if (tris_.empty() || set_.empty()) return;
+  all_candidates_.clear();
+  auto keep = [&](std::int64_t k) {
+    return [&, k](std::uint32_t t, const auto&, const Vec3&, Real) {
+      const auto& tri = tris_[t];
+      all_candidates_.push_back({set_[std::size_t(k)], tri[0], tri[1], tri[2], t});
+    };
+  };
+  // The moved particles against every triangle; then every particle against the triangles with
+  // a moved corner, alone in the grid (most particles' cells are empty).
+  bool any = false;
+  for (std::size_t k = 0; k < set_.size() && !any; ++k) any = moved[set_[k]] != 0;
+  if (any) {
+    bin(x, reach);
+    for (std::size_t k = 0; k < set_.size(); ++k)
+      if (moved[set_[k]]) near(std::int64_t(k), x, reach, exclusion, keep(std::int64_t(k)));
+  }
+  moved_tris_.clear();
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    if (moved[tris_[t][0]] || moved[tris_[t][1]] || moved[tris_[t][2]])
+      moved_tris_.push_back(std::uint32_t(t));
+  if (!moved_tris_.empty()) {
+    bin(x, reach, &moved_tris_);
+    for (std::size_t k = 0; k < set_.size(); ++k)
+      near(std::int64_t(k), x, reach, exclusion, keep(std::int64_t(k)));
+  }
+  std::sort(all_candidates_.begin(), all_candidates_.end(), [](const auto& a, const auto& b) {
+    return std::tie(a[0], a[4]) < std::tie(b[0], b[4]);
+  });
+  all_candidates_.erase(std::unique(all_candidates_.begin(), all_candidates_.end()),
+                        all_candidates_.end());
+  if (all_candidates_.size() > max_contacts_) {
+    full_ = true;
+    return;
+  }
   for (const auto& c : all_candidates_) out.push_back({c[0], c[1], c[2], c[3]});
 }
 

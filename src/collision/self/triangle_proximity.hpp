@@ -69,6 +69,13 @@ class TriangleProximity {
   void candidates(const Vec3* x, const Vec3* v, Real radius, Real h, Real max_margin,
                   const TopologicalExclusion* exclusion, int threads,
                   std::vector<std::array<std::uint32_t, 4>>& out);
+  // The particle-triangle pairs of the `moved` points (mask by global id) within `reach` at x: a
+  // moved particle against every triangle, every particle against the triangles with a moved
+  // corner (a solver's search again around the points past their drift limit). {particle,
+  // corners}, sorted by particle then triangle. More than max_contacts: none, and full().
+  void candidates_near(const Vec3* x, const std::uint8_t* moved, Real reach,
+                       const TopologicalExclusion* exclusion,
+                       std::vector<std::array<std::uint32_t, 4>>& out);
   // The potential 1/2 k (radius - d)^2 of the contacts the last apply() pushed.
   double energy(Real stiffness) const;
   // After apply() at x: for every pair of its Verlet list, `share` times the particle-triangle
@@ -95,7 +102,16 @@ class TriangleProximity {
     Real cell = 1;
     std::int64_t nx = 1, ny = 1, nz = 1;
   };
-  void bin(const Vec3* x, Real grow);
+  // The triangles (those of `only` when given) into the grid, their boxes grown by `grow`.
+  // `grow_each` (may be null): each triangle's own growth instead (`grow` then sizes the cells).
+  void bin(const Vec3* x, Real grow, const std::vector<std::uint32_t>* only = nullptr,
+           const Real* grow_each = nullptr);
+  // candidates(): each triangle's and each particle's share of a pair's reach.
+  void take_shares(const Vec3* v, Real radius, Real h, Real max_margin);
+  template <class F>
+  void near_grown(std::int64_t k, const Vec3* x, const TopologicalExclusion* exclusion,
+                  F&& fn) const;
+  std::array<std::int64_t, 3> cell_at(const Vec3& p) const;  // floor, clamped to the grid
   // Whether near_ (found at anchor_ within `reach`) still holds every pair within `radius`.
   bool near_holds(const Vec3* x, Real radius, Real reach,
                   const TopologicalExclusion* exclusion) const;
@@ -114,12 +130,16 @@ class TriangleProximity {
   std::vector<std::int32_t> local_;  // global id -> index in set_, -1 when not colliding
   std::vector<Vec3> xs_;             // the particles' positions, gathered each pass
   std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
+  std::vector<std::array<Vec3, 2>> boxes_;  // [triangles] each one's box at the last bin()
   std::vector<std::vector<Contact>> per_thread_;
   std::vector<std::uint8_t> thread_full_;  // [threads] 1: that thread's list reached its cap
   std::vector<Contact> all_;
   // {particle, corners, triangle} per thread, then all of them sorted
   std::vector<std::vector<std::array<std::uint32_t, 5>>> per_thread_candidates_;
   std::vector<std::array<std::uint32_t, 5>> all_candidates_;
+  std::vector<std::uint32_t> moved_tris_;
+  std::vector<Real> tri_share_,
+      particle_share_;  // take_shares()  // candidates_near(): the triangles with a moved corner
   std::size_t max_contacts_;
   bool full_ = false;
   // apply's Verlet list: {local particle, triangle} pairs within near_reach_ of each other at
