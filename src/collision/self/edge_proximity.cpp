@@ -259,8 +259,7 @@ std::uint64_t EdgeProximity::apply(const Vec3* x, const Vec3* v, Vec3* f, const 
     const std::uint32_t a = pairs_[std::size_t(i)][0], b = pairs_[std::size_t(i)][1];
     const auto &ea = edges_[a], &eb = edges_[b];
     const Closest cl = closest(ea, eb, x);
-    if (!law::edge_edge_acts(cl.s, cl.t, local_[ea[0]] >= 0, local_[ea[1]] >= 0, local_[eb[0]] >= 0,
-                             local_[eb[1]] >= 0))
+    if (!law::edge_edge_acts(cl.s, cl.t, true, true, true, true))  // kPointCorners
       continue;
     const Real d2 = dot(cl.d, cl.d);
     if (!(d2 < r.radius * r.radius) || d2 == 0) continue;
@@ -332,8 +331,7 @@ void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h
     const Vec3 d = closest(ea, eb, x).d;
     if (!(dot(d, d) < (radius + margin) * (radius + margin))) continue;
     out.push_back({ea[0], ea[1], eb[0], eb[1]});
-    particles.push_back(std::uint8_t((local_[ea[0]] >= 0) | (local_[ea[1]] >= 0) << 1 |
-                                     (local_[eb[0]] >= 0) << 2 | (local_[eb[1]] >= 0) << 3));
+    particles.push_back(kPointCorners);
   }
 }
 
@@ -351,8 +349,7 @@ void EdgeProximity::candidates_near(const Vec3* x, const std::uint8_t* moved, Re
   for (const auto& pair : wide_pairs_) {
     const auto &ea = edges_[pair[0]], &eb = edges_[pair[1]];
     out.push_back({ea[0], ea[1], eb[0], eb[1]});
-    particles.push_back(std::uint8_t((local_[ea[0]] >= 0) | (local_[ea[1]] >= 0) << 1 |
-                                     (local_[eb[0]] >= 0) << 2 | (local_[eb[1]] >= 0) << 3));
+    particles.push_back(kPointCorners);
   }
 }
 

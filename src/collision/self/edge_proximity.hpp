@@ -64,6 +64,12 @@ class EdgeProximity {
   bool full() const { return full_; }
   std::size_t max_contacts() const { return max_contacts_; }
 
+  // Every corner of the faces touches the faces as a point (a colliding particle, or a fixed or
+  // driven point of the groups probing them: TriangleProximity), so an edge pair whose closest
+  // point is an edge's end is left to that point's face contacts (law::edge_edge_acts): the
+  // four "particle" bits are always set.
+  static constexpr std::uint8_t kPointCorners = 0xF;
+
   static constexpr std::size_t kBytesPerContact =
       4 * (2 * sizeof(std::uint32_t) + 6 * sizeof(Real));
 

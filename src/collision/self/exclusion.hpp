@@ -43,6 +43,7 @@ class TopologicalExclusion {
     return matrix_excluded(a, b);
   }
   bool matrix_excluded(std::uint32_t a, std::uint32_t b) const;
+  int radius() const { return radius_; }
   // Whether every pair inside the union of two cells is excluded.
   bool all_excluded(const CellSignature& s) const {
     return radius_ > 0 && s.group >= 0 && s.i1 - s.i0 <= full_span_[std::size_t(s.group)] &&

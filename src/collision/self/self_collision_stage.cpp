@@ -50,7 +50,7 @@ class SelfCollisionStage final : public Stage, public MotionBound {
       : settings_(s), engine_(m, s), warnings_(leak_warnings(m, engine_.settings())) {
     anchored_ = anchored_triangles(m);
     faces_ = group_faces(m, settings_.groups);
-    take_members();
+    take_members(m);
   }
   std::string name() const override { return std::string(kSelfCollisionStage); }
   Phase phase() const override { return kSelfCollisionPhase; }
@@ -61,15 +61,21 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     warnings_ = leak_warnings(m, engine_.settings());
     anchored_ = anchored_triangles(m);
     faces_ = group_faces(m, settings_.groups);
-    take_members();
+    take_members(m);
     last_cell_ = 0;
   }
-  // The points a solver's drift guard watches: the colliding particles and the fixed or driven
-  // corners of the faces (they do not move inside a solve; the common displacement must suit
-  // them too).
-  void take_members() {
+  // The points a solver's drift guard watches: the colliding particles, the fixed or driven
+  // corners of the faces and, with triangles, the groups' other fixed or driven points, which
+  // probe the faces (they do not move inside a solve; the common displacement must suit them
+  // too).
+  void take_members(const Model& m) {
     members_ = engine_.set();
     for (const auto& f : faces_) members_.insert(members_.end(), f.begin(), f.end());
+    if (engine_.settings().primitive == Primitive::triangles) {
+      const std::vector<std::uint8_t> in = group_mask(m, engine_.settings().groups);
+      for (std::uint32_t p = 0; p < m.points.size(); ++p)
+        if (in[p] && !(m.points.inv_mass[p] > 0)) members_.push_back(p);
+    }
     std::sort(members_.begin(), members_.end());
     members_.erase(std::unique(members_.begin(), members_.end()), members_.end());
   }
@@ -373,16 +379,15 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     wide_ = std::make_unique<SelfCollision>(m, ws);
   }
 
-  // Triangles with a fixed or driven corner do not follow the particles' common motion (a
-  // particle falling onto a pinned cloth): speeds are then taken as they are.
+  // Triangles with a fixed or driven corner, and fixed or driven points probing the faces, do
+  // not follow the particles' common motion (a particle falling onto a pinned cloth, a cloth
+  // falling onto a peg): speeds are then taken as they are.
   bool anchored_ = false;
   bool anchored_triangles(const Model& m) const {
     if (engine_.settings().primitive != Primitive::triangles) return false;
     const std::vector<std::uint8_t> in = group_mask(m, engine_.settings().groups);
-    for (const auto& t : m.surface.triangles)
-      if (in[t[0]] && in[t[1]] && in[t[2]])
-        for (const std::uint32_t c : t)
-          if (m.points.inv_mass[c] == 0) return true;
+    for (std::uint32_t p = 0; p < m.points.size(); ++p)
+      if (in[p] && m.points.inv_mass[p] == 0) return true;  // a face's corner, or a probe
     return false;
   }
 

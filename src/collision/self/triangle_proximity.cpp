@@ -32,10 +32,31 @@ Feature feature_of(const std::array<std::uint32_t, 3>& tri, std::uint32_t triang
 TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
                                      const std::vector<std::uint8_t>& groups_mask,
                                      std::size_t max_contacts)
-    : set_(set), local_(m.points.size(), -1), max_contacts_(max_contacts) {
+    : set_(set), free_count_(set.size()), local_(m.points.size(), -1), max_contacts_(max_contacts) {
   for (std::size_t k = 0; k < set.size(); ++k) local_[set[k]] = std::int32_t(k);
   for (const auto& t : m.surface.triangles)
     if (groups_mask[t[0]] && groups_mask[t[1]] && groups_mask[t[2]]) tris_.push_back(t);
+  // The fixed and driven points of the groups probe the faces too (a free face must not pass
+  // through a held point), after the particles: each with the points it shares a face with,
+  // its neighbourhood for a topological radius of one link or more.
+  for (std::uint32_t p = 0; p < m.points.size(); ++p)
+    if (groups_mask[p] && local_[p] < 0 && !(m.points.inv_mass[p] > 0)) set_.push_back(p);
+  std::vector<std::int32_t> probe(m.points.size(), -1);
+  for (std::size_t k = free_count_; k < set_.size(); ++k)
+    probe[set_[k]] = std::int32_t(k - free_count_);
+  std::vector<std::vector<std::uint32_t>> ring(set_.size() - free_count_);
+  for (const auto& t : tris_)
+    for (const std::uint32_t c : t)
+      if (probe[c] >= 0)
+        for (const std::uint32_t o : t)
+          if (o != c) ring[std::size_t(probe[c])].push_back(o);
+  ring_start_.assign(1, 0);
+  for (auto& r : ring) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    ring_points_.insert(ring_points_.end(), r.begin(), r.end());
+    ring_start_.push_back(std::uint32_t(ring_points_.size()));
+  }
   tracked_ = set_;
   for (const auto& t : tris_) tracked_.insert(tracked_.end(), t.begin(), t.end());
   std::sort(tracked_.begin(), tracked_.end());
@@ -108,6 +129,28 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by, const std::vector<std::
   });
 }
 
+// Whether triangle `tri` is point k's own neighbourhood: for a colliding particle, its corners
+// within the exclusion's radius; for a fixed or driven probe, the points it shares a face with
+// (radius one link or more), and any face with no free corner (nothing of the pair moves).
+bool TriangleProximity::excluded(std::int64_t k, const std::array<std::uint32_t, 3>& tri,
+                                 const TopologicalExclusion* exclusion) const {
+  if (std::size_t(k) < free_count_) {
+    if (exclusion)
+      for (const std::uint32_t c : tri)
+        if (local_[c] >= 0 && exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[c])))
+          return true;
+    return false;
+  }
+  if (local_[tri[0]] < 0 && local_[tri[1]] < 0 && local_[tri[2]] < 0) return true;
+  if (!exclusion || exclusion->radius() < 1) return false;
+  const std::size_t r = std::size_t(k) - free_count_;
+  const auto first = ring_points_.begin() + ring_start_[r],
+             last = ring_points_.begin() + ring_start_[r + 1];
+  for (const std::uint32_t c : tri)
+    if (std::binary_search(first, last, c)) return true;
+  return false;
+}
+
 template <class F>
 void TriangleProximity::touch(std::int64_t k, std::uint32_t t, const Vec3* x, Real radius,
                               F&& fn) const {
@@ -150,12 +193,7 @@ void TriangleProximity::near(std::int64_t k, const Vec3* x, Real radius,
     const auto& tri = tris_[t];
     if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
     touch(k, t, x, radius, [&](std::uint32_t, const auto& w, const Vec3& d, Real d2) {
-      bool own = false;  // the triangle is the particle's own neighbourhood
-      if (exclusion)
-        for (auto corner : tri)
-          own |= local_[corner] >= 0 &&
-                 exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner]));
-      if (!own) fn(t, w, d, d2);
+      if (!excluded(k, tri, exclusion)) fn(t, w, d, d2);
     });
   }
 }
@@ -258,12 +296,7 @@ void TriangleProximity::near_grown(std::int64_t k, const Vec3* x,
           const Real d2 = dot(d, d);
           const Real r = g + a;
           if (!(d2 < r * r) || d2 == 0) continue;
-          bool own = false;  // the triangle is the particle's own neighbourhood
-          if (exclusion)
-            for (auto corner_id : tri)
-              own |= local_[corner_id] >= 0 &&
-                     exclusion->excluded(std::uint32_t(k), std::uint32_t(local_[corner_id]));
-          if (!own) fn(t, d2);
+          if (!excluded(k, tri, exclusion)) fn(t, d2);
         }
       }
 }

@@ -51,7 +51,8 @@ class TriangleProximity {
  public:
   // `set`: the colliding particles (global ids, sorted); triangles: the model's faces whose
   // corners all belong to `groups_mask` (1 for points of the colliding groups); at most
-  // `max_contacts` contacts in a pass (see kBytesPerContact).
+  // `max_contacts` contacts in a pass (see kBytesPerContact). The fixed and driven points of the
+  // groups probe the faces too, as particles do (their forces are written and not used).
   TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
                     const std::vector<std::uint8_t>& groups_mask, std::size_t max_contacts);
   // Adds the forces; returns the number of particle-triangle contacts. `exclusion` (may be
@@ -126,7 +127,13 @@ class TriangleProximity {
 
   Grid grid_;
   std::vector<std::array<std::uint32_t, 3>> tris_;  // global corner ids
+  // The colliding particles (the first free_count_, sorted), then the fixed and driven points
+  // of the groups (sorted), which probe the faces as particles do.
   std::vector<std::uint32_t> set_;
+  std::size_t free_count_ = 0;
+  std::vector<std::uint32_t> ring_start_, ring_points_;  // per probe: who shares a face with it
+  bool excluded(std::int64_t k, const std::array<std::uint32_t, 3>& tri,
+                const TopologicalExclusion* exclusion) const;
   std::vector<std::int32_t> local_;  // global id -> index in set_, -1 when not colliding
   std::vector<Vec3> xs_;             // the particles' positions, gathered each pass
   std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
