@@ -111,17 +111,6 @@ void Simulator::restimate_stability() {
   stability_ = estimate_stability(model_, *integrator_, installed_stages());
 }
 
-void Simulator::install_model_stages() {
-  for (std::size_t i = 0; i < model_.stages.size(); ++i) {
-    const StageSpec& spec = model_.stages[i];
-    const auto& off = settings_.disabled_stages;
-    if (std::find(off.begin(), off.end(), spec.name) != off.end()) continue;
-    std::unique_ptr<Stage> stage = spec.make(model_);
-    check_stage(*stage);
-    add_installed(std::move(stage), true, static_cast<int>(i));
-  }
-}
-
 void Simulator::reset() {
   const std::uint32_t n = model_.points.size();
   state_ = State(n);
@@ -141,42 +130,6 @@ void Simulator::reset() {
   energy_scale_ = energy_scale();
   host_ahead_ = true;
   device_ahead_ = false;
-}
-
-void Simulator::check_stage(Stage& stage) const {
-  if (backend_) check_backend(*integrator_, &stage);
-  if (const std::string why = integrator_->check_stage(stage); !why.empty())
-    throw std::invalid_argument(why);
-  if (stage.phase() == Phase::response && integrator_->response_timing() == ResponseTiming::refused)
-    throw std::invalid_argument("stage '" + stage.name() +
-                                "' rewrites forces and velocities after the fact; " +
-                                std::string(integrator_->name()) +
-                                " evaluates forces at intermediate states and cannot be combined "
-                                "with it (use leapfrog, symplectic_euler, explicit_euler or "
-                                "implicit_euler)");
-}
-
-void Simulator::add_stage(std::unique_ptr<Stage> stage) {
-  check_stage(*stage);
-  add_installed(std::move(stage), false);
-}
-
-void Simulator::remove_stage(const Stage* stage) {
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    if (std::erase_if(*list, [&](const Installed& st) { return st.stage.get() == stage; })) {
-      host_ahead_ = true;  // as when adding: a device backend reloads its list
-      restimate_stability();
-    }
-}
-
-void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model, int spec) {
-  const int id = profile_.stage(stage->name());
-  auto& list = stage->phase() == Phase::forces     ? force_stages_
-               : stage->phase() == Phase::response ? response_stages_
-                                                   : after_stages_;
-  list.push_back({std::move(stage), id, from_model, spec});
-  host_ahead_ = true;  // a device backend is loaded again with the new list before the next step
-  restimate_stability();
 }
 
 void Simulator::on_publish(SnapshotListener listener) {
@@ -578,91 +531,6 @@ void Simulator::publish() {
 
 void Simulator::publish_now() {
   publish();  // downloads the state unless it publishes the device's buffer
-}
-
-std::vector<Simulator::StageOptions> Simulator::stage_options() const {
-  std::vector<StageOptions> out;
-  for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list) {
-      auto o = st.stage->options();
-      if (st.spec >= 0)
-        if (const StageSpec& spec = model_.stages[st.spec]; spec.vary)
-          o.insert(o.begin(), {spec.variant_option, spec.variants, spec.variant});
-      if (!o.empty()) out.push_back({st.stage->name(), std::move(o)});
-    }
-  return out;
-}
-
-// [simulation.implicit] keys set (away from their defaults) that the running scheme or solver
-// does not read: accepted, since the viewer and live edits switch solvers and each keeps its
-// own settings, but said, so that `tolerance` under vbd does not pass for a setting in effect.
-namespace {
-std::vector<std::string> unused_implicit_keys(const SimulationSettings& s) {
-  std::vector<std::string> out;
-  const ImplicitSettings defaults{};
-  const bool implicit = s.integrator == kImplicitEuler;
-  const std::string solver(to_string(s.implicit.solver));
-  for (const auto& k : implicit_keys()) {
-    if (!k.value || k.value(s.implicit) == k.value(defaults)) continue;
-    const std::string_view methods = k.info.methods;
-    if (implicit && (methods.empty() || methods.find(solver) != std::string_view::npos)) continue;
-    out.push_back("simulation.implicit." + std::string(k.key) + " = " + k.value(s.implicit) +
-                  " is not used " +
-                  (implicit
-                       ? "by solver \"" + solver + "\" (it is used by " + std::string(methods) + ")"
-                       : "by integrator \"" + s.integrator + "\" (implicit_euler only)"));
-  }
-  return out;
-}
-}  // namespace
-
-std::vector<std::string> Simulator::stage_warnings() const {
-  std::vector<std::string> out = unused_implicit_keys(settings_);
-  for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list)
-      for (const std::string& w : st.stage->warnings(settings_))
-        out.push_back(st.stage->name() + ": " + w);
-  return out;
-}
-
-// Installs another variant of a model stage in place of the current one; nothing changes when
-// the variant is unknown or the scheme refuses it.
-void Simulator::switch_variant(std::size_t spec_index, const std::string& value) {
-  const StageSpec& spec = model_.stages[spec_index];
-  if (std::find(spec.variants.begin(), spec.variants.end(), value) == spec.variants.end())
-    throw std::invalid_argument("stage '" + spec.name + "': no " + spec.variant_option + " '" +
-                                value + "'");
-  StageSpec next = spec.vary(value);
-  std::unique_ptr<Stage> stage = next.make(model_);
-  check_stage(*stage);
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    std::erase_if(*list, [&](const Installed& st) { return st.spec == int(spec_index); });
-  model_.stages[spec_index] = std::move(next);
-  add_installed(std::move(stage), true, static_cast<int>(spec_index));
-}
-
-void Simulator::set_stage_option(const std::string& stage, const std::string& option,
-                                 const std::string& value) {
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (auto& st : *list)
-      if (st.stage->name() == stage) {
-        if (st.spec >= 0 && model_.stages[st.spec].vary &&
-            model_.stages[st.spec].variant_option == option)
-          return switch_variant(static_cast<std::size_t>(st.spec), value);
-        // A backend that cannot run the stage as changed refuses the option: it is set back.
-        std::string before;
-        for (const StageOption& o : st.stage->options())
-          if (o.name == option) before = o.value;
-        st.stage->set_option(option, value);
-        if (backend_) try {
-            check_backend(*integrator_);
-          } catch (...) {
-            st.stage->set_option(option, before);
-            throw;
-          }
-        return;
-      }
-  throw std::invalid_argument("no stage named '" + stage + "'");
 }
 
 }  // namespace maille
