@@ -18,6 +18,8 @@
 #include <omp.h>
 #endif
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -33,6 +35,14 @@ namespace maille::collision {
 // model would otherwise find its candidates again at every sub-millimetre move).
 inline constexpr Real kMotionFactor = Real(2.5);
 inline constexpr Real kMinMarginFraction = Real(0.25);
+
+// A stencil pair's margin (point-triangle, edge-edge): kMotionFactor h times its closing speed
+// (the square root of `closing2`, the largest squared speed of a point of one relative to a
+// point of the other), at least kMinMarginFraction s, at most `max_margin`.
+inline Real pair_margin(Real s, Real h, Real closing2, Real max_margin) {
+  return std::min(max_margin,
+                  std::max(kMinMarginFraction * s, kMotionFactor * h * std::sqrt(closing2)));
+}
 
 // The calling thread's index in its OpenMP team (0 outside a parallel region): its sink.
 inline int thread_id() {

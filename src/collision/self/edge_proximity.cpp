@@ -326,8 +326,7 @@ void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h
     Real closing2 = 0;  // the largest speed of a corner of a relative to a corner of b, squared
     for (const std::uint32_t p : ea)
       for (const std::uint32_t q : eb) closing2 = std::max(closing2, norm2(v[p] - v[q]));
-    const Real margin = std::min(
-        max_margin, std::max(kMinMarginFraction * radius, kMotionFactor * h * std::sqrt(closing2)));
+    const Real margin = pair_margin(radius, h, closing2, max_margin);
     const Vec3 d = closest(ea, eb, x).d;
     if (!(dot(d, d) < (radius + margin) * (radius + margin))) continue;
     out.push_back({ea[0], ea[1], eb[0], eb[1]});

@@ -332,8 +332,7 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
       const auto& tri = tris_[t];
       Real closing2 = 0;  // the largest speed of the particle relative to a corner, squared
       for (const std::uint32_t c : tri) closing2 = std::max(closing2, norm2(v[p] - v[c]));
-      const Real margin = std::min(max_margin, std::max(kMinMarginFraction * radius,
-                                                        kMotionFactor * h * std::sqrt(closing2)));
+      const Real margin = pair_margin(radius, h, closing2, max_margin);
       if (d2 >= (radius + margin) * (radius + margin)) return;
       if (list.size() >= cap) {  // refused below, as apply's contacts are
         thread_full_[std::size_t(thread_id())] = 1;
