@@ -74,7 +74,7 @@ class DriftGuard {
   int searches_again() const { return searches_again_; }
   // Measured on cloth_heap_vbd, wrung_cloth and cloth_on_sphere_vbd (docs/implicit.md): renewing
   // at half the limit left points lagging at their balls' edge (2 mm into the floor under the
-  // heap, against 0.3 mm with every point renewed at each search); a third keeps 0.35 mm.
+  // heap, against 0.3 mm with every point renewed at each search); a third keeps 0.39 mm.
   static constexpr double kNearShare = 0.25;
   static constexpr Real kRenewShare = Real(1) / 3;
 

@@ -231,14 +231,23 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   // (no drift limit) and stay as found.
   void search_near(State& s, const StageContext& ctx, std::span<const std::uint32_t> moved) {
     const Real radius = engine_.settings().radius;
-    moved_mask_.assign(s.size(), 0);
+    moved_mask_.resize(s.size(), 0);  // all zero between searches, a refusal's throw included
     for (const std::uint32_t p : moved) moved_mask_[p] = 1;
+    struct Unmark {
+      std::vector<std::uint8_t>& mask;
+      std::span<const std::uint32_t> points;
+      ~Unmark() {
+        for (const std::uint32_t p : points) mask[p] = 0;
+      }
+    } unmark{moved_mask_, moved};
     std::size_t edge_begin =
         std::min(triangle_terms_.edge_begin(), triangle_terms_.storage().size());
     engine_.triangle_candidates_near(
         s.x().data(), moved_mask_.data(), radius + 4 * kDriftShare * radius, ctx.threads,
         triangle_terms_.storage(), edge_begin, triangle_terms_.edge_particles());
     triangle_terms_.set_edge_begin(edge_begin);
+    // The friction's lag of every candidate at the iterate, as a search everywhere takes it
+    // (the edge candidates' indices moved with the new point-face ones).
     triangle_terms_.lag(s.x().data(), s.v().data());
   }
 

@@ -52,7 +52,8 @@ class TriangleProximity {
   // `set`: the colliding particles (global ids, sorted); triangles: the model's faces whose
   // corners all belong to `groups_mask` (1 for points of the colliding groups); at most
   // `max_contacts` contacts in a pass (see kBytesPerContact). The fixed and driven points of the
-  // groups probe the faces too, as particles do (their forces are written and not used).
+  // groups probe the faces too, as particles do (their force is written, as a fixed corner's is:
+  // a [[listen]] of the force at such a point hears the cloth's push; nothing moves them).
   TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,
                     const std::vector<std::uint8_t>& groups_mask, std::size_t max_contacts);
   // Adds the forces; returns the number of particle-triangle contacts. `exclusion` (may be
