@@ -1,0 +1,32 @@
+// The body of forces_shader (src/gpu/shaders.cpp, which puts the kernel's head, buffers and laws
+// before it).
+uniform vec3 u_gravity;  // m/s^2
+uniform float u_drag;    // 1/s
+uniform bool u_wind;     // face forces to sum
+uniform uint u_base;     // the first point of this dispatch (the structured layout runs grids)
+void main() {
+  if (gl_GlobalInvocationID.x >= u_count) return;
+  uint i = u_base + gl_GlobalInvocationID.x;
+  vec3 xi = LOAD3(x, i);
+  vec3 vi = LOAD3(v, i);
+  vec3 fi = vec3(0.0);
+  uint end = adjacency_offset[i + 1u];
+  for (uint e = adjacency_offset[i]; e < end; ++e) {
+    Adjacent l = adjacency[e];
+    vec3 xj = LOAD3(x, l.other);
+    vec3 vj = LOAD3(v, l.other);
+    vec4 p = vec4(link_params[4u * l.params], link_params[4u * l.params + 1u],
+                  link_params[4u * l.params + 2u], link_params[4u * l.params + 3u]);
+    // The law gives the force on the link's a end; its b end gets the opposite.
+    if ((l.kind & 0x80000000u) != 0u)
+      fi -= link_force(l.kind & 0x7fffffffu, xj, xi, vj, vi, p);
+    else
+      fi += link_force(l.kind, xi, xj, vi, vj, p);
+  }
+  if (u_wind) {
+    uint face_end = face_offset[i + 1u];
+    for (uint e = face_offset[i]; e < face_end; ++e) fi += LOAD3(face_force, face_of_point[e]);
+  }
+  if (inv_mass[i] > 0.0) fi += (u_gravity - vi * u_drag) * mass[i];
+  STORE3(f, i, fi);
+}
