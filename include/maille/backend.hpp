@@ -1,4 +1,4 @@
-// Compute backends: where the bulk of a step runs (Theme 3, T3.2).
+// Compute backends: where the bulk of a step runs.
 //
 // The Simulator stays the only simulator: it keeps the order of a step, the scheme's
 // bookkeeping (SchemeHistory), the health verdicts, the energy samples and the publishing. A

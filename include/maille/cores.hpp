@@ -1,4 +1,4 @@
-// The cores this process may run on that no other program keeps busy now (issue 24: threads
+// The cores this process may run on that no other program keeps busy now (threads
 // that never make a run slower). The simulator's default thread count follows it; apps use it
 // to choose OpenMP's wait policy before they start.
 #pragma once

@@ -1,4 +1,4 @@
-// Geometric fixed points and geometric contacts (Theme 2, T2.3/T2.4), as bricks.
+// Geometric fixed points and geometric contacts, as bricks.
 //
 // A geometric fixed point is a fixed point that carries a canonical shape and the affine maps
 // that place it (M_d, its inverse M_i, a translation; shapes.hpp). It has no velocity and takes
@@ -7,8 +7,8 @@
 // to one free mass: the mass's position and velocity go into the canonical frame through M_i, the
 // shape's distance function gives the penetration vector for the canonical threshold 1, a
 // thresholded spring-damper acts on it there, and the force comes back through M_d into the
-// mass's force buffer (the brief's algorithm, step by step). `[[obstacle]] method = "geometric"`
-// is one geometric point and its contacts with every colliding point, with a cull.
+// mass's force buffer (the canonical-frame algorithm, step by step). `[[obstacle]] method =
+// "geometric"` is one geometric point and its contacts with every colliding point, with a cull.
 #pragma once
 
 #include <array>
@@ -30,7 +30,7 @@ struct NameTable<ContactNormal> {
   static constexpr std::string_view what = "contact normal";
   static constexpr std::array<Name<ContactNormal>, 2> names{{
       {ContactNormal::canonical, "canonical",
-       "the brief's mapping: k times the world image of the canonical penetration"},
+       "the canonical mapping: k times the world image of the canonical penetration"},
       {ContactNormal::world, "world", "along the world normal with the world depth"},
   }};
 };

@@ -1,4 +1,4 @@
-// Triangle meshes for obstacles (Theme 2): read from OBJ or STL files, or tessellated from the
+// Triangle meshes for obstacles: read from OBJ or STL files, or tessellated from the
 // canonical shapes (shapes.hpp) at their canonical size. The facet stage (obstacle.hpp) and the
 // renderer use them; a mesh is only geometry, in the frame it was read or made in.
 #pragma once

@@ -1,14 +1,14 @@
-// Obstacles (Theme 2): fixed or scripted geometry that free points collide with, by one of three
+// Obstacles: fixed or scripted geometry that free points collide with, by one of three
 // methods chosen per obstacle (`[[obstacle]] method = ...` in scenes, docs/scene-format.md):
 //
 //   geometric    a geometric fixed point: x and v go into the shape's canonical frame through
 //                M_i, the canonical distance function gives the penetration vector d, the
 //                thresholded spring-damper k d - z (v_c . n) n acts there and comes back through
-//                M_d (the brief's "liaison conditionnelle sur distance non euclidienne"). Under a
+//                M_d (a conditional link on a non-Euclidean distance). Under a
 //                uniform scale a resting particle sinks m g / k; under a non-uniform one M_d
 //                bends the force off the surface normal, so `normal = "world"` acts along the
 //                world normal with the world depth instead. Phase::forces.
-//   facets       inverse dynamics on a triangle mesh (the brief's "par dynamique inverse"): the
+//   facets       inverse dynamics on a triangle mesh ("par dynamique inverse"): the
 //                segment P -> Q the particle will travel this step is tested against the facets
 //                (N.AP > eps, N.PQ < 0, u <= 1, M inside); on a hit the force and velocity are
 //                rewritten with dissipation alpha and friction beta (docs/obstacles.md derives
@@ -103,7 +103,7 @@ struct Obstacle {
   ObstacleMotion motion;      // on top of `place`
   Real stiffness = 2000;      // k, N/m (geometric, conditional)
   Real damping = 1;           // z, N.s/m (geometric, conditional), along the normal
-  bool world_normal = false;  // geometric: false, the brief's mapping; true: world normal
+  bool world_normal = false;  // geometric: false, the canonical mapping; true: world normal
   // geometric: Coulomb coefficient mu. The tangential force mu |F_n| opposes the sliding
   // velocity relative to the surface, viscous below kObstacleSlip (no chatter at rest);
   // implicit solvers lag |F_n| and the normal at the step's start.
@@ -111,7 +111,7 @@ struct Obstacle {
   Real threshold = Real(0.02);  // conditional: contact distance of the sampled points, m
   Real alpha = Real(0.8);       // facets: dissipation in [0, 1] (normal restitution)
   Real beta = Real(0.3);        // facets: friction in [0, 1] (Coulomb coefficient)
-  Real epsilon = Real(1e-6);    // facets: the brief's eps (m): "above the facet" means N.AP > eps
+  Real epsilon = Real(1e-6);    // facets: the tolerance eps (m): "above the facet" means N.AP > eps
   std::vector<std::string> collides_with;  // groups; empty: every free point
 };
 

@@ -1,4 +1,4 @@
-// Self-collision (Theme 1): the free points of some groups repel each other when closer than a
+// Self-collision: the free points of some groups repel each other when closer than a
 // contact distance s, through the conditional spring-damper law, with mesh neighbours excluded.
 //
 //   broad phase   candidate pairs: brute force (the reference), a uniform grid over the bounding

@@ -1,4 +1,4 @@
-// Canonical shapes for geometric fixed points and obstacles (Theme 2): pure distance functions
+// Canonical shapes for geometric fixed points and obstacles: pure distance functions
 // in the shape's canonical frame, and the affine map (direct M_d, inverse M_i) that places a
 // shape in the world.
 //

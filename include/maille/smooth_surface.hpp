@@ -1,4 +1,4 @@
-// Smooth surfaces drawn over the coarse physical mesh (Theme 3, T3.1).
+// Smooth surfaces drawn over the coarse physical mesh.
 //
 // A cloth simulated on a few hundred particles is dynamic but faceted. What is drawn (and
 // exported) can be a smooth surface that passes through every particle:

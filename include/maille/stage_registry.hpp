@@ -41,7 +41,7 @@ class StageRegistry {
   const Entry* find(std::string_view table) const;
   std::span<const Entry> entries() const { return entries_; }
 
-  // The stages the engine itself provides (empty until the collision themes land).
+  // The stages the engine itself provides: self-collision, obstacles, [[contact]] and the rest.
   static StageRegistry with_builtins();
 
  private:

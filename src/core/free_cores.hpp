@@ -1,4 +1,4 @@
-// The default thread count follows the cores actually free (issue 24): on a 2-core machine with
+// The default thread count follows the cores actually free: on a 2-core machine with
 // one core busy elsewhere (another simulation, a browser), two threads made a step 50 to 70
 // times slower than one (flag_64: 1,443 to 2,076 ns per particle-step against 28), the barriers
 // waiting for a descheduled thread. Private to the core (simulator.cpp).

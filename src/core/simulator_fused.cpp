@@ -1,4 +1,4 @@
-// The fused grid step (issue 23): when every link of the model runs in the structured kernel
+// The fused grid step: when every link of the model runs in the structured kernel
 // (one pool, all on grid groups: a flag, a tablecloth, a net; other links of that pool only
 // between points off the grids, like the default scene's pole, run after the rows), the
 // scheme is one kick and one drift (leapfrog, symplectic Euler) and nothing else adds forces

@@ -5,7 +5,7 @@
 // x_n -> x_n + h v_n+1, exactly the segment a response stage tests for a scheme that drifts with
 // the velocity it holds (StageContext::drift_after_kick = false). The stage is run on the state
 // (x_n, v_n+1) with the step's mean force m (v_n+1 - v_n) / h, the force that produced the
-// solved motion (the brief's response reads it to tell a resting contact from an impact and to
+// solved motion (the facets' response reads it to tell a resting contact from an impact and to
 // hold a resting point by Coulomb's rule). It rewrites v_n+1 of the points that hit a facet; they
 // then move to x_n + h v'. The others keep the solve's own x_n+1 and v_n+1, bit for bit.
 //

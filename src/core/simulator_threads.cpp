@@ -1,5 +1,5 @@
 // The default thread count follows the free cores and the work during a run
-// (Simulator::CoreSampling, issue 24). The cores are asked between steps at a wall-clock
+// (Simulator::CoreSampling). The cores are asked between steps at a wall-clock
 // interval, not every step: the default answer reads /proc (about 60 us on the 2-core
 // development machine), a step can take a few.
 #include <algorithm>

@@ -1,6 +1,6 @@
 // Obstacles under implicit Euler at animation steps.
 //
-// Facets (ResponseTiming::after_solve): the brief's inverse dynamics answers the motion each
+// Facets (ResponseTiming::after_solve): the facets' inverse dynamics answers the motion each
 // solver proposes, x_n -> x_n + h v_n+1.
 //
 // With one free point and gravity, every solver's v_n+1 is v_n + h g exactly, and the response

@@ -1,4 +1,4 @@
-// Self-collision friction inside the implicit solve (issue 20): the stage's point-point contacts
+// Self-collision friction inside the implicit solve: the stage's point-point contacts
 // carry their Coulomb friction into the solve lagged (normal and normal force of the step's
 // start held, smoothed law with its tangent block: src/collision/self/self_contact_link.hpp).
 #include <gtest/gtest.h>

@@ -390,7 +390,7 @@ TEST(Vbd, ClothOnSphereAtLargeSteps) {
     const double m = 0.25 / 1024, v = std::sqrt(2 * 9.81 * 0.3);
     const double bound = 0.25 * 9.81 / 2000 + v * std::sqrt(m / 2000);
     // At 1/60 s the deepest point depends on rounding (folds cross, the contacts' solve is not
-    // converged): the structured grid kernel's summation order (issue 23) took it from 1.67 mm
+    // converged): the structured grid kernel's summation order took it from 1.67 mm
     // to 2.44 mm (1/240 s: 0.282 mm both ways). 1.5 times the bound there, until the solve
     // converges at that step.
     EXPECT_LT(r.deepest_ball, h > 1.0 / 100 ? 1.5 * bound : bound) << "h = " << h;

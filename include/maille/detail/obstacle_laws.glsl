@@ -192,7 +192,7 @@ MAILLE_SHARED vec3 normal_to_world(mat3 inverse, vec3 n) {
   return l > real(0) ? w / l : vec3(real(0), real(1), real(0));
 }
 
-// The geometric contact (the brief's algorithm): x into the canonical frame through M_i
+// The geometric contact (the canonical-frame algorithm): x into the canonical frame through M_i
 // (`inverse`, `translation`), the shape's penetration vector there, the spring-damper k d -
 // z (v_c . n) n on it, back through M_d (`direct`). With `world_normal`, along the world normal
 // with the world depth of the canonical penetration. `v` is the velocity relative to the

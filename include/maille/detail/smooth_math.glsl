@@ -1,4 +1,4 @@
-// Smooth surfaces over the physical mesh (Theme 3, T3.1): the math, written once and compiled
+// Smooth surfaces over the physical mesh: the math, written once and compiled
 // twice. This file is valid C++ and valid GLSL 4.50: src/surface/smooth_surface.cpp includes it
 // after defining a float `vec3` with GLSL's operators and functions, and the renderer's compute
 // shader (src/render/shaders.hpp) pastes its text after `#define MAILLE_SHARED` and

@@ -2,10 +2,10 @@
 // obstacle's surface, each acting on the colliding particles through the `conditional` link's
 // law (ConditionalSpringDamper: a spring-damper toward the threshold while closer than it).
 //
-// Rather than one link per (sample, particle) pair, which is what the brief's method would
-// build and what costs P x S, the samples are binned in a hashed grid of cells one threshold
+// Rather than one link per (sample, particle) pair, which is what the method as first described
+// would build and what costs P x S, the samples are binned in a hashed grid of cells one threshold
 // wide: a particle meets only the samples of the 27 cells around it, and a particle away from
-// the obstacle costs one box test. The forces are those of the links the brief would build.
+// the obstacle costs one box test. The forces are those of the links that method would build.
 //
 // Samples are laid on each facet of the obstacle's mesh (placed in the world at t = 0) on a
 // triangular lattice no coarser than the threshold, shared vertices and edges merged, so no gap

@@ -1,6 +1,6 @@
 // The facets of a mesh obstacle in the mesh's own frame, with what the inverse-dynamics stage
 // asks of them per particle: which facets are near a segment (a uniform grid of the facets'
-// boxes), where a segment first crosses a facet (the brief's ray-facet test), and the closest
+// boxes), where a segment first crosses a facet (the ray-facet test), and the closest
 // surface point with a reliable inside/outside sign (angle-weighted pseudo-normals, Baerentzen
 // and Aanaes 2005) for the leak check. Built once; obstacles move by moving the particles into
 // this frame, never by refitting.
@@ -96,7 +96,7 @@ class FacetGrid {
     return row_facets(row);
   }
 
-  // The brief's test of the segment p -> q against facet f, with `eps` the "above" threshold
+  // The ray-facet test of the segment p -> q against facet f, with `eps` the "above" threshold
   // in this frame: N.AP > eps, N.PQ < 0, u <= 1 and M inside the facet (closed edges, with a
   // relative tolerance so that a crossing on a shared edge is found by both facets).
   // Inlined (as are the two below): the stage calls them a few times per particle.
@@ -117,7 +117,7 @@ class FacetGrid {
   // Whether the projection of p on facet f's plane lies inside it (closed edges).
   bool projects_inside(std::uint32_t fi, const Vec3& p) const {
     // Barycentric coordinates of p's projection (n is orthogonal to both edges, so p - a can
-    // be used as is); the brief's three same-orientation cross products are the same test.
+    // be used as is); the three same-orientation cross products are the same test.
     const Facet& f = facets_[fi];
     const Vec3 w = p - f.a;
     const Real d20 = dot(w, f.e1), d21 = dot(w, f.e2);

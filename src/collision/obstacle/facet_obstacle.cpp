@@ -2,13 +2,13 @@
 //
 // Per colliding particle, once per step after every force (Phase::response):
 //   1. the segment P -> Q it will travel (Q = P + h V, or P + h (V + h F / m) for schemes that
-//      kick before they drift: the brief's ray, made exact for the scheme) goes into the mesh's
+//      kick before they drift: the ray, made exact for the scheme) goes into the mesh's
 //      frame, P through the placement at t and Q through the placement at t + h, so a moving
 //      obstacle is met by the relative motion;
-//   2. the grid gives the nearby facets; the brief's test picks the earliest crossing; the
+//   2. the grid gives the nearby facets; the ray-facet test picks the earliest crossing; the
 //      response rewrites F and V (facet_response.hpp) and the new segment is tested again, up to
 //      kPasses times (a particle driven into a concave corner meets both faces);
-//   3. no crossing, but resting on a facet (|N.AP| <= eps, the brief's test (a) fails) and
+//   3. no crossing, but resting on a facet (|N.AP| <= eps, test (a) fails) and
 //      heading into it: the same response, so a resting particle is held (on a static surface
 //      with no facet above its plane, the most common contact, at the end of its block of
 //      particles, with the block's other such responses);
@@ -95,7 +95,7 @@ class FacetObstacleStage final : public Stage {
         grid_(world_ ? placed(*surface_.mesh(), o_.place) : *surface_.mesh()) {
     if (grid_.facets().empty())
       throw std::invalid_argument("obstacle '" + o_.name + "': the mesh has no facet");
-    // The brief's eps in each facet's own units: a world distance d along the facet's world
+    // The tolerance eps in each facet's own units: a world distance d along the facet's world
     // normal is d |M_i^T n| in the mesh frame (a rigid motion on top does not change it).
     terms_.reserve(grid_.facets().size());
     for (std::uint32_t fi = 0; fi < grid_.facets().size(); ++fi) {
@@ -237,7 +237,7 @@ class FacetObstacleStage final : public Stage {
 
   struct Contact {
     bool found = false;
-    bool swept = false;   // the brief's crossing (else: resting on the facet)
+    bool swept = false;   // the ray's crossing (else: resting on the facet)
     bool behind = false;  // p is behind a nearby facet it projects onto: maybe inside
     std::uint32_t facet = 0;
   };
@@ -255,7 +255,7 @@ class FacetObstacleStage final : public Stage {
   // The square of the distance beyond which a facet's plane is out of the segment's reach:
   // facet f can be crossed only if N.AP <= -N.PQ <= |PQ| (N unit), so N.AP^2 > |PQ|^2 rules
   // it out. The margin (1e-7) covers the rounding of the unit normal and of the products, so
-  // a facet ruled out is one the brief's exact test would reject (u > 1): skipping it changes
+  // a facet ruled out is one the exact ray-facet test would reject (u > 1): skipping it changes
   // no result, it only saves the division and the inside test. A NaN or infinite reach rules
   // nothing out.
   static Real reach2(const Vec3& p, const Vec3& q) {
@@ -298,7 +298,7 @@ class FacetObstacleStage final : public Stage {
     collide(point, x, v, f, inv_mass, s, p, q, near, row.in_cell, clear, resting, c);
   }
 
-  // The brief's test and response for a particle near facets (`near`), from p to q. Kept out of
+  // The ray-facet test and response for a particle near facets (`near`), from p to q. Kept out of
   // line: its frame (the first pass's records, the response) would otherwise be set up for
   // every particle, most of which never come here.
   [[gnu::noinline]] void collide(std::uint32_t point, Vec3& x, Vec3& v, Vec3& f, Real inv_mass,
@@ -357,7 +357,7 @@ class FacetObstacleStage final : public Stage {
 
   // The first scan of the nearby facets: the earliest one the segment p -> q crosses (ties:
   // the lowest index); else a facet the particle rests on: within eps of its plane, over it,
-  // heading into it (the brief's test (a) fails there, yet it must be held). It also notes
+  // heading into it (test (a) fails there, yet it must be held). It also notes
   // whether p lies behind a facet it projects onto, the only way a particle can be inside a
   // closed mesh near its surface (most are not: no closest-point search for them), and fills
   // `seen` for the next passes. One loop with no branch sorts the facets into bit masks (within
@@ -550,7 +550,7 @@ class FacetObstacleStage final : public Stage {
   // response of the one it meets (its world normal), in one cache line (aligned: never two).
   struct alignas(32) Terms {
     Vec3 normal;  // in the world at rest (placement `place`)
-    Real eps;     // the brief's eps, in the mesh frame
+    Real eps;     // the facet tolerance eps, in the mesh frame
   };
   std::vector<Terms> terms_;
   Real widest_eps_ = 0;  // the largest of them

@@ -1,9 +1,9 @@
-// The brief's response of inverse dynamics on a facet, as a pure function (docs/obstacles.md
+// The response of inverse dynamics on a facet, as a pure function (docs/obstacles.md
 // derives it). With n the facet's outward normal and the velocity taken relative to the facet:
 //
 //   normal      F_N' = -alpha F_N, V_N' = -alpha V_N   (only the parts heading into the facet:
 //               an obstacle pushes, it never pulls; a force leaving the surface is kept)
-//   tangential  the brief's static rule on the force: F_T' = 0 when |F_T| < beta |F_N|, else
+//   tangential  the static rule on the force: F_T' = 0 when |F_T| < beta |F_N|, else
 //               F_T' = (1 - beta |F_N| / |F_T|) F_T; and on the velocity at an impact:
 //               V_T' = (1 - beta |V_N| / |V_T|) V_T (zero when that is negative).
 //
@@ -12,7 +12,7 @@
 // velocity (alpha = 0 rests, alpha = 1 rebounds elastically), and with the particle at rest the
 // tangential rule is Coulomb's law with coefficient beta (sticks while tan(theta) < beta on an
 // incline, slides with g (sin(theta) - beta cos(theta)) otherwise). One addition, where the
-// brief's rule has no answer: a particle already sliding (V_T != 0) is braked against its
+// static rule has no answer: a particle already sliding (V_T != 0) is braked against its
 // velocity, F_T' = F_T - beta |F_N| V_T / |V_T|, and stops (sticks) rather than reverse when
 // static friction can hold it; without it, a particle sliding on a level facet, where F_T = 0,
 // would never slow down.
@@ -60,7 +60,7 @@ inline Response respond(Vec3& v, Vec3& f, const Vec3& n, const Vec3& surface_vel
       f_t_out = v_t * (-1 / (h * inv_mass));
       stuck = true;
     }
-  } else if (ft < beta * push || ft == 0) {  // the brief's static rule
+  } else if (ft < beta * push || ft == 0) {  // the static rule
     f_t_out = {};
     v_t = {};
     stuck = true;

@@ -107,7 +107,7 @@ class GeometricObstacleStage final : public PointContactStage {
 
   // Implicit solvers (PointContacts): the same law at their iterate, with the stiffness
   // (k + z / h) n n^T along the world normal (exact for the world-normal variant and for uniform
-  // scales; the force, which decides where the solve converges, is always the brief's), and
+  // scales; the force, which decides where the solve converges, is always the canonical one), and
   // friction's.
   // The shape's thinnest canonical extent (a torus's tube, a cone's top, else 2) times the
   // placement's smallest stretch, bounded below by 1 / |M_i|_F (Frobenius >= largest singular
@@ -183,7 +183,7 @@ class GeometricObstacleStage final : public PointContactStage {
  private:
   // Point p's contact at (x, v) with the obstacle placed at `place` (time t): the shared law
   // obstacle_contact_law (include/maille/detail/obstacle_laws.glsl, the GPU's too) at the
-  // velocity relative to the surface: the penalty and its damper (the brief's law), then
+  // velocity relative to the surface: the penalty and its damper (the canonical law), then
   // friction mu F_n, viscous below kObstacleSlip; F_n and the normal are the contact's own, or
   // held from the step's start (`lagged`). `stiffness` is the block -df/dx - (1/h) df/dv for
   // implicit solvers: (k + z/h) n n^T, and for friction (mu F_n / max(|v_t|, slip)) / h

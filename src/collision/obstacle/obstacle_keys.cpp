@@ -103,7 +103,7 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                   "from the step's start (lagged friction)"}),
       custom<O>("normal", KeyType::text,
                 {.methods = "geometric",
-                 .doc = "`canonical`: the brief's mapping (k times the world image of the "
+                 .doc = "`canonical`: the canonical mapping (k times the world image of the "
                         "canonical penetration; under a non-uniform scale it leans off the "
                         "surface normal); `world`: along the world normal with the world depth",
                  .default_doc = "`\"canonical\"`",
@@ -127,7 +127,7 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
       number<&O::epsilon>("epsilon", Bound::positive, 0, 1,
                           {.unit = "m",
                            .methods = "facets",
-                           .doc = "the brief's ε: \"above a facet\" means N·AP > ε"}),
+                           .doc = "the facet tolerance ε: \"above a facet\" means N·AP > ε"}),
       custom<O>("collides_with", KeyType::texts,
                 {.doc = "which free points collide with the obstacle",
                  .default_doc = "every free point",
