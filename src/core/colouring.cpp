@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "maille/colouring.hpp"
+#include "maille/detail/csr.hpp"
 
 namespace maille {
 
@@ -41,13 +42,9 @@ void colour_sets(std::span<const std::uint32_t> offsets, std::span<const std::ui
     pending.swap(later);
   }
   // Counting sort by colour, stable within a colour (keeps memory order inside each group).
-  out.offsets.assign(colours + 1, 0);
-  for (std::size_t e = 0; e < n; ++e) ++out.offsets[colour[e] + 1];
-  for (std::uint32_t c = 0; c < colours; ++c) out.offsets[c + 1] += out.offsets[c];
-  out.order.resize(n);
-  pending.assign(out.offsets.begin(), out.offsets.end());  // the next slot of each colour
-  for (std::size_t e = 0; e < n; ++e)
-    out.order[pending[colour[e]]++] = static_cast<std::uint32_t>(e);
+  detail::build_rows(colours, out.offsets, out.order, [&](auto&& emit) {
+    for (std::size_t e = 0; e < n; ++e) emit(colour[e], e);
+  });
 }
 
 Colouring colour_sets(std::span<const std::uint32_t> offsets,

@@ -2,11 +2,12 @@
 
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
+#include "maille/detail/csr.hpp"
 #include "maille/limits.hpp"
 
 namespace maille {
@@ -89,16 +90,12 @@ std::vector<FaceGrid> find_face_grids(const Model& m, std::vector<char>& in_grid
   const auto& tris = m.surface.triangles;
   std::vector<FaceGrid> grids;
   // Faces by first corner (counting sort).
-  std::vector<std::uint32_t> start(m.points.size() + 1, 0), by_first(tris.size());
+  std::vector<std::uint32_t> start, by_first;
   const std::size_t n = m.points.size();
-  for (const auto& t : tris)
-    if (t[0] < n) ++start[t[0] + 1];
-  for (std::size_t p = 0; p < n; ++p) start[p + 1] += start[p];
-  {
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  detail::build_rows(n, start, by_first, [&](auto&& emit) {
     for (std::uint32_t f = 0; f < tris.size(); ++f)
-      if (tris[f][0] < n) by_first[fill[tris[f][0]]++] = f;
-  }
+      if (tris[f][0] < n) emit(tris[f][0], f);
+  });
   in_grid.assign(tris.size(), 0);  // 0 loose, 1 a grid's, 2 claimed by this group
   std::vector<std::uint32_t> claimed;
   auto claim = [&](std::array<std::uint32_t, 3> want) {
@@ -164,8 +161,7 @@ const Group* Model::group(const std::string& name) const {
 }
 
 void Model::prepare() {
-  links.prepare(points.size(),
-                structured_grids ? point_grids(*this) : std::vector<PointGrid>{});
+  links.prepare(points.size(), structured_grids ? point_grids(*this) : std::vector<PointGrid>{});
   // Faces are coloured like links so that the wind pass scatters to corners without races.
   std::vector<std::uint32_t> idx;
   idx.reserve(surface.triangles.size() * 3);

@@ -29,6 +29,7 @@
 #include "gpu_vbd.hpp"
 #include "kernel.hpp"
 #include "maille/backend.hpp"
+#include "maille/detail/csr.hpp"
 #include "maille/gpu.hpp"
 #include "maille/render/headless.hpp"
 #include "shaders.hpp"
@@ -65,12 +66,7 @@ struct Adjacency {
 Adjacency pack_links(const Model& m, LinkSets* slot_sets) {
   const std::uint32_t n = m.points.size();
   Adjacency out;
-  out.offset.assign(n + 1, 0);
-  for (const auto& pool : m.links.pools())
-    for (const LinkEnds& e : pool->slot_ends()) ++out.offset[e.a + 1], ++out.offset[e.b + 1];
-  for (std::uint32_t i = 0; i < n; ++i) out.offset[i + 1] += out.offset[i];
-  out.entries.resize(out.offset[n]);
-  std::vector<std::uint32_t> fill(out.offset.begin(), out.offset.end() - 1);
+  std::vector<std::array<std::uint32_t, 2>> law;  // each slot's kind and parameter set, in order
   std::unordered_map<std::array<float, 4>, std::uint32_t, ParamsHash> sets;
   for (const auto& pool : m.links.pools()) {
     if (slot_sets) {
@@ -89,11 +85,18 @@ Adjacency pack_links(const Model& m, LinkSets* slot_sets) {
       auto [it, added] = sets.try_emplace(p, std::uint32_t(sets.size()));
       if (added) out.params.insert(out.params.end(), p.begin(), p.end());
       if (slot_sets) slot_sets->set_of_slot.push_back(it->second);
-      const auto [a, b] = ends[slot];
-      out.entries[fill[a]++] = {b, kind, it->second};
-      out.entries[fill[b]++] = {a, kind | kEndIsB, it->second};
+      law.push_back({kind, it->second});
     }
   }
+  detail::build_rows(n, out.offset, out.entries, [&](auto&& emit) {
+    std::size_t k = 0;
+    for (const auto& pool : m.links.pools())
+      for (const LinkEnds& e : pool->slot_ends()) {
+        const auto [kind, set] = law[k++];
+        emit(e.a, Adjacent{e.b, kind, set});
+        emit(e.b, Adjacent{e.a, kind | kEndIsB, set});
+      }
+  });
   if (out.params.empty()) out.params.assign(4, 0.0f);
   return out;
 }
@@ -104,14 +107,11 @@ void pack_faces(const Model& m, std::vector<std::uint32_t>& corners,
   const std::uint32_t n = m.points.size();
   const auto& tris = m.surface.triangles;
   corners.clear();
-  offset.assign(n + 1, 0);
-  for (const auto& t : tris)
-    for (std::uint32_t c : t) corners.push_back(c), ++offset[c + 1];
-  for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
-  incidence.resize(offset[n]);
-  std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-  for (std::uint32_t f = 0; f < tris.size(); ++f)
-    for (std::uint32_t c : tris[f]) incidence[fill[c]++] = f;
+  for (const auto& t : tris) corners.insert(corners.end(), t.begin(), t.end());
+  detail::build_rows(n, offset, incidence, [&](auto&& emit) {
+    for (std::uint32_t f = 0; f < tris.size(); ++f)
+      for (std::uint32_t c : tris[f]) emit(c, f);
+  });
 }
 
 std::vector<float> packed(std::span<const Vec3> a) {

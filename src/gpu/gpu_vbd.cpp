@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "maille/detail/csr.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
@@ -58,17 +59,11 @@ bool has_block(std::string_view law) {
 VbdColours vbd_colours(const Model& m) {
   const std::uint32_t n = m.points.size();
   // Every link of the model, seen from both ends (CSR of neighbours).
-  std::vector<std::uint32_t> row(n + 1, 0), neighbour;
-  for (const auto& pool : m.links.pools())
-    for (const LinkEnds& e : pool->slot_ends()) ++row[e.a + 1], ++row[e.b + 1];
-  for (std::uint32_t i = 0; i < n; ++i) row[i + 1] += row[i];
-  neighbour.resize(row[n]);
-  std::vector<std::uint32_t> fill(row.begin(), row.end() - 1);
-  for (const auto& pool : m.links.pools())
-    for (const LinkEnds& e : pool->slot_ends()) {
-      neighbour[fill[e.a]++] = e.b;
-      neighbour[fill[e.b]++] = e.a;
-    }
+  std::vector<std::uint32_t> row, neighbour;
+  detail::build_neighbour_rows(n, row, neighbour, [&](auto&& edge) {
+    for (const auto& pool : m.links.pools())
+      for (const LinkEnds& e : pool->slot_ends()) edge(e.a, e.b);
+  });
   // Greedy in point order: the smallest colour none of the coloured neighbours holds (fixed
   // points are never coloured, so links to them constrain nothing).
   std::vector<std::uint32_t> colour(n, kUncoloured), stamp;

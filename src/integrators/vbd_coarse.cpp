@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "implicit_system.hpp"
+#include "maille/detail/csr.hpp"
 #include "maille/link_set.hpp"
 
 namespace maille {
@@ -122,17 +123,10 @@ std::uint32_t greedy_aggregates(std::span<const std::uint32_t> nodes,
 // Rows of the undirected graph of `edges` over n nodes (self-edges dropped).
 void graph_rows(std::size_t n, const std::vector<std::pair<std::uint32_t, std::uint32_t>>& edges,
                 std::vector<std::uint32_t>& row, std::vector<std::uint32_t>& adjacent) {
-  row.assign(n + 1, 0);
-  for (const auto& [a, b] : edges)
-    if (a != b) ++row[a + 1], ++row[b + 1];
-  for (std::size_t i = 0; i < n; ++i) row[i + 1] += row[i];
-  adjacent.resize(row[n]);
-  std::vector<std::uint32_t> cursor(row.begin(), row.end() - 1);
-  for (const auto& [a, b] : edges)
-    if (a != b) {
-      adjacent[cursor[a]++] = b;
-      adjacent[cursor[b]++] = a;
-    }
+  detail::build_neighbour_rows(n, row, adjacent, [&](auto&& edge) {
+    for (const auto& [a, b] : edges)
+      if (a != b) edge(a, b);
+  });
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "implicit_vbd.hpp"
+#include "maille/detail/csr.hpp"
 #include "maille/link_set.hpp"
 
 namespace maille {
@@ -35,20 +36,12 @@ constexpr Real kMinAllowance = Real(5e-5);
 void csr_from_slots(std::span<const LinkEnds> ends, std::size_t n,
                     std::span<const std::uint32_t> slots, std::vector<std::uint32_t>& row,
                     std::vector<std::uint32_t>& out) {
-  row.assign(n + 1, 0);
-  for (const std::uint32_t l : slots) {
-    ++row[ends[l].a + 1];
-    ++row[ends[l].b + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) row[i + 1] += row[i];
-  out.resize(row[n]);
-  // Fill in slot order with a moving cursor per point (the row's start), then restore.
-  for (const std::uint32_t l : slots) {
-    out[row[ends[l].a]++] = l;
-    out[row[ends[l].b]++] = l;
-  }
-  for (std::size_t i = n; i > 0; --i) row[i] = row[i - 1];
-  row[0] = 0;
+  detail::build_rows(n, row, out, [&](auto&& emit) {
+    for (const std::uint32_t l : slots) {
+      emit(ends[l].a, l);
+      emit(ends[l].b, l);
+    }
+  });
 }
 }  // namespace
 
@@ -119,18 +112,12 @@ void VertexBlockDescent::candidate_rows(const TriangleRows& t,
                                         std::vector<std::uint32_t>& row,
                                         std::vector<std::uint32_t>& entries) const {
   const auto cand = t.contacts->candidates();
-  row.assign(points_ + 1, 0);
-  for (std::size_t e = 0; e < cand.size(); ++e)
-    if (!kept || (*kept)[e])
-      for (const std::uint32_t p : cand[e]) ++row[p + 1];
-  for (std::size_t i = 0; i < points_; ++i) row[i + 1] += row[i];
-  entries.resize(row[points_]);
-  for (std::size_t e = 0; e < cand.size(); ++e)
-    if (!kept || (*kept)[e])
-      for (std::uint32_t role = 0; role < 4; ++role)
-        entries[row[cand[e][role]]++] = std::uint32_t(e * 4 + role);
-  for (std::size_t i = points_; i > 0; --i) row[i] = row[i - 1];
-  row[0] = 0;
+  detail::build_rows(points_, row, entries, [&](auto&& emit) {
+    for (std::size_t e = 0; e < cand.size(); ++e)
+      if (!kept || (*kept)[e])
+        for (std::uint32_t role = 0; role < 4; ++role)
+          emit(cand[e][role], std::uint32_t(e * 4 + role));
+  });
 }
 
 void VertexBlockDescent::triangle_rows(std::span<TriangleContacts* const> contacts) {
@@ -242,13 +229,9 @@ void VertexBlockDescent::colour() {
     }
     colour_of_[i] = c;
   }
-  colour_row_.assign(colours + 1, 0);
-  for (const std::uint32_t i : free_) ++colour_row_[colour_of_[i] + 1];
-  for (std::uint32_t c = 0; c < colours; ++c) colour_row_[c + 1] += colour_row_[c];
-  by_colour_.resize(free_.size());
-  for (const std::uint32_t i : free_) by_colour_[colour_row_[colour_of_[i]]++] = i;
-  for (std::uint32_t c = colours; c > 0; --c) colour_row_[c] = colour_row_[c - 1];
-  colour_row_[0] = 0;
+  detail::build_rows(colours, colour_row_, by_colour_, [&](auto&& emit) {
+    for (const std::uint32_t i : free_) emit(colour_of_[i], i);
+  });
   arrange_lanes();
 }
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "maille/detail/csr.hpp"
 #include "renderer_gl.hpp"
 #include "shaders.hpp"
 #include "smooth_shader.hpp"
@@ -138,13 +139,11 @@ void Renderer::set_model(const Model& model) {
   g.triangles = make_buffer(topology_.triangles);
   g.triangle_indices = static_cast<GLsizei>(topology_.triangles.size());
   // The faces around each point (CSR), for the normals pass's gather.
-  std::vector<std::uint32_t> face_offset(positions_.size() + 1, 0);
-  std::vector<std::uint32_t> faces_of(topology_.triangles.size());
-  for (std::uint32_t i : topology_.triangles) ++face_offset[i + 1];
-  for (std::size_t p = 0; p < positions_.size(); ++p) face_offset[p + 1] += face_offset[p];
-  std::vector<std::uint32_t> fill(face_offset.begin(), face_offset.end() - 1);
-  for (std::size_t k = 0; k < topology_.triangles.size(); ++k)
-    faces_of[fill[topology_.triangles[k]]++] = static_cast<std::uint32_t>(k / 3);
+  std::vector<std::uint32_t> face_offset, faces_of;
+  detail::build_rows(positions_.size(), face_offset, faces_of, [&](auto&& emit) {
+    for (std::size_t k = 0; k < topology_.triangles.size(); ++k)
+      emit(topology_.triangles[k], k / 3);
+  });
   g.face_offset = make_buffer(face_offset);
   g.faces_of = make_buffer(faces_of);
   g.contact_ends = make_buffer(topology_.contact_ends);

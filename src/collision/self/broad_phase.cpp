@@ -6,22 +6,15 @@
 #include <limits>
 
 #include "../thread_lists.hpp"
+#include "maille/detail/csr.hpp"
 
 namespace maille::collision {
 
 void PartnerRows::build(const std::vector<Sink>& sinks, std::size_t points) {
-  start.assign(points + 1, 0);
-  std::size_t total = 0;
-  for (const auto& s : sinks) {
-    for (std::size_t k = 0; k < s.pairs.size(); k += 2) ++start[s.pairs[k] + 1];
-    total += s.pairs.size() / 2;
-  }
-  for (std::size_t a = 0; a < points; ++a) start[a + 1] += start[a];
-  partners.resize(total);
-  cursor.assign(start.begin(), start.end() - 1);
-  for (const auto& s : sinks)
-    for (std::size_t k = 0; k < s.pairs.size(); k += 2)
-      partners[cursor[s.pairs[k]]++] = s.pairs[k + 1];
+  detail::build_rows(points, start, partners, [&](auto&& emit) {
+    for (const auto& s : sinks)
+      for (std::size_t k = 0; k < s.pairs.size(); k += 2) emit(s.pairs[k], s.pairs[k + 1]);
+  });
   for (std::size_t a = 0; a < points; ++a)
     std::sort(partners.begin() + start[a], partners.begin() + start[a + 1]);
 }
@@ -112,15 +105,12 @@ Real UniformGrid::find(const Query& q, Real c, std::vector<Sink>& sinks, int thr
                iz = std::min(nz - 1, std::uint32_t(p.z));
     cell_of_[std::size_t(a)] = std::uint32_t((std::size_t(iz) * ny + iy) * nx + ix);
   }
-  start_.assign(cells + 1, 0);
-  for (std::uint32_t a = 0; a < n; ++a) ++start_[cell_of_[a] + 1];
+  detail::build_rows(cells, start_, order_, [&](auto&& emit) {
+    for (std::uint32_t a = 0; a < n; ++a) emit(cell_of_[a], a);
+  });
   occupied_.clear();
   for (std::size_t k = 0; k < cells; ++k)
-    if (start_[k + 1]) occupied_.push_back(std::uint32_t(k));
-  for (std::size_t k = 0; k < cells; ++k) start_[k + 1] += start_[k];
-  order_.resize(n);
-  cursor_.assign(start_.begin(), start_.end() - 1);  // keeps its capacity: no allocation
-  for (std::uint32_t a = 0; a < n; ++a) order_[cursor_[cell_of_[a]]++] = a;
+    if (start_[k + 1] != start_[k]) occupied_.push_back(std::uint32_t(k));
   if (q.signatures) {
     sig_.resize(cells);
     for (std::uint32_t k : occupied_) {

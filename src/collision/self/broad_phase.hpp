@@ -67,7 +67,7 @@ struct Sink {
 // rows, each sorted: point a's partners are partners[start[a] .. start[a + 1]). The same order
 // whatever thread found which pair. Buffers keep their capacity (no allocation once warm).
 struct PartnerRows {
-  std::vector<std::uint32_t> start, cursor, partners;
+  std::vector<std::uint32_t> start, partners;  // CSR: point a's partners (sorted)
   void build(const std::vector<Sink>& sinks, std::size_t points);
   std::size_t pairs() const { return partners.size() / 2; }
 };
@@ -130,7 +130,7 @@ class UniformGrid {
   std::uint64_t occupied() const { return occupied_.size(); }
 
  private:
-  std::vector<std::uint32_t> cell_of_, start_, cursor_, order_, occupied_;
+  std::vector<std::uint32_t> cell_of_, start_, order_, occupied_;
   std::vector<CellSignature> sig_;
 };
 

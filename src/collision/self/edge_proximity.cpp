@@ -8,20 +8,13 @@
 
 #include "../thread_lists.hpp"
 #include "broad_phase.hpp"
+#include "maille/detail/csr.hpp"
 #include "maille/self_collision.hpp"
 #include "maille/shared_laws.hpp"
 
 namespace maille::collision {
 
 namespace {
-
-// Room to a power of two, as a growing vector keeps (an insert into a cleared vector grows it to
-// the exact size): a box or a list a little larger at the next pass (the cloth moving) then
-// needs no allocation in the step.
-template <class V>
-void room(V& v, std::size_t n) {
-  if (v.capacity() < n) v.reserve(std::bit_ceil(n));
-}
 
 // The closest points of edges a and b at x: the parameters and the gap vector between them.
 struct Closest {
@@ -83,9 +76,6 @@ void EdgeProximity::bin(const Vec3* x, Real grow, const std::vector<std::uint32_
   ny_ = std::int64_t(ext.y / cell) + 1;
   nz_ = std::int64_t(ext.z / cell) + 1;
   const auto cells = std::size_t(nx_ * ny_ * nz_);
-  room(cell_start_, cells + 1);
-  room(cursor_, cells);
-  cell_start_.assign(cells + 1, 0);
   const Vec3 g{grow, grow, grow};
   auto each_cell = [&](std::size_t e, auto&& fn) {
     const Vec3 &p = x[edges_[e][0]], &q = x[edges_[e][1]];
@@ -106,13 +96,8 @@ void EdgeProximity::bin(const Vec3* x, Real grow, const std::vector<std::uint32_
     else
       for (std::size_t e = 0; e < edges_.size(); ++e) fn(e);
   };
-  each_edge([&](std::size_t e) { each_cell(e, [&](std::size_t c) { ++cell_start_[c + 1]; }); });
-  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  room(cell_edges_, cell_start_[cells]);
-  cell_edges_.resize(cell_start_[cells]);
-  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  each_edge([&](std::size_t e) {
-    each_cell(e, [&](std::size_t c) { cell_edges_[cursor_[c]++] = std::uint32_t(e); });
+  detail::build_rows(cells, cell_start_, cell_edges_, [&](auto&& emit) {
+    each_edge([&](std::size_t e) { each_cell(e, [&](std::size_t c) { emit(c, e); }); });
   });
 }
 
@@ -208,7 +193,7 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
   out.clear();
   std::size_t total = 0;
   for (const auto& list : per_thread_pairs_) total += list.size();
-  room(out, total);
+  detail::reserve_pow2(out, total);
   for (const auto& list : per_thread_pairs_) out.insert(out.end(), list.begin(), list.end());
   if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());  // threads
   if (only) out.erase(std::unique(out.begin(), out.end()), out.end());
@@ -278,7 +263,7 @@ std::uint64_t EdgeProximity::apply(const Vec3* x, const Vec3* v, Vec3* f, const 
   room_for_any_split(per_thread_, max_contacts_ / per_thread_.size());
   std::size_t total = 0;
   for (const auto& list : per_thread_) total += list.size();
-  room(all_, total);
+  detail::reserve_pow2(all_, total);
   for (const auto& list : per_thread_) all_.insert(all_.end(), list.begin(), list.end());
   // (edge, edge) order: the same sums whatever the threads.
   std::sort(all_.begin(), all_.end(), [](const Contact& p, const Contact& q) {

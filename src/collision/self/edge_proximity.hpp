@@ -104,7 +104,7 @@ class EdgeProximity {
   Vec3 lo_{};
   Real cell_ = 1;
   std::int64_t nx_ = 1, ny_ = 1, nz_ = 1;
-  std::vector<std::uint32_t> cell_start_, cell_edges_, cursor_;
+  std::vector<std::uint32_t> cell_start_, cell_edges_;
   std::vector<Box> boxes_;           // [edges] each edge's box at the last search
   std::vector<Real> grow_;           // [edges] candidates(): each edge's share of a pair's reach
   std::vector<std::uint32_t> from_;  // candidates_near(): the edges with a moved corner

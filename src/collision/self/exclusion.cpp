@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "maille/detail/csr.hpp"
+
 namespace maille::collision {
 
 void CellSignature::add(std::int32_t g, std::int32_t i, std::int32_t j) {
@@ -39,20 +41,12 @@ struct Adjacency {
 };
 
 Adjacency adjacency(const Model& m) {
-  const std::size_t n = m.points.size();
   Adjacency a;
-  a.offsets.assign(n + 1, 0);
-  for (const auto& pool : m.links.pools()) {
-    if (pool->conditional()) continue;
-    for (const LinkEnds& e : pool->slot_ends()) ++a.offsets[e.a + 1], ++a.offsets[e.b + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) a.offsets[i + 1] += a.offsets[i];
-  a.to.resize(a.offsets[n]);
-  std::vector<std::uint32_t> fill(a.offsets.begin(), a.offsets.end() - 1);
-  for (const auto& pool : m.links.pools()) {
-    if (pool->conditional()) continue;
-    for (const LinkEnds& e : pool->slot_ends()) a.to[fill[e.a]++] = e.b, a.to[fill[e.b]++] = e.a;
-  }
+  detail::build_neighbour_rows(m.points.size(), a.offsets, a.to, [&](auto&& edge) {
+    for (const auto& pool : m.links.pools())
+      if (!pool->conditional())
+        for (const LinkEnds& e : pool->slot_ends()) edge(e.a, e.b);
+  });
   return a;
 }
 

@@ -7,6 +7,7 @@
 
 #include "../thread_lists.hpp"
 #include "broad_phase.hpp"
+#include "maille/detail/csr.hpp"
 #include "maille/self_collision.hpp"
 #include "maille/shared_laws.hpp"
 
@@ -93,7 +94,6 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by, const std::vector<std::
          clampi(std::int64_t(std::floor((hi.z - box.lo.z) / cell)), nz)};
   };
   const auto cells = std::size_t(nx * ny * nz);
-  cell_start_.assign(cells + 1, 0);
   const Vec3 grow{grow_by, grow_by, grow_by};
   boxes_.resize(tris_.size());
   for (std::size_t t = 0; t < tris_.size(); ++t) {
@@ -120,12 +120,8 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by, const std::vector<std::
     else
       for (std::size_t t = 0; t < tris_.size(); ++t) fn(t);
   };
-  each_triangle([&](std::size_t t) { each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; }); });
-  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_tris_.resize(cell_start_[cells]);
-  cursor_.assign(cell_start_.begin(), cell_start_.end() - 1);
-  each_triangle([&](std::size_t t) {
-    each_cell(t, [&](std::size_t c) { cell_tris_[cursor_[c]++] = std::uint32_t(t); });
+  detail::build_rows(cells, cell_start_, cell_tris_, [&](auto&& emit) {
+    each_triangle([&](std::size_t t) { each_cell(t, [&](std::size_t c) { emit(c, t); }); });
   });
 }
 

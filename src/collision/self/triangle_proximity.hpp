@@ -137,7 +137,7 @@ class TriangleProximity {
                 const TopologicalExclusion* exclusion) const;
   std::vector<std::int32_t> local_;  // global id -> index in set_, -1 when not colliding
   std::vector<Vec3> xs_;             // the particles' positions, gathered each pass
-  std::vector<std::uint32_t> cell_start_, cell_tris_, cursor_;
+  std::vector<std::uint32_t> cell_start_, cell_tris_;
   std::vector<std::array<Vec3, 2>> boxes_;  // [triangles] each one's box at the last bin()
   std::vector<std::vector<Contact>> per_thread_;
   std::vector<std::uint8_t> thread_full_;  // [threads] 1: that thread's list reached its cap
