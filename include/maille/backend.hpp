@@ -36,6 +36,7 @@
 #include "maille/integrator.hpp"
 #include "maille/model.hpp"
 #include "maille/names.hpp"
+#include "maille/registry.hpp"
 #include "maille/stage.hpp"
 #include "maille/state.hpp"
 
@@ -125,23 +126,20 @@ struct NameTable<BackendKind> {
   }};
 };
 
-class BackendRegistry {
+struct BackendEntry {
+  std::string name, doc;
+  std::function<std::unique_ptr<Backend>(const BackendOptions&)> make;  // empty for "cpu" (the
+                                                                        // Simulator's own path)
+};
+
+class BackendRegistry : public Registry<BackendEntry, &BackendEntry::name> {
  public:
-  using Factory = std::function<std::unique_ptr<Backend>(const BackendOptions&)>;
-  struct Entry {
-    std::string name, doc;
-    Factory make;  // empty for "cpu" (the Simulator's own path)
-  };
+  using Entry = BackendEntry;
+  using Factory = decltype(Entry::make);
+  BackendRegistry() : Registry("backend registry") {}
   // The process's registry: "cpu" always, others as the program registers them (apps call
   // e.g. maille::gpu::register_backend() first thing).
   static BackendRegistry& global();
-  void add(Entry e);  // throws std::logic_error for a name already registered
-  const Entry* find(std::string_view name) const;
-  std::string names() const;  // "cpu, gpu"
-  const std::vector<Entry>& entries() const { return entries_; }
-
- private:
-  std::vector<Entry> entries_;
 };
 
 }  // namespace maille

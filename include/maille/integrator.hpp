@@ -15,6 +15,7 @@
 #include "maille/model.hpp"
 #include "maille/names.hpp"
 #include "maille/profile.hpp"
+#include "maille/registry.hpp"
 #include "maille/stage.hpp"
 #include "maille/stage_keys.hpp"
 #include "maille/state.hpp"
@@ -183,25 +184,17 @@ class Integrator {
 
 struct SimulationSettings;
 
-class IntegratorRegistry {
- public:
-  struct Entry {
-    std::string name;
-    std::string description;
-    std::function<std::unique_ptr<Integrator>(const ImplicitSettings&)> make;
-  };
-  // Throws std::logic_error for a name already registered (names.hpp: registered_twice).
-  void add(Entry e) {
-    if (find(e.name)) registered_twice("integrator registry", e.name);
-    entries_.push_back(std::move(e));
-  }
-  const Entry* find(std::string_view name) const;
-  std::span<const Entry> entries() const { return entries_; }
-  std::string names() const;
-  static const IntegratorRegistry& builtin();
+struct IntegratorEntry {
+  std::string name;
+  std::string description;
+  std::function<std::unique_ptr<Integrator>(const ImplicitSettings&)> make;
+};
 
- private:
-  std::vector<Entry> entries_;
+class IntegratorRegistry : public Registry<IntegratorEntry, &IntegratorEntry::name> {
+ public:
+  using Entry = IntegratorEntry;
+  IntegratorRegistry() : Registry("integrator registry") {}
+  static const IntegratorRegistry& builtin();
 };
 
 // Whether every eigenvalue of I + N lies in the closed unit disk (up to rounding).

@@ -11,33 +11,30 @@
 
 #include "maille/link_pool.hpp"
 #include "maille/names.hpp"
+#include "maille/registry.hpp"
 
 namespace maille {
 
-class LinkKindRegistry {
+struct LinkKindEntry {
+  std::string keyword;
+  std::vector<ParamInfo> fields;
+  std::function<std::unique_ptr<LinkPoolBase>()> make_pool;
+};
+
+class LinkKindRegistry : public Registry<LinkKindEntry, &LinkKindEntry::keyword> {
  public:
-  struct Entry {
-    std::string keyword;
-    std::vector<ParamInfo> fields;
-    std::function<std::unique_ptr<LinkPoolBase>()> make_pool;
-  };
+  using Entry = LinkKindEntry;
+  LinkKindRegistry() : Registry("link kind registry") {}
 
   // Throws std::logic_error for a keyword already registered (names.hpp: registered_twice).
   template <LinkKind K>
   void add() {
-    if (find(K::keyword)) registered_twice("link kind registry", K::keyword);
-    entries_.push_back({std::string(K::keyword), LinkPool<K>{}.fields(),
-                        [] { return std::make_unique<LinkPool<K>>(); }});
+    Registry::add({std::string(K::keyword), LinkPool<K>{}.fields(),
+                   [] { return std::make_unique<LinkPool<K>>(); }});
   }
-  const Entry* find(std::string_view keyword) const;
-  std::span<const Entry> entries() const { return entries_; }
-  std::string keywords() const;  // "spring, damper, ..." for messages
 
   // A registry holding the built-in kinds (the list: src/links/builtin_kinds.cpp).
   static LinkKindRegistry with_builtins();
-
- private:
-  std::vector<Entry> entries_;
 };
 
 }  // namespace maille

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "maille/model.hpp"
+#include "maille/registry.hpp"
 #include "maille/scene_table.hpp"
 #include "maille/stage.hpp"
 #include "maille/stage_keys.hpp"
@@ -20,32 +21,25 @@ namespace maille {
 
 class LinkKindRegistry;
 
-class StageRegistry {
- public:
-  struct Entry {
-    std::string table;        // scene key: [table] (one) or [[table]] (an array of them)
-    bool array = false;       // true for [[table]]
-    std::string description;  // one line, for docs and `maille info`
-    // Reads the table (errors through table.fail) against the finished model and returns the
-    // stage to install. Called once per table (per element for arrays).
-    std::function<StageSpec(SceneTable& table, const Model& model)> parse;
-    // The table's keys (stage_keys.hpp: describe_keys), for `maille info --keys` and the docs.
-    std::vector<KeyInfo> keys{};
-  };
+struct StageTableEntry {
+  std::string table;        // scene key: [table] (one) or [[table]] (an array of them)
+  bool array = false;       // true for [[table]]
+  std::string description;  // one line, for docs and `maille info`
+  // Reads the table (errors through table.fail) against the finished model and returns the
+  // stage to install. Called once per table (per element for arrays).
+  std::function<StageSpec(SceneTable& table, const Model& model)> parse;
+  // The table's keys (stage_keys.hpp: describe_keys), for `maille info --keys` and the docs.
+  std::vector<KeyInfo> keys{};
+};
 
-  // Throws std::logic_error for a table already registered (names.hpp: registered_twice).
-  void add(Entry e) {
-    if (find(e.table)) registered_twice("stage registry", e.table);
-    entries_.push_back(std::move(e));
-  }
-  const Entry* find(std::string_view table) const;
-  std::span<const Entry> entries() const { return entries_; }
+// add() throws std::logic_error for a table already registered (names.hpp: registered_twice).
+class StageRegistry : public Registry<StageTableEntry, &StageTableEntry::table> {
+ public:
+  using Entry = StageTableEntry;
+  StageRegistry() : Registry("stage registry") {}
 
   // The stages the engine itself provides: self-collision, obstacles, [[contact]] and the rest.
   static StageRegistry with_builtins();
-
- private:
-  std::vector<Entry> entries_;
 };
 
 // A scene table whose keys are declared (stage_keys.hpp), as `maille info --keys` and the docs

@@ -123,7 +123,7 @@ std::uint32_t add_link(CodeModel& cm, const py::object& kind_object, const py::h
          "have: use a scene file");
   const LinkKindRegistry::Entry* entry = kinds().find(kind);
   if (!entry)
-    fail(where, "kind", "unknown link kind '" + kind + "' (known: " + kinds().keywords() + ")");
+    fail(where, "kind", "unknown link kind '" + kind + "' (known: " + kinds().names() + ")");
   const std::uint32_t a = point_arg(cm, a_ref, where, "a"), b = point_arg(cm, b_ref, where, "b");
   if (a == b) fail(where, "b", "a link needs two different points");
   std::vector<std::string> known;

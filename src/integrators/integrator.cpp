@@ -124,16 +124,4 @@ const IntegratorRegistry& IntegratorRegistry::builtin() {
   return registry;
 }
 
-const IntegratorRegistry::Entry* IntegratorRegistry::find(std::string_view name) const {
-  for (const auto& e : entries_)
-    if (e.name == name) return &e;
-  return nullptr;
-}
-
-std::string IntegratorRegistry::names() const {
-  std::string s;
-  for (const auto& e : entries_) s += (s.empty() ? "" : ", ") + e.name;
-  return s;
-}
-
 }  // namespace maille

@@ -299,8 +299,7 @@ class SceneReader {
     const std::string& kind = table.kind;
     if (kind == "geometric_contact") return geometric_contact(t, m);
     const LinkKindRegistry::Entry* entry = kinds_.find(kind);
-    if (!entry)
-      t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.keywords() + ")");
+    if (!entry) t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.names() + ")");
     const std::uint32_t a = point_ref(t, "a", m), b = point_ref(t, "b", m);
     if (a == b) t.fail("b", "a link needs two different points");
     std::vector<Real> values(entry->fields.size());

@@ -18,12 +18,6 @@
 
 namespace maille {
 
-const StageRegistry::Entry* StageRegistry::find(std::string_view table) const {
-  for (const auto& e : entries_)
-    if (e.table == table) return &e;
-  return nullptr;
-}
-
 namespace {
 
 // The matrix rows hold, per colliding particle, every particle within R links: about
