@@ -8,14 +8,13 @@
 #include <cstring>
 #include <limits>
 
+#include "maille/colouring.hpp"
 #include "maille/detail/csr.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
 
 namespace {
-
-constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
 
 enum Pass : unsigned {
   begin_pass,
@@ -66,29 +65,17 @@ VbdColours vbd_colours(const Model& m) {
   });
   // Greedy in point order: the smallest colour none of the coloured neighbours holds (fixed
   // points are never coloured, so links to them constrain nothing).
-  std::vector<std::uint32_t> colour(n, kUncoloured), stamp;
-  std::uint32_t colours = 0;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (!(m.points.inv_mass[i] > 0)) continue;
-    for (std::uint32_t k = row[i]; k < row[i + 1]; ++k)
-      if (const std::uint32_t c = colour[neighbour[k]]; c != kUncoloured) stamp[c] = i;
-    std::uint32_t c = 0;
-    while (c < colours && stamp[c] == i) ++c;
-    if (c == colours) {
-      ++colours;
-      stamp.push_back(kUncoloured);
-    }
-    colour[i] = c;
-  }
+  std::vector<std::uint32_t> free, colour(n, kUncoloured), stamp;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (m.points.inv_mass[i] > 0) free.push_back(i);
+  const std::uint32_t colours =
+      colour_points(free, colour, stamp, [&](std::uint32_t i, auto&& visit) {
+        for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) visit(neighbour[k]);
+      });
   VbdColours out;
-  out.row.assign(colours + 1, 0);
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (colour[i] != kUncoloured) ++out.row[colour[i] + 1];
-  for (std::uint32_t c = 0; c < colours; ++c) out.row[c + 1] += out.row[c];
-  out.order.resize(out.row[colours]);
-  std::vector<std::uint32_t> at(out.row.begin(), out.row.end() - 1);
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (colour[i] != kUncoloured) out.order[at[colour[i]]++] = i;
+  detail::build_rows(colours, out.row, out.order, [&](auto&& emit) {
+    for (const std::uint32_t i : free) emit(colour[i], i);
+  });
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "implicit_vbd.hpp"
+#include "maille/colouring.hpp"
 #include "maille/detail/csr.hpp"
 #include "maille/link_set.hpp"
 
@@ -15,7 +16,6 @@ namespace maille {
 
 namespace {
 
-constexpr std::uint32_t kUncoloured = std::numeric_limits<std::uint32_t>::max();
 // The guess's largest motion times this is the contact margin (2: two points moving toward
 // each other; 1.25: room before a refresh is needed).
 constexpr Real kMarginFactor = Real(2.5);
@@ -203,32 +203,23 @@ void VertexBlockDescent::compact(const Vec3* x) {
 void VertexBlockDescent::colour() {
   const std::size_t n = points_;
   colour_of_.assign(n, kUncoloured);
-  std::uint32_t colours = 0;
-  for (const std::uint32_t i : free_) {
-    for (const PoolRows& r : rows_) {
-      const auto ends = r.pool->slot_ends();
-      for (std::uint32_t k = r.row[i]; k < r.row[i + 1]; ++k) {
-        const LinkEnds e = ends[r.slots[k]];
-        const std::uint32_t j = e.a == i ? e.b : e.a;
-        if (colour_of_[j] != kUncoloured) stamp_[colour_of_[j]] = i;
-      }
-    }
-    for (std::size_t t = 0; t < triangle_stages_; ++t) {  // a candidate's four points
-      const TriangleRows& r = triangles_[t];
-      const auto cand = r.contacts->candidates();
-      for (std::uint32_t k = r.row[i]; k < r.row[i + 1]; ++k)
-        for (const std::uint32_t j : cand[r.entries[k] / 4])
-          if (j != i && colour_of_[j] != kUncoloured) stamp_[colour_of_[j]] = i;
-    }
-    std::uint32_t c = 0;
-    while (c < colours && stamp_[c] == i) ++c;
-    if (c == colours) {
-      ++colours;
-      if (stamp_.size() < colours) stamp_.push_back(kUncoloured);
-      stamp_[c] = kUncoloured;
-    }
-    colour_of_[i] = c;
-  }
+  const std::uint32_t colours =
+      colour_points(free_, colour_of_, stamp_, [&](std::uint32_t i, auto&& visit) {
+        for (const PoolRows& r : rows_) {
+          const auto ends = r.pool->slot_ends();
+          for (std::uint32_t k = r.row[i]; k < r.row[i + 1]; ++k) {
+            const LinkEnds e = ends[r.slots[k]];
+            visit(e.a == i ? e.b : e.a);
+          }
+        }
+        for (std::size_t t = 0; t < triangle_stages_; ++t) {  // a candidate's four points
+          const TriangleRows& r = triangles_[t];
+          const auto cand = r.contacts->candidates();
+          for (std::uint32_t k = r.row[i]; k < r.row[i + 1]; ++k)
+            for (const std::uint32_t j : cand[r.entries[k] / 4])
+              if (j != i) visit(j);
+        }
+      });
   detail::build_rows(colours, colour_row_, by_colour_, [&](auto&& emit) {
     for (const std::uint32_t i : free_) emit(colour_of_[i], i);
   });
