@@ -99,6 +99,16 @@ void scaling(std::ostream& out, bool quick, int threads) {
   }
 }
 
+// One row of cell_size's CSV: the grid's cells, particles per cell and the P n^2 model there.
+void cell_size_row(std::ostream& out, BroadPhase b, std::uint32_t n, double factor,
+                   const SelfCollisionStats& st, double ns, bool chosen) {
+  const double per_cell = double(n * n) / std::max<double>(double(st.occupied_cells), 1);
+  out << to_string(b) << ',' << n << ',' << factor << ',' << st.cell_size << ','
+      << st.occupied_cells << ',' << per_cell << ','
+      << double(st.occupied_cells) * per_cell * per_cell << ',' << ns << ',' << (chosen ? 1 : 0)
+      << '\n';
+}
+
 void cell_size(std::ostream& out, bool quick) {
   out << "broad_phase,side,cell_factor,cell_size_m,occupied_cells,particles_per_cell,"
          "model_P_n2,measured_ns,tuner_choice\n";
@@ -118,16 +128,10 @@ void cell_size(std::ostream& out, bool quick) {
       SelfCollisionEngine e(c.model, s);
       SelfCollisionStats fixed;
       const double ns = median_ns(e, c, 1, 7, &fixed);
-      const double per_cell = double(n * n) / std::max<double>(double(fixed.occupied_cells), 1);
-      out << to_string(b) << ',' << n << ',' << factor << ',' << fixed.cell_size << ','
-          << fixed.occupied_cells << ',' << per_cell << ','
-          << double(fixed.occupied_cells) * per_cell * per_cell << ',' << ns << ",0\n";
+      cell_size_row(out, b, n, factor, fixed, ns, false);
       if (ns < best) best = ns, best_factor = factor;
     }
-    const double per_cell = double(n * n) / std::max<double>(double(st.occupied_cells), 1);
-    out << to_string(b) << ',' << n << ',' << st.cell_size / c.spacing << ',' << st.cell_size << ','
-        << st.occupied_cells << ',' << per_cell << ','
-        << double(st.occupied_cells) * per_cell * per_cell << ',' << auto_ns << ",1\n";
+    cell_size_row(out, b, n, st.cell_size / c.spacing, st, auto_ns, true);
     std::fprintf(stderr,
                  "  %-8s auto %.3g m: %.3g ms; best fixed (%.2g r): %.3g ms (auto/best %.2f)\n",
                  std::string(to_string(b)).c_str(), st.cell_size, auto_ns * 1e-6, best_factor,

@@ -23,6 +23,26 @@ inline Group group(Model& m, const std::string& name, const std::string& builder
   return g;
 }
 
+// The group of a grid builder, which records its grid's shape (the structured kernels read it).
+inline Group grid_group(Model& m, const std::string& name, const std::string& builder,
+                        std::uint32_t first, std::uint32_t nx, std::uint32_t ny) {
+  Group g = group(m, name, builder, first);
+  m.groups.back().grid_nx = g.grid_nx = nx;
+  m.groups.back().grid_ny = g.grid_ny = ny;
+  return g;
+}
+
+// A grid builder's points: nx x ny, point (i, j) at origin + along (i dx) + across (j dy) with
+// index first + j nx + i (first: the model's size before), fixed where fixed(i, j) says.
+template <class Fixed>
+void grid_points(Model& m, const Vec3& origin, const Vec3& along, Real dx, const Vec3& across,
+                 Real dy, std::uint32_t nx, std::uint32_t ny, Real point_mass, Fixed&& fixed) {
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i)
+      m.points.add(fixed(i, j) ? PointKind::fixed : PointKind::free, point_mass,
+                   origin + along * (Real(i) * dx) + across * (Real(j) * dy));
+}
+
 inline Vec3 unit(const Vec3& v) {
   const Real n = norm(v);
   return n > 0 ? v / n : v;

@@ -33,12 +33,8 @@ Group build_flag(Model& m, const FlagParams& p, const std::string& name) {
   const Vec3 along = build::unit(p.along), up = build::unit(p.up);
   const Real dx = p.width / Real(p.nx - 1), dy = p.height / Real(p.ny - 1);
   const Real point_mass = p.mass / Real(p.nx * p.ny);
-  for (std::uint32_t j = 0; j < p.ny; ++j)
-    for (std::uint32_t i = 0; i < p.nx; ++i) {
-      const bool fixed = fixed_in_flag(p, i, j);
-      m.points.add(fixed ? PointKind::fixed : PointKind::free, point_mass,
-                   p.origin + along * (Real(i) * dx) + up * (Real(j) * dy));
-    }
+  build::grid_points(m, p.origin, along, dx, up, dy, p.nx, p.ny, point_mass,
+                     [&](std::uint32_t i, std::uint32_t j) { return fixed_in_flag(p, i, j); });
   auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
   const Real k = p.material.stiffness, z = p.material.damping;
   // Links point by point, so that a point's links sit close together in memory.
@@ -58,10 +54,7 @@ Group build_flag(Model& m, const FlagParams& p, const std::string& name) {
       m.surface.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       m.surface.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
-  Group g = build::group(m, name, "flag", first);
-  m.groups.back().grid_nx = g.grid_nx = p.nx;
-  m.groups.back().grid_ny = g.grid_ny = p.ny;
-  return g;
+  return build::grid_group(m, name, "flag", first, p.nx, p.ny);
 }
 
 }  // namespace maille

@@ -34,10 +34,8 @@ Group build_net(Model& m, const NetParams& p, const std::string& name) {
   const Vec3 along = build::unit(p.along), across = build::unit(p.across);
   const Real dx = p.width / Real(p.nx - 1), dy = p.depth / Real(p.ny - 1);
   const Real point_mass = p.mass / Real(p.nx * p.ny);
-  for (std::uint32_t j = 0; j < p.ny; ++j)
-    for (std::uint32_t i = 0; i < p.nx; ++i)
-      m.points.add(fixed_in_net(p, i, j) ? PointKind::fixed : PointKind::free, point_mass,
-                   p.origin + along * (Real(i) * dx) + across * (Real(j) * dy));
+  build::grid_points(m, p.origin, along, dx, across, dy, p.nx, p.ny, point_mass,
+                     [&](std::uint32_t i, std::uint32_t j) { return fixed_in_net(p, i, j); });
   auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
   for (std::uint32_t j = 0; j < p.ny; ++j)
     for (std::uint32_t i = 0; i < p.nx; ++i) {
@@ -48,10 +46,7 @@ Group build_net(Model& m, const NetParams& p, const std::string& name) {
         build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping,
                     1 - p.pretension);
     }
-  Group g = build::group(m, name, "net", first);
-  m.groups.back().grid_nx = g.grid_nx = p.nx;
-  m.groups.back().grid_ny = g.grid_ny = p.ny;
-  return g;
+  return build::grid_group(m, name, "net", first, p.nx, p.ny);
 }
 
 }  // namespace maille

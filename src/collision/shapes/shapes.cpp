@@ -18,46 +18,36 @@ static_assert(law::kShapeSphere == int(ShapeKind::sphere) &&
               law::kShapeCapsule == int(ShapeKind::capsule) &&
               law::kShapePlane == int(ShapeKind::plane));
 
+namespace {
+// The shared law's distance (obstacle_laws.glsl: shape parameters, then the normal out).
+template <class Law, class... Params>
+Distance measured(Law law, const Vec3& p, Params... params) {
+  Distance d;
+  d.signed_distance = law(p, params..., d.normal);
+  return d;
+}
+}  // namespace
+
 Distance sphere(const Vec3& p) {
-  Distance d;
-  d.signed_distance = law::sphere_distance(p, d.normal);
-  return d;
+  return measured(law::sphere_distance, p);
 }
-
 Distance cube(const Vec3& p) {
-  Distance d;
-  d.signed_distance = law::cube_distance(p, d.normal);
-  return d;
+  return measured(law::cube_distance, p);
 }
-
 Distance cylinder(const Vec3& p) {
-  Distance d;
-  d.signed_distance = law::cylinder_distance(p, d.normal);
-  return d;
+  return measured(law::cylinder_distance, p);
 }
-
 Distance cone(const Vec3& p, Real top) {
-  Distance d;
-  d.signed_distance = law::cone_distance(p, top, d.normal);
-  return d;
+  return measured(law::cone_distance, p, top);
 }
-
 Distance torus(const Vec3& p, Real tube) {
-  Distance d;
-  d.signed_distance = law::torus_distance(p, tube, d.normal);
-  return d;
+  return measured(law::torus_distance, p, tube);
 }
-
 Distance capsule(const Vec3& p) {
-  Distance d;
-  d.signed_distance = law::capsule_distance(p, d.normal);
-  return d;
+  return measured(law::capsule_distance, p);
 }
-
 Distance half_space(const Vec3& p) {
-  Distance d;
-  d.signed_distance = law::half_space_distance(p, d.normal);
-  return d;
+  return measured(law::half_space_distance, p);
 }
 
 // ---------------------------------------------------------------------------------------------

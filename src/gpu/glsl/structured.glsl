@@ -9,8 +9,7 @@ uniform float u_drag;          // 1/s
 uniform bool u_wind;           // face forces to sum
 uniform bool u_others;         // some grid point has links off the stencil
 vec4 params_of(uint s) {
-  return vec4(link_params[4u * s], link_params[4u * s + 1u], link_params[4u * s + 2u],
-              link_params[4u * s + 3u]);
+  return LOAD_PARAMS(s);
 }
 // The parameter set of the family-f link whose first end is grid point k.
 uint family_set(uint f, uint k) {

@@ -23,8 +23,7 @@ void main() {
       Adjacent l = adjacency[e];
       vec3 xj = LOAD3(x, l.other);
       vec3 vj = LOAD3(v, l.other);
-      vec4 p = vec4(link_params[4u * l.params], link_params[4u * l.params + 1u],
-                    link_params[4u * l.params + 2u], link_params[4u * l.params + 3u]);
+      vec4 p = LOAD_PARAMS(l.params);
       // The law gives the force on the link's a end (b gets the opposite); the block is the
       // same at both ends.
       if ((l.kind & 0x80000000u) != 0u) {
