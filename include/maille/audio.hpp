@@ -106,10 +106,10 @@ enum class MidiSource : std::uint8_t { none, cc, note, pitchbend };
 // named gains amount x s along the axis, s in [0, 1] the gesture's strength (a note's velocity
 // / 127, an OSC float). velocity: m/s (a strike: an impulse of m x that); position: m (a pluck).
 struct Excitation {
-  std::string label;                   // the point or group as the scene named it
-  std::vector<std::uint32_t> points;   // global indices
+  std::string label;                       // the point or group as the scene named it
+  std::vector<std::uint32_t> points;       // global indices
   Quantity quantity = Quantity::velocity;  // velocity or position
-  Vec3 axis{0, 1, 0};                  // unit vector
+  Vec3 axis{0, 1, 0};                      // unit vector
   double amount = 1;
 };
 
@@ -117,10 +117,10 @@ struct Excitation {
 // edit, smoothed) or an excitation.
 struct Control {
   MidiSource midi = MidiSource::none;
-  int midi_number = 0;   // the controller of "cc:N", 0..127
-  int midi_channel = 0;  // 1..16; 0: any
-  std::string osc;       // an OSC address ("/maille/wind"); empty: none
-  std::string key;       // a --set key (empty for an excitation)
+  int midi_number = 0;       // the controller of "cc:N", 0..127
+  int midi_channel = 0;      // 1..16; 0: any
+  std::string osc;           // an OSC address ("/maille/wind"); empty: none
+  std::string key;           // a --set key (empty for an excitation)
   double low = 0, high = 1;  // range: MIDI 0..127 and OSC [0, 1] map onto [low, high]
   double smooth = 0.02;      // s: a parameter glides to a new value over this time
   std::optional<Excitation> excite;
@@ -177,8 +177,12 @@ class StreamResampler {
   std::vector<float> out_;
 };
 
+// The force stage that reads the listened points (the Recorder's, live play's): one name for the
+// profile's ns_listen column.
+inline constexpr std::string_view kListenStage = "listen";
+
 // The signals of a set of listeners, as a simulator runs. attach() installs a force stage named
-// "listen" (the last force stage, so that it reads the complete force) in the simulator; it
+// kListenStage (the last force stage, so that it reads the complete force) in the simulator; it
 // records the first force pass of every step (multi-pass schemes evaluate again at intermediate
 // states: those are skipped) and the pass an end-of-run energy check makes at the final time.
 class Recorder {

@@ -15,8 +15,8 @@
 //              the step's motion margin as conditional links (Stage::find_contacts,
 //              contact_set.hpp), like self-collision's contacts
 //
-// Installed by the scene reader, one stage ("group_contacts") for every [[contact]] table of a
-// scene whose method is "broad_phase" (the default).
+// Installed by the scene reader, one stage (kGroupContactStage) for every [[contact]] table of
+// a scene whose method is "broad_phase" (the default).
 #pragma once
 
 #include <array>
@@ -24,6 +24,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "maille/model.hpp"
@@ -32,6 +33,9 @@
 #include "maille/stage_keys.hpp"
 
 namespace maille {
+
+// The stage's name: its profile column ns_group_contacts, stats and messages.
+inline constexpr std::string_view kGroupContactStage = "group_contacts";
 
 // How [[contact]] finds its pairs (scene key `method`).
 enum class ContactMethod : std::uint8_t { broad_phase, links };

@@ -21,6 +21,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -252,10 +253,14 @@ class Simulator : private ForceEvaluator {
  private:
   struct Installed {
     std::unique_ptr<Stage> stage;
+    Phase phase = Phase::forces;  // stage->phase(), kept beside it: the list is ordered by it
     int profile_id = 0;
     bool from_model = false;  // made from Model::stages (rebuilt by edit_model)
     int spec = -1;            // its index in Model::stages when from_model
   };
+  // The installed stages of one phase, in install order (a range of stages_).
+  std::span<Installed> stages_of(Phase p);
+  std::span<const Installed> stages_of(Phase p) const;
 
   void evaluate(State& s) override;  // ForceEvaluator: every force-phase stage, timed
   void evaluate_keeping_contacts(State& s) override;
@@ -263,7 +268,7 @@ class Simulator : private ForceEvaluator {
   // The force pass; `find`: contact stages find the step's set (implicit schemes).
   void evaluate_stages(State& s, bool find);
   // The first stage of a list that needs a finite state (not reads_only), or null.
-  static const Stage* first_checked(const std::vector<Installed>& stages);
+  static const Stage* first_checked(std::span<const Installed> stages);
   bool stop_requested() override;
   bool failed() const override { return blow_up_.has_value(); }
   const ContactSet& contacts() const override { return contacts_; }
@@ -285,22 +290,10 @@ class Simulator : private ForceEvaluator {
   // The model's energies at the current state (velocity: scratch_velocity_) with every stage's
   // contact energy added (Stage::energy).
   Energies all_energies();
-  // Calls f(Installed&) for every installed stage, phase by phase in step order (the one
-  // loop over the three phase lists).
-  template <class F>
-  void for_each_installed(F&& f) {
-    for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-      for (Installed& st : *list) f(st);
-  }
-  template <class F>
-  void for_each_installed(F&& f) const {
-    for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
-      for (const Installed& st : *list) f(st);
-  }
   // Every installed stage, in step order (backends and the stability estimate take them so).
   std::vector<const Stage*> installed_stages() const {
     std::vector<const Stage*> out;
-    for_each_installed([&](const Installed& st) { out.push_back(st.stage.get()); });
+    for (const Installed& st : stages_) out.push_back(st.stage.get());
     return out;
   }
   bool runaway(double kinetic_plus_elastic);
@@ -335,7 +328,9 @@ class Simulator : private ForceEvaluator {
   SimulationSettings settings_;
   mutable State state_;  // mutable: with a device backend, the host copy is refreshed lazily
   std::unique_ptr<Integrator> integrator_;
-  std::vector<Installed> force_stages_, response_stages_, after_stages_;
+  // Every installed stage in step order: by phase (forces, response, after_integration), then
+  // in install order; stages_of(phase) is a phase's range.
+  std::vector<Installed> stages_;
   std::vector<SnapshotListener> publish_listeners_;
   std::vector<std::function<void(const EnergySample&, const Profile&)>> sample_listeners_;
   Profile profile_;

@@ -87,6 +87,9 @@ class Stage {
   // A stage that only reads the state (a listener) and never hashes positions: the simulator
   // skips its O(points) finiteness check before such a stage (a step's fixed cost at audio rate).
   virtual bool reads_only() const { return false; }
+  // What a user can do where the stage cannot run (a backend with no version of it), appended
+  // to that refusal: " (or without it: --no-self-collision)". Empty: nothing to add.
+  virtual std::string refusal_hint() const { return {}; }
   // Called after the model's structure changed (Simulator::edit_model) or after a reset:
   // drop anything sized or derived from the old model.
   virtual void model_changed(const Model&) {}

@@ -78,7 +78,7 @@ namespace {
 class ListenStage final : public ForceStage {
  public:
   explicit ListenStage(std::shared_ptr<Recorder::Tap> tap) : tap_(std::move(tap)) {}
-  std::string name() const override { return "listen"; }
+  std::string name() const override { return std::string(kListenStage); }
   bool reads_only() const override { return true; }
   void apply(const Model& m, State& s, const StageContext& ctx) override { tap_->hear(m, s, ctx); }
 

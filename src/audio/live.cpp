@@ -166,7 +166,7 @@ namespace {
 class LiveListenStage final : public ForceStage {
  public:
   explicit LiveListenStage(LiveSource::Impl* impl) : impl_(impl) {}
-  std::string name() const override { return "listen"; }
+  std::string name() const override { return std::string(kListenStage); }
   bool reads_only() const override { return true; }
   void apply(const Model& m, State& s, const StageContext& ctx) override { impl_->hear(m, s, ctx); }
 

@@ -166,7 +166,11 @@ class GroupContactStage final : public Stage {
       : specs_(std::move(specs)) {
     build(m);
   }
-  std::string name() const override { return "group_contacts"; }
+  std::string name() const override { return std::string(kGroupContactStage); }
+  std::string refusal_hint() const override {
+    return " (or give its [[contact]] tables method = \"links\": one conditional link per pair, "
+           "which the GPU runs)";
+  }
   Phase phase() const override { return Phase::forces; }
   void model_changed(const Model& m) override { build(m); }
 
@@ -250,7 +254,8 @@ class GroupContactStage final : public Stage {
   void set_option(const std::string& name, const std::string& value) override {
     if (name != "draw_contacts") return Stage::set_option(name, value);
     if (value != "on" && value != "off")
-      throw std::invalid_argument("group_contacts: option draw_contacts cannot be '" + value + "'");
+      throw std::invalid_argument(std::string(kGroupContactStage) +
+                                  ": option draw_contacts cannot be '" + value + "'");
     draw_contacts_ = value == "on";
   }
 

@@ -93,12 +93,12 @@ void Simulator::build_integrator(const std::string& name) {
   scheme->set_threads(threads_);
   if (const std::string why = scheme->check(model_); !why.empty()) throw std::invalid_argument(why);
   if (backend_) check_backend(*scheme);
-  for_each_installed([&](const Installed& st) {
+  for (const Installed& st : stages_)
     if (const std::string why = scheme->check_stage(*st.stage); !why.empty())
       throw std::invalid_argument(why);
-  });
-  if (scheme->response_timing() == ResponseTiming::refused && !response_stages_.empty())
-    throw std::invalid_argument("stage '" + response_stages_.front().stage->name() +
+  const auto response = stages_of(Phase::response);
+  if (scheme->response_timing() == ResponseTiming::refused && !response.empty())
+    throw std::invalid_argument("stage '" + response.front().stage->name() +
                                 "' rewrites forces and velocities after the fact; " + name +
                                 " cannot be combined with it (use leapfrog, symplectic_euler, "
                                 "explicit_euler or implicit_euler)");
@@ -120,7 +120,7 @@ void Simulator::reset() {
             state_.v().begin());
   stages::drive(model_, state_, 0);
   integrator_->reset();
-  for_each_installed([&](Installed& st) { st.stage->model_changed(model_); });
+  for (Installed& st : stages_) st.stage->model_changed(model_);
   blow_up_.reset();
   unconverged_.reset();
   streak_ = Unconverged{};
@@ -199,7 +199,7 @@ void Simulator::restore(State state, std::uint64_t frames_published) {
 // self-collision's displacement bounds) clamp the scheme's move, before the step ends.
 namespace {
 template <class Stages>
-void bound_motions(Stages& stages, const Model& m, State& s, Real h, Profile& profile) {
+void bound_motions(Stages stages, const Model& m, State& s, Real h, Profile& profile) {
   for (auto& st : stages)
     if (auto* bounded = dynamic_cast<MotionBound*>(st.stage.get()))
       bounded->bound_motion(m, s, h, profile);
@@ -234,7 +234,8 @@ bool Simulator::step() {
     if (responses == ResponseTiming::after_solve) keep_step_start();
     if (!advance_or_stop(h)) return false;
     if (blow_up_) return false;  // a stage refused the solver's iterate (stage_input_finite)
-    if (!integrator_->uses_jacobians()) bound_motions(force_stages_, model_, state_, h, profile_);
+    if (!integrator_->uses_jacobians())
+      bound_motions(stages_of(Phase::forces), model_, state_, h, profile_);
     if (responses == ResponseTiming::after_solve) respond_to_solved_motion();
     if (blow_up_) return false;
   }
@@ -244,10 +245,11 @@ bool Simulator::step() {
     Timed t(profile_, ids.after);
     stages::drive(model_, state_, state_.time);
   }
-  if (const Stage* checked = first_checked(after_stages_))
+  const auto after = stages_of(Phase::after_integration);
+  if (const Stage* checked = first_checked(after))
     if (!stage_input_finite(state_, *checked)) return false;
   const StageContext ctx = context(state_);
-  for (auto& st : after_stages_) {
+  for (auto& st : after) {
     Timed t(profile_, st.profile_id);
     st.stage->apply(model_, state_, ctx);
   }
@@ -353,7 +355,19 @@ bool Simulator::run_steps(std::uint64_t n) {
   return true;
 }
 
-const Stage* Simulator::first_checked(const std::vector<Installed>& stages) {
+std::span<Simulator::Installed> Simulator::stages_of(Phase p) {
+  const auto lo = std::find_if(stages_.begin(), stages_.end(),
+                               [&](const Installed& st) { return st.phase >= p; });
+  const auto hi =
+      std::find_if(lo, stages_.end(), [&](const Installed& st) { return st.phase > p; });
+  return {lo, hi};
+}
+
+std::span<const Simulator::Installed> Simulator::stages_of(Phase p) const {
+  return const_cast<Simulator*>(this)->stages_of(p);
+}
+
+const Stage* Simulator::first_checked(std::span<const Installed> stages) {
   for (const auto& st : stages)
     if (!st.stage->reads_only()) return st.stage.get();
   return nullptr;
@@ -402,11 +416,12 @@ void Simulator::evaluate_stages(State& s, bool find) {
     profile_.set_count(ids.wind_faces, stages::field_forces(model_, s, threads_));
   }
   if (find) contacts_.clear();
-  if (force_stages_.empty()) return;
-  if (const Stage* checked = first_checked(force_stages_))
+  const auto forces = stages_of(Phase::forces);
+  if (forces.empty()) return;
+  if (const Stage* checked = first_checked(forces))
     if (!stage_input_finite(s, *checked)) return;
   const StageContext ctx = context(s);
-  for (auto& st : force_stages_) {
+  for (auto& st : forces) {
     if (!ctx.jacobians || !st.stage->finds_contacts()) {
       Timed t(profile_, st.profile_id);
       st.stage->apply(model_, s, ctx);
@@ -422,7 +437,7 @@ void Simulator::evaluate_stages(State& s, bool find) {
 bool Simulator::find_contacts_again(State& s, std::span<const std::uint32_t> moved) {
   const StageContext ctx = context(s);
   bool searched = false;
-  for (auto& st : force_stages_) {
+  for (auto& st : stages_of(Phase::forces)) {
     if (!st.stage->finds_contacts()) continue;
     Timed t(profile_, st.profile_id);
     searched = st.stage->find_contacts_again(model_, s, ctx, moved) || searched;
@@ -433,10 +448,11 @@ bool Simulator::find_contacts_again(State& s, std::span<const std::uint32_t> mov
 // Response stages rewrite forces and velocities once per step, after the force pass; a
 // non-finite value they leave is theirs.
 void Simulator::respond() {
-  if (response_stages_.empty()) return;
-  if (!stage_input_finite(state_, *response_stages_.front().stage)) return;
+  const auto response = stages_of(Phase::response);
+  if (response.empty()) return;
+  if (!stage_input_finite(state_, *response.front().stage)) return;
   const StageContext ctx = context(state_);
-  for (auto& st : response_stages_) {
+  for (auto& st : response) {
     {
       Timed t(profile_, st.profile_id);
       st.stage->apply(model_, state_, ctx);
@@ -459,7 +475,7 @@ Energies Simulator::energies() {
 
 Energies Simulator::all_energies() {
   Energies e = compute_energies(model_, state_, scratch_velocity_);
-  for_each_installed([&](Installed& st) { e.contact += st.stage->energy(model_, state_); });
+  for (Installed& st : stages_) e.contact += st.stage->energy(model_, state_);
   return e;
 }
 
@@ -520,11 +536,9 @@ void Simulator::publish() {
     snapshot_.device = {};
   }
   if (overlays_ && device == 0)
-    for_each_installed(
-        [&](const Installed& st) { st.stage->overlay(model_, state_, snapshot_.overlay); });
+    for (const Installed& st : stages_) st.stage->overlay(model_, state_, snapshot_.overlay);
   snapshot_.surfaces.clear();
-  for_each_installed(
-      [&](const Installed& st) { st.stage->surfaces(state_.time, snapshot_.surfaces); });
+  for (const Installed& st : stages_) st.stage->surfaces(state_.time, snapshot_.surfaces);
   for (const auto& l : publish_listeners_) l(snapshot_);
   ++snapshot_.frame;
 }

@@ -36,8 +36,7 @@ void Simulator::edit_parameters(const std::function<void(Model&)>& edit) {
   const Structure before = structure_of(model_);
   Model previous = model_;
   edit(model_);
-  if (structure_of(model_) != before)
-    return apply_or_restore(std::move(previous));
+  if (structure_of(model_) != before) return apply_or_restore(std::move(previous));
   if (const std::string why = check_model(model_); !why.empty()) {
     model_ = std::move(previous);
     model_structure_changed();  // the pools are the copy's: the schedule points into them anew
@@ -93,10 +92,8 @@ void Simulator::model_structure_changed() {
     scratch_velocity_.assign(n, Vec3{});
   }
   // Stages made from the model are made again; stages added by code are told.
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_}) {
-    std::erase_if(*list, [](const Installed& st) { return st.from_model; });
-    for (auto& st : *list) st.stage->model_changed(model_);
-  }
+  std::erase_if(stages_, [](const Installed& st) { return st.from_model; });
+  for (auto& st : stages_) st.stage->model_changed(model_);
   build_integrator(settings_.integrator);  // fresh buffers sized for the new model
   install_model_stages();
   energy_scale_ = energy_scale();

@@ -99,7 +99,7 @@ const LinkPoolBase* only_grid_pool(const Model& m) {
 }  // namespace
 
 bool Simulator::fused_grid_step(Real h) {
-  if (!force_stages_.empty() || !response_stages_.empty()) return false;
+  if (!stages_of(Phase::forces).empty() || !stages_of(Phase::response).empty()) return false;
   if (state_.step % static_cast<std::uint64_t>(settings_.sample_every) == 0) return false;
   const LinkPoolBase* pool = only_grid_pool(model_);
   if (!pool) return false;

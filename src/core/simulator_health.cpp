@@ -34,7 +34,7 @@ std::string Simulator::blame_forces(State& s) {
   stages::field_forces(model_, s, 1);
   if (!all_finite(s.f())) return "field_forces";
   const StageContext ctx = context(s);
-  for (auto& st : force_stages_) {
+  for (auto& st : stages_of(Phase::forces)) {
     st.stage->apply(model_, s, ctx);
     if (!all_finite(s.f())) return st.stage->name();
   }
@@ -173,18 +173,16 @@ void Simulator::fail(std::string module, std::string detail) {
 // The stages' checks of the state (Stage::inspect): a stage that asks to stop ends the run like
 // a blow-up, at this step (the state of its start), naming the stage.
 bool Simulator::inspect_stages(bool sampled) {
-  bool stopped = false;
-  for_each_installed([&](Installed& st) {
-    if (stopped) return;
+  for (Installed& st : stages_) {
     const std::string why = st.stage->inspect(model_, state_, profile_, sampled);
-    if (why.empty()) return;
+    if (why.empty()) continue;
     std::ostringstream msg;
     msg << "stopped at step " << state_.step << " (t = " << state_.time << " s) by stage '"
         << st.stage->name() << "': " << why;
     blow_up_ = BlowUp{state_.step, state_.time, st.stage->name(), msg.str()};
-    stopped = true;
-  });
-  return !stopped;
+    return false;
+  }
+  return true;
 }
 
 }  // namespace maille

@@ -21,7 +21,7 @@
 namespace maille {
 
 void Simulator::keep_step_start() {
-  if (response_stages_.empty()) return;
+  if (stages_of(Phase::response).empty()) return;
   const std::size_t n = state_.size();
   if (start_x_.size() != n) {  // after a reset or an edit: sized once, then reused
     start_x_.assign(n, Vec3{});
@@ -34,8 +34,9 @@ void Simulator::keep_step_start() {
 }
 
 void Simulator::respond_to_solved_motion() {
-  if (response_stages_.empty()) return;
-  if (!stage_input_finite(state_, *response_stages_.front().stage)) return;
+  const auto response = stages_of(Phase::response);
+  if (response.empty()) return;
+  if (!stage_input_finite(state_, *response.front().stage)) return;
   const std::size_t n = state_.size();
   const Real h = static_cast<Real>(settings_.step);
   const auto x = state_.x(), v = state_.v(), f = state_.f();
@@ -49,7 +50,7 @@ void Simulator::respond_to_solved_motion() {
   }
   StageContext ctx = context(state_);
   ctx.drift_after_kick = false;  // the segment is x_n -> x_n + h v_n+1
-  for (auto& st : response_stages_) {
+  for (auto& st : response) {
     {
       detail::Timed t(profile_, st.profile_id);
       st.stage->apply(model_, state_, ctx);

@@ -40,33 +40,32 @@ void Simulator::add_stage(std::unique_ptr<Stage> stage) {
 }
 
 void Simulator::remove_stage(const Stage* stage) {
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    if (std::erase_if(*list, [&](const Installed& st) { return st.stage.get() == stage; })) {
-      host_ahead_ = true;  // as when adding: a device backend reloads its list
-      restimate_stability();
-    }
+  if (std::erase_if(stages_, [&](const Installed& st) { return st.stage.get() == stage; })) {
+    host_ahead_ = true;  // as when adding: a device backend reloads its list
+    restimate_stability();
+  }
 }
 
 void Simulator::add_installed(std::unique_ptr<Stage> stage, bool from_model, int spec) {
   const int id = profile_.stage(stage->name());
-  auto& list = stage->phase() == Phase::forces     ? force_stages_
-               : stage->phase() == Phase::response ? response_stages_
-                                                   : after_stages_;
-  list.push_back({std::move(stage), id, from_model, spec});
+  const Phase phase = stage->phase();
+  // At the end of its phase's range: the list stays in step order.
+  const auto at = std::find_if(stages_.begin(), stages_.end(),
+                               [&](const Installed& st) { return st.phase > phase; });
+  stages_.insert(at, {std::move(stage), phase, id, from_model, spec});
   host_ahead_ = true;  // a device backend is loaded again with the new list before the next step
   restimate_stability();
 }
 
 std::vector<Simulator::StageOptions> Simulator::stage_options() const {
   std::vector<StageOptions> out;
-  for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list) {
-      auto o = st.stage->options();
-      if (st.spec >= 0)
-        if (const StageSpec& spec = model_.stages[st.spec]; spec.vary)
-          o.insert(o.begin(), {spec.variant_option, spec.variants, spec.variant});
-      if (!o.empty()) out.push_back({st.stage->name(), std::move(o)});
-    }
+  for (const auto& st : stages_) {
+    auto o = st.stage->options();
+    if (st.spec >= 0)
+      if (const StageSpec& spec = model_.stages[st.spec]; spec.vary)
+        o.insert(o.begin(), {spec.variant_option, spec.variants, spec.variant});
+    if (!o.empty()) out.push_back({st.stage->name(), std::move(o)});
+  }
   return out;
 }
 
@@ -95,10 +94,9 @@ std::vector<std::string> unused_implicit_keys(const SimulationSettings& s) {
 
 std::vector<std::string> Simulator::stage_warnings() const {
   std::vector<std::string> out = unused_implicit_keys(settings_);
-  for (const auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (const auto& st : *list)
-      for (const std::string& w : st.stage->warnings(settings_))
-        out.push_back(st.stage->name() + ": " + w);
+  for (const auto& st : stages_)
+    for (const std::string& w : st.stage->warnings(settings_))
+      out.push_back(st.stage->name() + ": " + w);
   return out;
 }
 
@@ -112,33 +110,31 @@ void Simulator::switch_variant(std::size_t spec_index, const std::string& value)
   StageSpec next = spec.vary(value);
   std::unique_ptr<Stage> stage = next.make(model_);
   check_stage(*stage);
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    std::erase_if(*list, [&](const Installed& st) { return st.spec == int(spec_index); });
+  std::erase_if(stages_, [&](const Installed& st) { return st.spec == int(spec_index); });
   model_.stages[spec_index] = std::move(next);
   add_installed(std::move(stage), true, static_cast<int>(spec_index));
 }
 
 void Simulator::set_stage_option(const std::string& stage, const std::string& option,
                                  const std::string& value) {
-  for (auto* list : {&force_stages_, &response_stages_, &after_stages_})
-    for (auto& st : *list)
-      if (st.stage->name() == stage) {
-        if (st.spec >= 0 && model_.stages[st.spec].vary &&
-            model_.stages[st.spec].variant_option == option)
-          return switch_variant(static_cast<std::size_t>(st.spec), value);
-        // A backend that cannot run the stage as changed refuses the option: it is set back.
-        std::string before;
-        for (const StageOption& o : st.stage->options())
-          if (o.name == option) before = o.value;
-        st.stage->set_option(option, value);
-        if (backend_) try {
-            check_backend(*integrator_);
-          } catch (...) {
-            st.stage->set_option(option, before);
-            throw;
-          }
-        return;
-      }
+  for (auto& st : stages_)
+    if (st.stage->name() == stage) {
+      if (st.spec >= 0 && model_.stages[st.spec].vary &&
+          model_.stages[st.spec].variant_option == option)
+        return switch_variant(static_cast<std::size_t>(st.spec), value);
+      // A backend that cannot run the stage as changed refuses the option: it is set back.
+      std::string before;
+      for (const StageOption& o : st.stage->options())
+        if (o.name == option) before = o.value;
+      st.stage->set_option(option, value);
+      if (backend_) try {
+          check_backend(*integrator_);
+        } catch (...) {
+          st.stage->set_option(option, before);
+          throw;
+        }
+      return;
+    }
   throw std::invalid_argument("no stage named '" + stage + "'");
 }
 

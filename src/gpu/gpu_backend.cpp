@@ -266,12 +266,7 @@ class GpuBackend final : public Backend {
       const GpuStageEntry* entry = GpuStageRegistry::builtin().find(st->name());
       if (!entry)
         return "stage '" + st->name() +
-               "' has no GPU version yet: run this scene with --backend cpu" +
-               (st->name() == "self_collision" ? " (or without it: --no-self-collision)"
-                : st->name() == "group_contacts"
-                    ? " (or give its [[contact]] tables method = \"links\": one conditional "
-                      "link per pair, which the GPU runs)"
-                    : "");
+               "' has no GPU version yet: run this scene with --backend cpu" + st->refusal_hint();
       if (std::string why = entry->check(*st); !why.empty()) return why;
       if (st->phase() != Phase::forces)  // the step dispatches device stages after the forces
         return "stage '" + st->name() + "' runs at phase " + std::string(to_string(st->phase())) +

@@ -9,10 +9,10 @@
 // An entry names one stage ("self_collision") or a family of stages by the prefix of their
 // names, ending with ':' ("obstacle:" for every [[obstacle]]; its check refuses the members it
 // does not run). The backend's explicit step finds stages through the registry alone: it
-// refuses a stage with no entry (naming it) and runs the ones it made in order. Two places name
-// stages: the refusal's hint for "self_collision" and "group_contacts" (gpu_backend.cpp), and
-// implicit Euler by VBD, which takes geometric obstacles itself (GeometricObstacleView,
-// gpu_vbd_obstacles.hpp) and refuses every other stage (vbd_refuses, gpu_vbd.cpp).
+// refuses a stage with no entry (naming it, with the stage's own refusal_hint()) and runs the
+// ones it made in order. Implicit Euler by VBD takes geometric obstacles itself
+// (GeometricObstacleView, gpu_vbd_obstacles.hpp) and refuses every other stage (vbd_refuses,
+// gpu_vbd.cpp).
 //
 // Adding a GPU stage: a GpuStage subclass and one add() line in gpu_stage.cpp.
 #pragma once

@@ -371,7 +371,8 @@ class SceneReader {
   // One stage for every broad-phase [[contact]]; its parameters are each table's declared keys
   // ("contact[0].stiffness", ...), which `maille info` shows and checkpoints' fingerprints hash.
   void install_group_contacts(Model& m) {
-    StageSpec spec{"group_contacts", Phase::forces, [specs = group_contacts_](const Model& model) {
+    StageSpec spec{std::string(kGroupContactStage), Phase::forces,
+                   [specs = group_contacts_](const Model& model) {
                      return make_group_contact_stage(model, specs);
                    }};
     for (std::size_t i = 0; i < group_contacts_.size(); ++i)

@@ -53,6 +53,7 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     take_members(m);
   }
   std::string name() const override { return std::string(kSelfCollisionStage); }
+  std::string refusal_hint() const override { return " (or without it: --no-self-collision)"; }
   Phase phase() const override { return kSelfCollisionPhase; }
   void model_changed(const Model& m) override {
     engine_.release_exclusion();
