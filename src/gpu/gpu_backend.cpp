@@ -22,6 +22,7 @@
 #include <unordered_map>
 
 #include "../core/gust.hpp"
+#include "gl_buffers.hpp"
 #include "gpu_layout.hpp"
 #include "gpu_self_collision.hpp"
 #include "gpu_stage.hpp"
@@ -473,16 +474,7 @@ class GpuBackend final : public Backend {
 
   template <class T>
   void upload(Buf b, const std::vector<T>& data) {
-    // At least 16 bytes: a buffer bound to a storage block must not be empty.
-    const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
-    std::vector<std::byte> padded;
-    const void* src = data.data();
-    if (data.size() * sizeof(T) < 16) {
-      padded.assign(16, std::byte{0});
-      if (!data.empty()) std::memcpy(padded.data(), data.data(), data.size() * sizeof(T));
-      src = padded.data();
-    }
-    glNamedBufferData(buffer(b), GLsizeiptr(bytes), src, GL_DYNAMIC_DRAW);
+    gpu::upload(buffer(b), data);
   }
 
   // The renderer shares the context and binds its own buffers to low bindings: ours are bound

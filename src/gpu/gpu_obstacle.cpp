@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../collision/obstacle/geometric_obstacle_view.hpp"
+#include "gl_buffers.hpp"
 
 namespace maille::gpu {
 
@@ -36,9 +37,8 @@ GpuGeometricObstacle::GpuGeometricObstacle(const Stage& st)
   const double reach = double(view.reach) * kReachMargin;
   reach2_ = std::isfinite(reach) ? float(reach * reach) : std::numeric_limits<float>::infinity();
   glCreateBuffers(1, &buffer_);
-  std::vector<std::uint32_t> ids(view.points.begin(), view.points.end());
-  ids.resize(std::max<std::size_t>(ids.size(), 4));  // a bound buffer must not be empty
-  glNamedBufferData(buffer_, GLsizeiptr(ids.size() * 4), ids.data(), GL_STATIC_DRAW);
+  upload(buffer_, std::vector<std::uint32_t>(view.points.begin(), view.points.end()),
+         GL_STATIC_DRAW);
   const Obstacle& o = *obstacle_;
   contacts_.set("u_shape", unsigned(o.shape));
   contacts_.set("u_top", float(o.top));

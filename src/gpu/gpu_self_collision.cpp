@@ -5,9 +5,9 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
-#include <cstring>
 
 #include "../collision/self/self_collision_view.hpp"
+#include "gl_buffers.hpp"
 #include "maille/self_collision.hpp"
 #include "shaders.hpp"
 
@@ -20,14 +20,6 @@ namespace {
 constexpr double kCellMargin = 1.0 + 1.0 / 1024;
 
 enum Pass : unsigned { bounds, grid, zero, count, scan, scan_add, scatter, sort, contacts, passes };
-
-template <class T>
-void upload(GLuint buffer, const std::vector<T>& data) {
-  // At least 16 bytes: a buffer bound to a storage block must not be empty.
-  std::vector<std::byte> bytes(std::max<std::size_t>(data.size() * sizeof(T), 16), std::byte{0});
-  if (!data.empty()) std::memcpy(bytes.data(), data.data(), data.size() * sizeof(T));
-  glNamedBufferData(buffer, GLsizeiptr(bytes.size()), bytes.data(), GL_DYNAMIC_DRAW);
-}
 
 std::vector<std::uint32_t> download(GLuint buffer, std::size_t count) {
   std::vector<std::uint32_t> out(count);

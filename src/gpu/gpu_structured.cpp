@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdlib>
-#include <cstring>
 #include <stdexcept>
 
 #include "../render/gl_program.hpp"
+#include "gl_buffers.hpp"
 #include "gpu_glsl.hpp"
 #include "gpu_layout.hpp"
 #include "maille/detail/structured_grid.hpp"
@@ -110,14 +110,6 @@ int family_of(int di, int dj) {
         detail::StructuredGrid::kFamilies[f][1] == dj)
       return int(f);
   return -1;
-}
-
-template <class T>
-void upload(GLuint buffer, const std::vector<T>& data) {
-  // At least 16 bytes: a buffer bound to a storage block must not be empty.
-  std::vector<std::byte> bytes(std::max<std::size_t>(data.size() * sizeof(T), 16), std::byte{0});
-  if (!data.empty()) std::memcpy(bytes.data(), data.data(), data.size() * sizeof(T));
-  glNamedBufferData(buffer, GLsizeiptr(bytes.size()), bytes.data(), GL_STATIC_DRAW);
 }
 
 }  // namespace
@@ -275,10 +267,10 @@ std::unique_ptr<GpuStructured> GpuStructured::make(const Model& m, const LinkSet
   } else {
     glCreateBuffers(4, out->buffers_);
   }
-  upload(out->buffers_[0], word);
-  upload(out->buffers_[1], offset);
-  upload(out->buffers_[2], others);
-  upload(out->buffers_[3], link_set);
+  upload(out->buffers_[0], word, GL_STATIC_DRAW);
+  upload(out->buffers_[1], offset, GL_STATIC_DRAW);
+  upload(out->buffers_[2], others, GL_STATIC_DRAW);
+  upload(out->buffers_[3], link_set, GL_STATIC_DRAW);
   out->source_ = structured_shader(kinds[std::size_t(sets.pool_kind[stencil])], kinds);
   if (previous && previous->program_ && previous->source_ == out->source_) {
     std::swap(out->program_, previous->program_);

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 
+#include "gl_buffers.hpp"
 #include "maille/colouring.hpp"
 #include "maille/detail/csr.hpp"
 #include "shared_laws_glsl.hpp"
@@ -27,14 +28,6 @@ enum Pass : unsigned {
   first_touch,
   passes
 };
-
-template <class T>
-void upload(GLuint buffer, const std::vector<T>& data) {
-  // At least 16 bytes: a buffer bound to a storage block must not be empty.
-  std::vector<std::byte> bytes(std::max<std::size_t>(data.size() * sizeof(T), 16), std::byte{0});
-  if (!data.empty()) std::memcpy(bytes.data(), data.data(), data.size() * sizeof(T));
-  glNamedBufferData(buffer, GLsizeiptr(bytes.size()), bytes.data(), GL_DYNAMIC_DRAW);
-}
 
 std::uint32_t float_bits(float f) {
   std::uint32_t u;

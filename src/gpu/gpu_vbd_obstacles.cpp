@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "../collision/obstacle/geometric_obstacle_view.hpp"
+#include "gl_buffers.hpp"
 
 namespace maille::gpu {
 
@@ -16,14 +16,6 @@ namespace {
 
 // 2^-10: the cull's sphere a little larger than the CPU's (as gpu_obstacle.cpp's).
 constexpr double kReachMargin = 1.0 + 1.0 / 1024;
-
-template <class T>
-void upload(GLuint buffer, const std::vector<T>& data) {
-  // At least 16 bytes: a buffer bound to a storage block must not be empty.
-  std::vector<std::byte> bytes(std::max<std::size_t>(data.size() * sizeof(T), 16), std::byte{0});
-  if (!data.empty()) std::memcpy(bytes.data(), data.data(), data.size() * sizeof(T));
-  glNamedBufferData(buffer, GLsizeiptr(bytes.size()), bytes.data(), GL_DYNAMIC_DRAW);
-}
 
 // Obstacle o placed at t, as the CPU places it (ObstacleMotion::at in double), in float.
 ObstacleRecord record(const Obstacle& o, double t, Real reach) {
