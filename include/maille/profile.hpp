@@ -1,7 +1,9 @@
 // Per-step timings and counters: every stage of the step is timed into one of these.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,33 @@ class Profile {
   std::vector<Gauge> gauges_;
   std::uint64_t steps_ = 0;
   bool timing_ = true;
+};
+
+// Columns of stats.csv that a stage writes, named once in their order and registered with the
+// profile at the first write (a stage meets the simulator's profile only when it runs):
+// count(p, k, n), add(p, k, n) and gauge(p, k, x) write column k.
+class ProfileColumns {
+ public:
+  struct Column {
+    std::string name;
+    bool gauge = false;  // a gauge (the last value set) rather than a counter
+  };
+  ProfileColumns() = default;
+  ProfileColumns(std::initializer_list<Column> columns) : columns_(columns) {}
+  bool empty() const { return columns_.empty(); }
+  void count(Profile& p, std::size_t k, std::uint64_t value) { p.set_count(id(p, k), value); }
+  void add(Profile& p, std::size_t k, std::uint64_t value) { p.add_count(id(p, k), value); }
+  void gauge(Profile& p, std::size_t k, double value) { p.set_gauge(id(p, k), value); }
+
+ private:
+  int id(Profile& p, std::size_t k) {
+    if (ids_.empty())
+      for (const Column& c : columns_)
+        ids_.push_back(c.gauge ? p.gauge(c.name) : p.counter(c.name));
+    return ids_[k];
+  }
+  std::vector<Column> columns_;
+  std::vector<int> ids_;
 };
 
 }  // namespace maille

@@ -206,10 +206,8 @@ class GroupContactStage final : public Stage {
   void count(const StageContext& ctx, std::uint64_t active, std::uint64_t tested) {
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
-    if (ids_[0] < 0)
-      ids_ = {p.counter("active_conditional_links"), p.counter("group_contact_candidates")};
-    p.add_count(ids_[0], active);
-    p.set_count(ids_[1], tested);
+    columns_.add(p, 0, active);
+    columns_.count(p, 1, tested);
   }
 
   // The pairs within the threshold at s, each the conditional spring's energy (the links'
@@ -300,7 +298,7 @@ class GroupContactStage final : public Stage {
   std::vector<GroupContactSpec> specs_;
   std::vector<GroupContact> contacts_;
   LinkPool<ConditionalSpringDamper> links_;  // implicit schemes: this step's candidates
-  std::array<int, 2> ids_{-1, -1};
+  ProfileColumns columns_{{"active_conditional_links"}, {"group_contact_candidates"}};
   bool draw_contacts_ = false;
   int threads_ = 1;  // of the last apply()
 };

@@ -524,18 +524,17 @@ class FacetObstacleStage final : public Stage {
   void report(const StageContext& ctx, const Counts& total) {
     if (!ctx.profile) return;
     Profile& pr = *ctx.profile;
-    if (ids_[0] < 0) {
+    if (columns_.empty()) {
       const std::string base = "obstacle_" + o_.name + "_";
-      ids_ = {pr.counter(base + "contacts"), pr.gauge(base + "depth"),
-              pr.counter(base + "hits"),     pr.counter(base + "sticks"),
-              pr.counter(base + "slides"),   pr.counter(base + "facet_leaks")};
+      columns_ = {{base + "contacts"}, {base + "depth", true}, {base + "hits"},
+                  {base + "sticks"},   {base + "slides"},      {base + "facet_leaks"}};
     }
-    pr.set_count(ids_[0], total.contacts);
-    pr.set_gauge(ids_[1], total.deepest);
-    pr.set_count(ids_[2], total.hits);
-    pr.set_count(ids_[3], total.sticks);
-    pr.set_count(ids_[4], total.slides);
-    pr.set_count(ids_[5], total.leaks);
+    columns_.count(pr, 0, total.contacts);
+    columns_.gauge(pr, 1, total.deepest);
+    columns_.count(pr, 2, total.hits);
+    columns_.count(pr, 3, total.sticks);
+    columns_.count(pr, 4, total.slides);
+    columns_.count(pr, 5, total.leaks);
   }
 
   Obstacle o_;
@@ -558,7 +557,7 @@ class FacetObstacleStage final : public Stage {
   std::vector<std::vector<std::uint32_t>> scratch_;  // per thread: nearby facets
   std::vector<Counts> counts_;                       // per thread
   std::vector<Resting> resting_;                     // per thread: its block's resting contacts
-  std::array<int, 6> ids_{-1, -1, -1, -1, -1, -1};
+  ProfileColumns columns_;
 };
 
 }  // namespace

@@ -55,11 +55,8 @@ class GeometricContactStage final : public Stage {
       deepest = std::max(deepest, depth);
     }
     if (!ctx.profile) return;
-    if (ids_[0] < 0)
-      ids_ = {ctx.profile->counter("geometric_contacts_active"),
-              ctx.profile->gauge("geometric_contacts_depth")};
-    ctx.profile->set_count(ids_[0], active);
-    ctx.profile->set_gauge(ids_[1], deepest);
+    columns_.count(*ctx.profile, 0, active);
+    columns_.gauge(*ctx.profile, 1, deepest);
   }
 
   // 1/2 k d^2 per contact, d the world penetration (geometric_obstacle.cpp says when exact).
@@ -86,7 +83,7 @@ class GeometricContactStage final : public Stage {
 
  private:
   std::vector<GeometricContact> contacts_;
-  std::array<int, 2> ids_{-1, -1};
+  ProfileColumns columns_{{"geometric_contacts_active"}, {"geometric_contacts_depth", true}};
 };
 
 }  // namespace

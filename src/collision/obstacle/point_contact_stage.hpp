@@ -32,15 +32,15 @@ class PointContactStage : public Stage, public PointContacts {
   void count(const StageContext& ctx, const std::string& obstacle, std::uint64_t contacts,
              Real deepest) {
     if (!ctx.profile) return;
-    if (ids_[0] < 0)
-      ids_ = {ctx.profile->counter("obstacle_" + obstacle + "_contacts"),
-              ctx.profile->gauge("obstacle_" + obstacle + "_depth")};
-    ctx.profile->set_count(ids_[0], contacts);
-    ctx.profile->set_gauge(ids_[1], deepest);
+    if (columns_.empty())
+      columns_ = {{"obstacle_" + obstacle + "_contacts"},
+                  {"obstacle_" + obstacle + "_depth", true}};
+    columns_.count(*ctx.profile, 0, contacts);
+    columns_.gauge(*ctx.profile, 1, deepest);
   }
 
  private:
-  std::array<int, 2> ids_{-1, -1};
+  ProfileColumns columns_;
 };
 
 }  // namespace maille

@@ -150,10 +150,7 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   // MotionBound: the scheme's move of each colliding point clamped to its bound.
   std::uint64_t bound_motion(const Model& m, State& s, Real h, Profile& profile) override {
     if (!enabled_ || bounded_step_ != s.step) return 0;
-    if (clamp_ids_[0] < 0)
-      clamp_ids_ = {profile.counter("self_clamped_points"),
-                    profile.counter("self_unbounded_steps")};
-    profile.set_count(clamp_ids_[1], bounded_ ? 0 : 1);
+    clamp_columns_.count(profile, 1, bounded_ ? 0 : 1);
     if (!bounded_) return 0;
     const auto x = s.x(), v = s.v();
     std::uint64_t clamped = 0;
@@ -167,7 +164,7 @@ class SelfCollisionStage final : public Stage, public MotionBound {
       v[p] = kept * (Real(1) / h);
       ++clamped;
     }
-    profile.set_count(clamp_ids_[0], clamped);
+    clamp_columns_.count(profile, 0, clamped);
     return clamped;
   }
 
@@ -261,26 +258,19 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   void count(const StageContext& ctx, const SelfCollisionStats& st) {
     if (!ctx.profile) return;
     Profile& p = *ctx.profile;
-    if (ids_[0] < 0) {
-      ids_ = {p.counter("self_candidate_pairs"),   p.counter("self_contacts"),
-              p.counter("self_occupied_cells"),    p.counter("self_excluded_pairs"),
-              p.counter("self_skipped_cells"),     p.gauge("self_cell_size"),
-              p.counter("self_triangle_contacts"), p.gauge("self_model_Pn2"),
-              p.counter("self_edge_contacts")};
-    }
-    p.set_count(ids_[0], st.candidate_pairs);
-    p.set_count(ids_[1], st.contacts);
-    p.set_count(ids_[2], st.occupied_cells);
-    p.set_count(ids_[3], st.excluded);
-    p.set_count(ids_[4], st.skipped_cells);
-    p.set_gauge(ids_[5], st.cell_size);
-    p.set_count(ids_[6], st.triangle_contacts);
-    p.set_count(ids_[8], st.edge_contacts);
+    columns_.count(p, 0, st.candidate_pairs);
+    columns_.count(p, 1, st.contacts);
+    columns_.count(p, 2, st.occupied_cells);
+    columns_.count(p, 3, st.excluded);
+    columns_.count(p, 4, st.skipped_cells);
+    columns_.gauge(p, 5, st.cell_size);
+    columns_.count(p, 6, st.triangle_contacts);
+    columns_.count(p, 8, st.edge_contacts);
     // The cost model P n^2 at the resolution used, beside the stage's measured time
     // (ns_self_collision) in every stats.csv row: P occupied cells, n particles per cell.
     const double per_cell =
         double(engine_.particles()) / std::max<double>(double(st.occupied_cells), 1);
-    p.set_gauge(ids_[7], double(st.occupied_cells) * per_cell * per_cell);
+    columns_.gauge(p, 7, double(st.occupied_cells) * per_cell * per_cell);
   }
 
   std::vector<StageOption> options() const override {
@@ -354,10 +344,13 @@ class SelfCollisionStage final : public Stage, public MotionBound {
   SelfCollisionSettings settings_;
   SelfCollision engine_;
   std::vector<std::string> warnings_;  // leak_warnings of the resolved settings
-  std::array<int, 9> ids_{-1, -1, -1, -1, -1, -1, -1, -1, -1};
-  std::array<int, 2> clamp_ids_{-1, -1};  // self_clamped_points, self_unbounded_steps
-  std::vector<Vec3> xn_;                  // positions of the step's first force pass
-  std::vector<Real> bound_;               // each point's displacement bound from xn_ (m)
+  ProfileColumns columns_{
+      {"self_candidate_pairs"},   {"self_contacts"},        {"self_occupied_cells"},
+      {"self_excluded_pairs"},    {"self_skipped_cells"},   {"self_cell_size", true},
+      {"self_triangle_contacts"}, {"self_model_Pn2", true}, {"self_edge_contacts"}};
+  ProfileColumns clamp_columns_{{"self_clamped_points"}, {"self_unbounded_steps"}};
+  std::vector<Vec3> xn_;     // positions of the step's first force pass
+  std::vector<Real> bound_;  // each point's displacement bound from xn_ (m)
   std::uint64_t bounded_step_ = ~std::uint64_t{0};
   double bounded_time_ = -1;  // the time of bounded_step_'s first pass
   bool bounded_ = false;      // the bounds of bounded_step_ hold (both Verlet lists were in use)
