@@ -52,21 +52,113 @@ std::span<const StageKey<audio::AudioSettings>> audio_keys() {
                             {.doc = "when the step does not divide 1 / rate: band-limited "
                                     "windowed sinc, or linear interpolation"}),
       integer<&A::osc_port>("osc_port", 1024, 65535,
-                            {.doc = "`maille play`: the UDP port of the OSC server (docs/sound.md)",
+                            {.doc = "`maille play`: the UDP port of the OSC server; required by "
+                                    "any control with `osc` (docs/sound.md)",
                              .default_doc = "none"}),
       checked(text<&A::osc_host>("osc_host", {.doc = "`maille play`: the address the OSC server "
-                                                     "listens on",
+                                                     "listens on (`\"0.0.0.0\"`: every interface)",
                                               .range_doc = "not empty"}),
               [](SceneTable& t, const A& a) {
                 if (a.osc_host.empty())
                   t.fail("osc_host", "must not be empty (an address: \"127.0.0.1\")");
               }),
       checked(text<&A::midi_port>("midi_port", {.doc = "`maille play`: the name of the virtual "
-                                                       "MIDI input port it creates",
+                                                       "MIDI input port it creates (client "
+                                                       "`maille-midi`; JACK MIDI when the audio "
+                                                       "goes through JACK, else the ALSA "
+                                                       "sequencer)",
                                                 .range_doc = "not empty"}),
               [](SceneTable& t, const A& a) {
                 if (a.midi_port.empty()) t.fail("midi_port", "must not be empty (a port name)");
               }),
+  };
+  return keys;
+}
+
+std::span<const StageKey<audio::Control>> control_keys() {
+  using C = audio::Control;
+  static const std::array<StageKey<C>, 7> keys{
+      custom<C>("midi", KeyType::text,
+                {.doc = "the MIDI source",
+                 .default_doc = "none",
+                 .range_doc = "`\"cc:N\"` (N 0 to 127), `\"note\"`, `\"pitchbend\"`"}),
+      integer<&C::midi_channel>(
+          "midi_channel", 1, 16,
+          {.doc = "with `midi`: only messages on this channel", .default_doc = "any"}),
+      checked(text<&C::osc>("osc", {.doc = "messages to this address, first argument a float (or "
+                                           "double, or integer) in [0, 1]",
+                                    .default_doc = "none",
+                                    .range_doc = "an OSC address: starts with `/`, no space nor "
+                                                 "`# * , ? [ ] { }`"}),
+              [](SceneTable& t, const C& c) {
+                if (c.osc.size() < 2 || c.osc[0] != '/' ||
+                    c.osc.find_first_of(" #*,?[]{}") != std::string::npos)
+                  t.fail("osc", "'" + c.osc +
+                                    "' is not an OSC address: it starts with '/' and has no space "
+                                    "or any of # * , ? [ ] { }");
+              }),
+      checked(text<&C::key>("key", {.doc = "the value to change",
+                                    .default_doc = "none",
+                                    .range_doc = "a `--set` key of a model parameter"}),
+              [](SceneTable& t, const C& c) {
+                if (c.key.empty() || c.key.find('=') != std::string::npos ||
+                    c.key.find_first_of(" \t") != std::string::npos)
+                  t.fail("key",
+                         "must be a scene key as --set takes it (\"fields.wind.speed\", "
+                         "\"membrane[0].pretension\")");
+                for (const char* output : {"listen", "audio", "control", "scene", "simulation"})
+                  if (c.key.rfind(output, 0) == 0)
+                    t.fail("key", "'" + c.key +
+                                      "' cannot change while a model plays: a control's key is "
+                                      "a parameter of the model (links, fields, masses, drives)");
+              }),
+      custom<C>("range", KeyType::custom,
+                {.unit = "the key's",
+                 .doc = "where 0 and 127 (MIDI), 0 and 1 (OSC) land",
+                 .default_doc = "required with `key`",
+                 .range_doc = "two different finite numbers",
+                 .type_doc = "[low, high]"}),
+      number<&C::smooth>(
+          "smooth", Bound::non_negative, 0, 10,
+          {.unit = "s", .doc = "with `key`: the glide from the current value to a new one"}),
+      custom<C>("excite", KeyType::table,
+                {.doc = "a strike or a pluck: `excite` below",
+                 .default_doc = "none",
+                 .type_doc = "inline table"}),
+  };
+  return keys;
+}
+
+std::span<const StageKey<audio::Excitation>> excite_keys() {
+  using X = audio::Excitation;
+  static const std::array<StageKey<X>, 4> keys{
+      custom<X>("point", KeyType::custom,
+                {.doc = "a point or a whole group (every point of it); only free points",
+                 .default_doc = "required",
+                 .range_doc = "`\"name\"`, `\"group:index\"`, an index or a group's name",
+                 .type_doc = "string or integer"}),
+      checked(choice<&X::quantity>("quantity",
+                                   {.doc = "`velocity`: amount × s added along `axis` to each "
+                                           "point's velocity (a strike: an impulse of m × that); "
+                                           "`position`: each point moved by amount × s (a pluck)",
+                                    .range_doc = "`velocity`, `position`"}),
+              [](SceneTable& t, const X& x) {
+                if (x.quantity == audio::Quantity::force)
+                  t.fail("quantity",
+                         "an excitation changes a velocity (a strike) or a position (a pluck): "
+                         "\"velocity\" or \"position\"");
+              }),
+      checked(
+          vector<&X::axis>("axis", {.doc = "the direction (normalised)", .range_doc = "non-zero"}),
+          [](SceneTable& t, const X& x) {
+            if (!(norm(x.axis) > Real(1e-12))) t.fail("axis", "must not be zero");
+          }),
+      custom<X>("amount", KeyType::number,
+                {.unit = "m/s or m",
+                 .doc = "per unit of the source's strength s: m/s for `velocity`, m for "
+                        "`position`",
+                 .default_doc = "required",
+                 .range_doc = "non-zero, within ±1000"}),
   };
   return keys;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "audio_keys.hpp"
 #include "listen_table.hpp"
 
 namespace maille {
@@ -37,7 +38,7 @@ void read_midi(TomlCursor& t, audio::Control& c) {
                        "' is not a MIDI source: \"cc:N\" (N 0 to 127), \"note\" or "
                        "\"pitchbend\"");
   }
-  c.midi_channel = static_cast<int>(t.integer("midi_channel", 0, 1, 16));
+  read_key(t, c, control_keys(), "midi_channel");
 }
 
 // The points an excitation acts on: a point (name, "group:index", index) or a whole group.
@@ -63,15 +64,9 @@ std::vector<std::uint32_t> excited_points(TomlCursor& e, const Model& m, std::st
 audio::Excitation excitation(TomlCursor& e, const Model& m) {
   audio::Excitation x;
   x.points = excited_points(e, m, x.label);
-  x.quantity = e.choice("quantity", x.quantity);
-  if (x.quantity == audio::Quantity::force)
-    e.fail("quantity",
-           "an excitation changes a velocity (a strike) or a position (a pluck): "
-           "\"velocity\" or \"position\"");
-  const Vec3 axis = e.vec3("axis", x.axis);
-  const Real length = norm(axis);
-  if (!(length > Real(1e-12))) e.fail("axis", "must not be zero");
-  x.axis = axis / length;
+  read_key(e, x, excite_keys(), "quantity");
+  read_key(e, x, excite_keys(), "axis");
+  x.axis = x.axis / norm(x.axis);
   x.amount = e.real("amount", Bound::any);
   if (x.amount == 0) e.fail("amount", "must not be zero");
   e.check_range("amount", Real(x.amount), -1e3, 1e3,
@@ -91,28 +86,11 @@ audio::Control control(TomlCursor& t, const Model& m, std::size_t index) {
       break;
     }
   read_midi(t, c);
-  if (t.has("osc")) {
-    c.osc = t.text("osc");
-    if (c.osc.size() < 2 || c.osc[0] != '/' ||
-        c.osc.find_first_of(" #*,?[]{}") != std::string::npos)
-      t.fail("osc", "'" + c.osc +
-                        "' is not an OSC address: it starts with '/' and has no space "
-                        "or any of # * , ? [ ] { }");
-  }
+  if (t.has("osc")) read_key(t, c, control_keys(), "osc");
   if (c.midi == audio::MidiSource::none && c.osc.empty())
     t.fail("midi", "a control needs a source: 'midi', 'osc' or both");
   if (t.has("key")) {
-    c.key = t.text("key");
-    if (c.key.empty() || c.key.find('=') != std::string::npos ||
-        c.key.find_first_of(" \t") != std::string::npos)
-      t.fail("key",
-             "must be a scene key as --set takes it (\"fields.wind.speed\", "
-             "\"membrane[0].pretension\")");
-    for (const char* output : {"listen", "audio", "control", "scene", "simulation"})
-      if (c.key.rfind(output, 0) == 0)
-        t.fail("key", "'" + c.key +
-                          "' cannot change while a model plays: a control's key is a "
-                          "parameter of the model (links, fields, masses, drives)");
+    read_key(t, c, control_keys(), "key");
     const toml::node* r = t.node("range");
     const toml::array* a = r ? r->as_array() : nullptr;
     if (!a || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number())
@@ -121,8 +99,7 @@ audio::Control control(TomlCursor& t, const Model& m, std::size_t index) {
     c.high = *(*a)[1].value<double>();
     if (!std::isfinite(c.low) || !std::isfinite(c.high) || c.low == c.high)
       t.fail("range", "must be two different finite numbers");
-    c.smooth = t.real("smooth", Real(c.smooth), Bound::non_negative);
-    t.check_range("smooth", Real(c.smooth), 0, 10, "s");
+    read_key(t, c, control_keys(), "smooth");
   } else {
     if (t.has("range")) t.fail("range", "maps a value onto 'key': give 'key' too");
     if (t.has("smooth")) t.fail("smooth", "glides a 'key': give 'key' too");

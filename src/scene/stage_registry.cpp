@@ -145,6 +145,9 @@ std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
                          contact_keys()));
   out.push_back(declared("[[listen]]", "one channel of the scene's sound", listen_keys()));
   out.push_back(declared("[audio]", "the sound's rate, format, gain and resampler", audio_keys()));
+  out.push_back(declared("[[control]]", "a MIDI or OSC source mapped onto a scene key or a strike",
+                         control_keys()));
+  out.push_back(declared("[[control]] excite", "a control's strike or pluck", excite_keys()));
   for (const auto& e : stages.entries())
     out.push_back({e.array ? "[[" + e.table + "]]" : "[" + e.table + "]", e.description, e.keys});
   out.push_back(

@@ -181,6 +181,26 @@ TEST(StageKeys, TheDocsTablesAreTheDeclarations) {
   EXPECT_THROW(with_declared_tables("<!-- keys: [nothing] -->\n", tables), std::invalid_argument);
 }
 
+// The other pages with key tables (docs/sound.md: [[control]], [audio]) hold them the same way:
+// each after its marker, equal to the declaration, none written by hand.
+TEST(StageKeys, TheSoundPageTablesAreTheDeclarations) {
+  const auto doc = doc_lines("docs/sound.md");
+  std::string text;
+  for (const auto& line : doc) text += line + "\n";
+  const auto tables = declared_tables(StageRegistry::with_builtins());
+  EXPECT_EQ(with_declared_tables(text, tables), text)
+      << "run: maille info --keys --update-docs docs/sound.md";
+  std::size_t markers = 0;
+  for (std::size_t i = 0; i < doc.size(); ++i) {
+    markers += doc[i].rfind("<!-- keys: ", 0) == 0;
+    if (doc[i].rfind("| key |", 0) == 0) {
+      EXPECT_TRUE(i > 0 && doc[i - 1].rfind("<!-- keys: ", 0) == 0)
+          << "docs/sound.md line " << i + 1 << ": a key table without its marker";
+    }
+  }
+  EXPECT_GE(markers, 3u);  // [[control]], its excite table, [audio]
+}
+
 // The scene's own tables and the builders read through their declarations: a default taken
 // from another key, a bound, a range and a check, with the messages the getters always gave.
 TEST(StageKeys, SceneAndBuilderKeysComeFromTheirDeclarations) {
