@@ -50,10 +50,12 @@ struct DeclaredTable {
   std::vector<KeyInfo> keys;
   bool methods = false;        // some key is used by some methods only: a "methods" column
   std::string group_column{};  // a first column ("kind": KeyInfo::group), or none
+  std::string page = "scene-format.md";  // the docs page (docs/) that holds its table
 };
 // Every table a scene file may hold, in docs/scene-format.md's order: the scene's own tables
 // (src/scene/scene_keys.cpp), the link kinds' fields (of `kinds`), sound, the registry's stage
-// tables, the bricks and the builders (src/scene/builder_keys.cpp).
+// tables, the bricks and the builders (src/scene/builder_keys.cpp); then the sweep file's keys
+// (page sweep.md).
 std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
                                            const LinkKindRegistry& kinds);
 std::vector<DeclaredTable> declared_tables(const StageRegistry& stages);  // built-in kinds

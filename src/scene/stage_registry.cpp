@@ -15,6 +15,7 @@
 #include "maille/stage_keys.hpp"
 #include "scene_keys.hpp"
 #include "stage_tables.hpp"
+#include "sweep_keys.hpp"
 
 namespace maille {
 
@@ -162,6 +163,10 @@ std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
   out.push_back(declared("[[membrane]]", "drum skin with a closed boundary", membrane_keys()));
   out.push_back(declared("[[lattice]]", "soft 3-D block or ball", lattice_keys()));
   out.push_back(declared("[[floor]]", "ground of fixed points", floor_keys()));
+  DeclaredTable sweep =
+      declared("sweep file", "the keys of a sweep file (`maille sweep`)", sweep_keys(), Sweep{});
+  sweep.page = "sweep.md";
+  out.push_back(std::move(sweep));
   for (DeclaredTable& t : out)
     for (const auto& k : t.keys) t.methods = t.methods || k.methods != "all";
   return out;

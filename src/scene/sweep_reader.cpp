@@ -2,6 +2,7 @@
 // files, checked key by key with the line of each error, and its axes' values turned back into
 // TOML text for the `--set` path of load_scene.
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -13,6 +14,7 @@
 #include "maille/limits.hpp"
 #include "maille/scene.hpp"
 #include "maille/sweep.hpp"
+#include "sweep_keys.hpp"
 #include "toml_guard.hpp"
 
 #define TOML_HEADER_ONLY 0
@@ -80,6 +82,48 @@ bool key_path_characters(const std::string& key) {
   });
 }
 
+}  // namespace
+
+std::span<const StageKey<Sweep>> sweep_keys() {
+  static const std::array<StageKey<Sweep>, 4> keys{
+      custom<Sweep>("scene", KeyType::text,
+                    {.doc = "the scene file, relative to the sweep file",
+                     .default_doc = "required",
+                     .range_doc = "a scene file"}),
+      custom<Sweep>("duration", KeyType::number,
+                    {.unit = "s",
+                     .doc = "simulated time of each case, as `maille run --duration`",
+                     .default_doc = "the scene's `[simulation] duration`",
+                     .range_doc = "(0, 1e9]"}),
+      custom<Sweep>("axes", KeyType::table,
+                    {.doc = "each key a scene key path exactly as `maille run --set KEY=VALUE` "
+                            "takes it (`simulation.step`, `flag[0].stiffness`, "
+                            "`fields.wind.velocity`, `self_collision.broad_phase`); each value a "
+                            "non-empty array of the values to try, any TOML value "
+                            "(`[[7.0, 0.0, 1.5], [10.0, 0.0, 1.5]]` for a vector, "
+                            "`[\"brute\", \"uniform\"]` for a choice)",
+                     .default_doc = "required",
+                     .range_doc = "at least one axis"}),
+      custom<Sweep>("output", KeyType::table,
+                    {.doc = "`frames = true`: write each case's frames (the scene's "
+                            "`output_every`, PLY) under DIR/cases/<id>/",
+                     .default_doc = "`frames = false`",
+                     .range_doc = "the key `frames` (true or false)"}),
+  };
+  return keys;
+}
+
+std::string sweep_key_list() {
+  std::string s;
+  for (const auto& k : sweep_keys()) {
+    const std::string key(k.key);
+    s += (s.empty() ? "" : ", ") + (k.type == KeyType::table ? "[" + key + "]" : key);
+  }
+  return s;
+}
+
+namespace {
+
 Sweep read(const toml::table& root, const std::filesystem::path& path) {
   const std::string file = path.string();
   Sweep s;
@@ -141,8 +185,7 @@ Sweep read(const toml::table& root, const std::filesystem::path& path) {
         s.frames = b->get();
       }
     } else {
-      fail(file, k.source(), key,
-           "unknown key (a sweep file has: scene, duration, [axes], [output])");
+      fail(file, k.source(), key, "unknown key (a sweep file has: " + sweep_key_list() + ")");
     }
   }
   if (!have_scene) fail(file, root.source(), "scene", "is required but missing");

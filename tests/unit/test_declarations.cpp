@@ -4,6 +4,7 @@
 // declarations.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -161,6 +162,7 @@ TEST(StageKeys, TheDocsTablesAreTheDeclarations) {
   std::set<std::string> names;
   for (const DeclaredTable& t : tables) {
     EXPECT_TRUE(names.insert(t.table).second) << t.table << " is declared twice";
+    if (t.page != "scene-format.md") continue;  // the sweep file's (sweep.md), below
     std::size_t i = 0;
     while (i < doc.size() && doc[i] != key_table_marker(t)) ++i;
     ASSERT_LT(i, doc.size()) << "docs/scene-format.md has no " << key_table_marker(t);
@@ -181,24 +183,32 @@ TEST(StageKeys, TheDocsTablesAreTheDeclarations) {
   EXPECT_THROW(with_declared_tables("<!-- keys: [nothing] -->\n", tables), std::invalid_argument);
 }
 
-// The other pages with key tables (docs/sound.md: [[control]], [audio]) hold them the same way:
-// each after its marker, equal to the declaration, none written by hand.
-TEST(StageKeys, TheSoundPageTablesAreTheDeclarations) {
-  const auto doc = doc_lines("docs/sound.md");
-  std::string text;
-  for (const auto& line : doc) text += line + "\n";
+// The other pages with key tables hold them the same way: docs/sound.md ([[listen]], [audio],
+// [[control]] and its excite table) and docs/sweep.md (the sweep file, whose declared page it
+// is): each after its marker, equal to the declaration, none written by hand.
+TEST(StageKeys, TheOtherPagesTablesAreTheDeclarations) {
   const auto tables = declared_tables(StageRegistry::with_builtins());
-  EXPECT_EQ(with_declared_tables(text, tables), text)
-      << "run: maille info --keys --update-docs docs/sound.md";
-  std::size_t markers = 0;
-  for (std::size_t i = 0; i < doc.size(); ++i) {
-    markers += doc[i].rfind("<!-- keys: ", 0) == 0;
-    if (doc[i].rfind("| key |", 0) == 0) {
-      EXPECT_TRUE(i > 0 && doc[i - 1].rfind("<!-- keys: ", 0) == 0)
-          << "docs/sound.md line " << i + 1 << ": a key table without its marker";
+  for (const std::string page : {"sound.md", "sweep.md"}) {
+    const auto doc = doc_lines(("docs/" + page).c_str());
+    std::string text;
+    for (const auto& line : doc) text += line + "\n";
+    EXPECT_EQ(with_declared_tables(text, tables), text)
+        << "run: maille info --keys --update-docs docs/" << page;
+    std::size_t markers = 0;
+    for (std::size_t i = 0; i < doc.size(); ++i) {
+      markers += doc[i].rfind("<!-- keys: ", 0) == 0;
+      if (doc[i].rfind("| key |", 0) == 0) {
+        EXPECT_TRUE(i > 0 && doc[i - 1].rfind("<!-- keys: ", 0) == 0)
+            << "docs/" << page << " line " << i + 1 << ": a key table without its marker";
+      }
+    }
+    EXPECT_GE(markers, 1u) << page;
+    for (const DeclaredTable& t : tables) {
+      if (t.page != page) continue;
+      EXPECT_NE(std::find(doc.begin(), doc.end(), key_table_marker(t)), doc.end())
+          << "docs/" << page << " has no " << key_table_marker(t);
     }
   }
-  EXPECT_GE(markers, 3u);  // [[control]], its excite table, [audio]
 }
 
 // The scene's own tables and the builders read through their declarations: a default taken
