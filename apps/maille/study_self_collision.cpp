@@ -109,15 +109,21 @@ void cell_size_row(std::ostream& out, BroadPhase b, std::uint32_t n, double fact
       << '\n';
 }
 
+// The grid broad phases' settings on the crumpled cloth: contact radius one spacing.
+SelfCollisionSettings grid_settings(const Cloth& c, BroadPhase b) {
+  SelfCollisionSettings s;
+  s.radius = c.spacing;
+  s.broad_phase = b;
+  return s;
+}
+
 void cell_size(std::ostream& out, bool quick) {
   out << "broad_phase,side,cell_factor,cell_size_m,occupied_cells,particles_per_cell,"
          "model_P_n2,measured_ns,tuner_choice\n";
   const std::uint32_t n = quick ? 96 : 256;
   Cloth c = crumpled(n);
   for (BroadPhase b : {BroadPhase::uniform, BroadPhase::hashed}) {
-    SelfCollisionSettings s;
-    s.radius = c.spacing;
-    s.broad_phase = b;
+    SelfCollisionSettings s = grid_settings(c, b);
     SelfCollisionEngine tuned(c.model, s);
     const double auto_ns = median_ns(tuned, c, 1, 7);
     SelfCollisionStats st;
@@ -144,10 +150,7 @@ void tuner(std::ostream& out, bool quick) {
   const std::uint32_t n = quick ? 96 : 256;
   Cloth c = crumpled(n);
   for (BroadPhase b : {BroadPhase::uniform, BroadPhase::hashed}) {
-    SelfCollisionSettings s;
-    s.radius = c.spacing;
-    s.broad_phase = b;
-    SelfCollisionEngine e(c.model, s);
+    SelfCollisionEngine e(c.model, grid_settings(c, b));
     e.apply(c.x.data(), c.v.data(), c.f.data(), 1);  // the first pass tunes
     for (const auto& r : e.last_tuning())
       out << to_string(b) << ',' << n << ',' << r.cell_size << ',' << r.occupied << ','
