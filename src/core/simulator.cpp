@@ -360,7 +360,8 @@ std::span<Simulator::Installed> Simulator::stages_of(Phase p) {
                                [&](const Installed& st) { return st.phase >= p; });
   const auto hi =
       std::find_if(lo, stages_.end(), [&](const Installed& st) { return st.phase > p; });
-  return {lo, hi};
+  // (pointer and size: the web build's libc++ has no span from an iterator pair)
+  return {stages_.data() + (lo - stages_.begin()), std::size_t(hi - lo)};
 }
 
 std::span<const Simulator::Installed> Simulator::stages_of(Phase p) const {
