@@ -61,16 +61,13 @@ void read_shape(SceneTable& t, Obstacle& o) {
   } else {
     o.shape = t.choice("shape", o.shape);
   }
+  // The shape's own keys (read with the declared ones, below) on that shape only.
   if (o.shape != ShapeKind::torus || o.mesh) {
     if (t.has("tube")) t.fail("tube", "only a torus has a tube");
   }
   if (o.shape != ShapeKind::cone || o.mesh) {
     if (t.has("top")) t.fail("top", "only a cone has a top radius");
   }
-  o.tube = t.real("tube", o.tube, Bound::positive);
-  if (o.tube > 1) t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
-  o.top = t.real("top", o.top, Bound::non_negative);
-  if (o.top > 1) t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
 }
 
 void read_placement(SceneTable& t, Obstacle& o) {

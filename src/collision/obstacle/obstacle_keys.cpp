@@ -72,16 +72,11 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                  .default_doc = "`[1, 1, 1]`",
                  .range_doc = "> 1e-9 each"},
                 direct_map),
-      custom<O>("tube", KeyType::number,
-                {.doc = "torus only: tube radius / major radius",
-                 .default_doc = "`0.3`",
-                 .range_doc = "(0, 1]"},
-                [](const O& o) { return number(o.tube); }),
-      custom<O>("top", KeyType::number,
-                {.doc = "cone only: top radius / bottom radius (0: pointed)",
-                 .default_doc = "`0.5`",
-                 .range_doc = "[0, 1]"},
-                [](const O& o) { return number(o.top); }),
+      number<&O::tube>("tube", Bound::positive, 0, 1,
+                       {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
+      number<&O::top>(
+          "top", Bound::non_negative, 0, 1,
+          {.doc = "cone only: top radius / bottom radius (0: pointed)", .range_doc = "[0, 1]"}),
       integer<&O::resolution>(
           "resolution", 8, 512,
           {.doc = "segments around curved shapes when tessellated (facets, conditional, "
