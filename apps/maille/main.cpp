@@ -59,6 +59,12 @@ const char* const gpu_device_help =
     "EGL device index for the gpu backend (`maille info --backend gpu` lists them; default: "
     "Mesa's surfaceless platform)";
 
+// The scene file every command that runs one takes first (validate and info check it themselves:
+// their own message for a missing file).
+CLI::Option* add_scene(CLI::App* cmd, std::string& scene) {
+  return cmd->add_option("scene", scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,7 +78,7 @@ int main(int argc, char** argv) {
 
   RunOptions ro;
   auto* run_cmd = app.add_subcommand("run", "Run a scene headless: frames, stats.csv, a summary");
-  run_cmd->add_option("scene", ro.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  add_scene(run_cmd, ro.scene);
   auto* steps = run_cmd->add_option("--steps", ro.steps, "Number of steps (default: duration/step)")
                     ->check(kSteps);
   run_cmd->add_option("--duration", ro.duration, "Simulated time, s (default: the scene's)")
@@ -120,9 +126,7 @@ int main(int argc, char** argv) {
   PlayOptions po;
   auto* play_cmd = app.add_subcommand(
       "play", "Play a scene's [[listen]] channels live, controlled by MIDI and OSC ([[control]])");
-  play_cmd->add_option("scene", po.scene, "Scene file (TOML)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  add_scene(play_cmd, po.scene);
   play_cmd->add_option("--driver", po.driver, "Audio driver (default: the first that opens)")
       ->check(CLI::IsMember({"jack", "alsa", "pulse"}));
   play_cmd->add_option("--device", po.device,
@@ -164,9 +168,7 @@ int main(int argc, char** argv) {
   BenchOptions bo;
   auto* bench_cmd =
       app.add_subcommand("bench", "Run a scene for a fixed number of steps; print CSV");
-  bench_cmd->add_option("scene", bo.scene, "Scene file (TOML)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  add_scene(bench_cmd, bo.scene);
   bench_cmd->add_option("--steps", bo.steps, "Steps per repetition")->check(kSteps);
   bench_cmd
       ->add_option("--warmup", bo.warmup,
@@ -230,9 +232,7 @@ int main(int argc, char** argv) {
   RenderCommandOptions rn;
   auto* render_cmd = app.add_subcommand(
       "render", "Render a scene with no display: an MP4 video, PNG frames or one PNG still");
-  render_cmd->add_option("scene", rn.scene, "Scene file (TOML)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  add_scene(render_cmd, rn.scene);
   render_cmd
       ->add_option("--out", rn.out,
                    "FILE.mp4 (video through ffmpeg), FILE.png (the last frame) or a directory "
