@@ -1,10 +1,12 @@
 // The points pool (PMat bricks): one struct-of-arrays record per material point.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string_view>
 #include <vector>
 
+#include "maille/names.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille {
@@ -15,7 +17,16 @@ enum class PointKind : std::uint8_t {
   driven,  // a fixed point whose position follows a scripted path (see drive.hpp)
 };
 
-std::string_view to_string(PointKind kind);
+// As messages and frames name them ("mass" for a free point, as [[mass]] declares one).
+template <>
+struct NameTable<PointKind> {
+  static constexpr std::string_view what = "point kind";
+  static constexpr std::array<Name<PointKind>, 3> names{{
+      {PointKind::free, "mass", "a mass, integrated by the scheme"},
+      {PointKind::fixed, "fixed", "a fixed point"},
+      {PointKind::driven, "driven", "a fixed point on a scripted path"},
+  }};
+};
 
 // All arrays have one entry per point; index i is the point's id inside the engine.
 struct PointPool {

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "maille/contact_set.hpp"
+#include "maille/names.hpp"
 #include "maille/snapshot.hpp"
 #include "maille/vec3.hpp"
 
@@ -47,7 +48,15 @@ class Profile;
 class ContactSet;
 
 enum class Phase : std::uint8_t { forces, response, after_integration };
-std::string_view to_string(Phase p);
+template <>
+struct NameTable<Phase> {
+  static constexpr std::string_view what = "phase";
+  static constexpr std::array<Name<Phase>, 3> names{{
+      {Phase::forces, "forces", "in the force pass, adding forces"},
+      {Phase::response, "response", "after the force pass: rewrites forces or velocities"},
+      {Phase::after_integration, "after_integration", "after the update, with new positions"},
+  }};
+};
 
 // Which velocity State::v() holds when a stage runs (see Integrator::velocity_time).
 enum class VelocityTime : std::uint8_t {

@@ -5,18 +5,6 @@
 
 namespace maille {
 
-std::string_view to_string(PointKind kind) {
-  switch (kind) {
-    case PointKind::free:
-      return "mass";
-    case PointKind::fixed:
-      return "fixed";
-    case PointKind::driven:
-      return "driven";
-  }
-  return "?";
-}
-
 std::uint32_t PointPool::add(PointKind k, Real m, const Vec3& position, const Vec3& velocity) {
   assert(m > 0);
   mass.push_back(m);

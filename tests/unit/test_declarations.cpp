@@ -80,6 +80,8 @@ void expect_documented(std::string_view heading, std::string_view key) {
 
 TEST(Names, EveryTableRoundTripsAndCoversItsEnum) {
   expect_round_trip<BroadPhase>();
+  expect_round_trip<Phase>();
+  expect_round_trip<PointKind>();
   expect_round_trip<Exclusion>();
   expect_round_trip<Primitive>();
   expect_round_trip<ObstacleMethod>();
