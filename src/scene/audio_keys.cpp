@@ -1,7 +1,10 @@
 // [[listen]]'s and [audio]'s keys (audio_keys.hpp), in the order listen_table.cpp reads them.
 #include "audio_keys.hpp"
 
+#include <algorithm>
 #include <array>
+
+#include "scene_digest.hpp"
 
 namespace maille {
 
@@ -106,11 +109,13 @@ std::span<const StageKey<audio::Control>> control_keys() {
                   t.fail("key",
                          "must be a scene key as --set takes it (\"fields.wind.speed\", "
                          "\"membrane[0].pretension\")");
-                for (const char* output : {"listen", "audio", "control", "scene", "simulation"})
-                  if (c.key.rfind(output, 0) == 0)
-                    t.fail("key", "'" + c.key +
-                                      "' cannot change while a model plays: a control's key is "
-                                      "a parameter of the model (links, fields, masses, drives)");
+                // The output tables, and [simulation] (the run, not the model).
+                auto output = [&](std::string_view table) { return c.key.rfind(table, 0) == 0; };
+                if (output("simulation") ||
+                    std::any_of(kOutputTables.begin(), kOutputTables.end(), output))
+                  t.fail("key", "'" + c.key +
+                                    "' cannot change while a model plays: a control's key is "
+                                    "a parameter of the model (links, fields, masses, drives)");
               }),
       custom<C>("range", KeyType::custom,
                 {.unit = "the key's",
@@ -153,12 +158,16 @@ std::span<const StageKey<audio::Excitation>> excite_keys() {
           [](SceneTable& t, const X& x) {
             if (!(norm(x.axis) > Real(1e-12))) t.fail("axis", "must not be zero");
           }),
-      custom<X>("amount", KeyType::number,
-                {.unit = "m/s or m",
-                 .doc = "per unit of the source's strength s: m/s for `velocity`, m for "
-                        "`position`",
-                 .default_doc = "required",
-                 .range_doc = "non-zero, within ±1000"}),
+      // Read by control_table.cpp (its unit follows `quantity`) within this declared range.
+      StageKey<X>{"amount",
+                  KeyType::number,
+                  {.unit = "m/s or m",
+                   .doc = "per unit of the source's strength s: m/s for `velocity`, m for "
+                          "`position`; not zero",
+                   .default_doc = "required"},
+                  Bound::any,
+                  -1e3,
+                  1e3},
   };
   return keys;
 }

@@ -2,6 +2,7 @@
 // docs/sound.md "Controls"). What can be checked from the file is checked here; whether the key
 // may change while the model plays is checked when playing starts (control_keys.cpp), since it
 // needs the scene read again.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -69,7 +70,9 @@ audio::Excitation excitation(TomlCursor& e, const Model& m) {
   x.axis = x.axis / norm(x.axis);
   x.amount = e.real("amount", Bound::any);
   if (x.amount == 0) e.fail("amount", "must not be zero");
-  e.check_range("amount", Real(x.amount), -1e3, 1e3,
+  const auto& amount = *std::find_if(excite_keys().begin(), excite_keys().end(),
+                                     [](const auto& k) { return k.key == "amount"; });
+  e.check_range("amount", Real(x.amount), amount.lo, amount.hi,
                 x.quantity == audio::Quantity::velocity ? "m/s" : "m");
   e.finish();
   return x;

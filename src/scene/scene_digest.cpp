@@ -7,13 +7,12 @@ namespace maille {
 
 namespace {
 
-constexpr std::string_view kOutputTables[] = {"scene", "audio", "listen", "control"};
 constexpr std::string_view kOutputSimulationKeys[] = {
     "duration",       "output_every", "sample_every", "threads",
     "runaway_factor", "gpu_device",   "integrator",   "step"};
 
-template <std::size_t N>
-bool listed(const std::string_view (&list)[N], std::string_view key) {
+template <class List>
+bool listed(const List& list, std::string_view key) {
   for (const std::string_view k : list)
     if (k == key) return true;
   return false;

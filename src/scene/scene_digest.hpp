@@ -4,7 +4,9 @@
 // including keys added to the format later (nothing here lists the keys that count).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <string_view>
 
 #define TOML_HEADER_ONLY 0
 #include <toml++/toml.h>
@@ -18,5 +20,9 @@ namespace maille {
 //   [simulation] integrator and step, which a resume compares on its own with both values in
 //   the message.
 std::uint64_t scene_digest(const toml::table& root);
+
+// The tables that choose outputs only (left out of the digest; a [[control]] cannot play them).
+inline constexpr std::array<std::string_view, 4> kOutputTables{"scene", "audio", "listen",
+                                                               "control"};
 
 }  // namespace maille

@@ -90,11 +90,15 @@ std::span<const StageKey<Sweep>> sweep_keys() {
                     {.doc = "the scene file, relative to the sweep file",
                      .default_doc = "required",
                      .range_doc = "a scene file"}),
-      custom<Sweep>("duration", KeyType::number,
-                    {.unit = "s",
-                     .doc = "simulated time of each case, as `maille run --duration`",
-                     .default_doc = "the scene's `[simulation] duration`",
-                     .range_doc = "(0, 1e9]"}),
+      // Read by the reader (custom), within the range declared here and checked there.
+      StageKey<Sweep>{"duration",
+                      KeyType::number,
+                      {.unit = "s",
+                       .doc = "simulated time of each case, as `maille run --duration`",
+                       .default_doc = "the scene's `[simulation] duration`"},
+                      Bound::positive,
+                      0,
+                      limits::max_duration},
       custom<Sweep>("axes", KeyType::table,
                     {.doc = "each key a scene key path exactly as `maille run --set KEY=VALUE` "
                             "takes it (`simulation.step`, `flag[0].stiffness`, "
