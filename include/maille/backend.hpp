@@ -88,10 +88,13 @@ class Backend {
   // One step of `scheme` from t to t + h on the device, from the device's x and v (driven points
   // already at t): x, v at t + h on the device. `step`: the step count after it (the health
   // flag's value). `measure`: read back the residual and the counters that need the device.
+  // `contacts`: the step's point pairs, found on the host at x_n by the stages that put pairs
+  // into the contact set (Stage::contacts_found; empty when none), for the device to upload.
   virtual DeviceImplicitStep implicit_step(const Model& m, const Integrator& scheme, double t,
-                                           Real h, std::uint64_t step, bool measure) {
+                                           Real h, std::uint64_t step, bool measure,
+                                           const ContactSet& contacts) {
     static_cast<void>(m), static_cast<void>(t), static_cast<void>(h), static_cast<void>(step),
-        static_cast<void>(measure);
+        static_cast<void>(measure), static_cast<void>(contacts);
     throw std::logic_error("backend " + std::string(name()) + " does not step " +
                            std::string(scheme.name()));
   }
@@ -122,7 +125,8 @@ struct NameTable<BackendKind> {
       {BackendKind::gpu, "gpu",
        "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog, "
        "symplectic Euler and implicit Euler by vertex block descent, driven points, conditional "
-       "contacts, self-collision (points), geometric obstacles (inside the VBD solve too)"},
+       "contacts, self-collision (points), geometric obstacles; under VBD, obstacles, "
+       "self-collision (points) and [[contact]] pairs inside the solve"},
   }};
 };
 

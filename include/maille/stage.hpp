@@ -48,6 +48,20 @@ class Profile;
 class ContactSet;
 
 enum class Phase : std::uint8_t { forces, response, after_integration };
+
+// The arrays of the step's contact set (contact_set.hpp) a contact stage fills: bits.
+enum class ContactKinds : std::uint8_t {
+  none = 0,
+  pairs = 1,      // point-point pairs, as conditional links (ContactSet::pairs)
+  stencils = 2,   // point-triangle and edge-edge candidates (ContactSet::stencils)
+  obstacles = 4,  // a point-obstacle stage (ContactSet::obstacles)
+};
+constexpr ContactKinds operator|(ContactKinds a, ContactKinds b) {
+  return ContactKinds(std::uint8_t(a) | std::uint8_t(b));
+}
+constexpr bool has(ContactKinds set, ContactKinds kind) {
+  return (std::uint8_t(set) & std::uint8_t(kind)) != 0;
+}
 template <>
 struct NameTable<Phase> {
   static constexpr std::string_view what = "phase";
@@ -118,7 +132,10 @@ class Stage {
   // puts its typed arrays into `set` (contact_set.hpp) without adding any force: the solver
   // evaluates them itself, at the step's start for its right-hand side and at every iterate
   // inside the solve. apply() stays the explicit force pass of the explicit schemes.
-  virtual bool finds_contacts() const { return false; }
+  bool finds_contacts() const { return contacts_found() != ContactKinds::none; }
+  // What find_contacts() puts into the set (a backend that reads the set on a device refuses
+  // what it cannot read, by name, before the run starts).
+  virtual ContactKinds contacts_found() const { return ContactKinds::none; }
   virtual void find_contacts(const Model& /*m*/, State& /*s*/, const StageContext& /*ctx*/,
                              ContactSet& /*set*/) {}
   // The same search again inside the step, at a solver's iterate s (x, and v = (x - x_n) / h),

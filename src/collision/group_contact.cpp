@@ -189,7 +189,7 @@ class GroupContactStage final : public Stage {
 
   // Implicit schemes: the pairs within the threshold plus the step's motion margin, once, as
   // conditional links of the same law (no explicit pass); `active`: those acting at x_n.
-  bool finds_contacts() const override { return true; }
+  ContactKinds contacts_found() const override { return ContactKinds::pairs; }
   void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) override {
     threads_ = ctx.threads;
     const std::uint64_t tested = contacts_as_links(s, Real(ctx.h), ctx.threads);

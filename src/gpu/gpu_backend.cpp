@@ -264,6 +264,8 @@ class GpuBackend final : public Backend {
         return "link kind '" + std::string(pool->keyword()) + "' has more than 4 parameters";
     }
     for (const Stage* st : stages) {  // every stage needs a registered device version
+      // but those whose point pairs the VBD step uploads (vbd_refuses accepted them)
+      if (steps(scheme) && st->contacts_found() == ContactKinds::pairs) continue;
       const GpuStageEntry* entry = GpuStageRegistry::builtin().find(st->name());
       if (!entry)
         return "stage '" + st->name() +
@@ -377,8 +379,9 @@ class GpuBackend final : public Backend {
   }
 
   DeviceImplicitStep implicit_step(const Model& m, const Integrator& scheme, double t, Real h,
-                                   std::uint64_t step, bool measure) override {
-    if (!steps(scheme)) return Backend::implicit_step(m, scheme, t, h, step, measure);
+                                   std::uint64_t step, bool measure,
+                                   const ContactSet& contacts) override {
+    if (!steps(scheme)) return Backend::implicit_step(m, scheme, t, h, step, measure, contacts);
     current();
     bind();
     wind_faces(m, t);  // f_ext at the step's start
@@ -387,7 +390,7 @@ class GpuBackend final : public Backend {
       vbd_->load(m, vbd_memory_, kinds_, cpu_stages_);
       vbd_stale_ = false;
     }
-    return vbd_->step(m, *scheme.implicit_settings(), t, h, step, wind_, measure);
+    return vbd_->step(m, *scheme.implicit_settings(), t, h, step, wind_, measure, contacts);
   }
 
  private:

@@ -82,11 +82,19 @@ namespace maille::gpu {
     "4 per point and obstacle (point-major): lagged friction's normal force (N), normal") \
   X(37, VbdTouching, uint, vbd_touch, "per point: 1 while it touches an obstacle (a sweep's)")
 
+// The step's point pairs under implicit Euler by VBD (gpu_vbd_pairs.hpp), after the
+// obstacles': owned and bound by the backend's GpuVbdPairs. One buffer (a sweep may bind at most
+// 16 storage blocks), n the model's points: [0] n, [1, n + 2) each point's first entry, [n + 2,
+// 2 n + 2) each point's bound (float bits), then kVbdPairWords words per entry.
+#define MAILLE_GPU_VBD_PAIR_BUFFERS(X) \
+  X(38, VbdPairs, uint, vbd_pairs,     \
+    "the step's contact pairs seen from each of their points, and the points' bounds")
+
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
       MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_ENUM)
-          MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_ENUM)
+          MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_VBD_PAIR_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -109,7 +117,8 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
                   kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount - 1 &&
               unsigned(Buf::ob_point) ==
                   kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount &&
-              unsigned(Buf::vbd_touch) == unsigned(Buf::ob_point) + kObstacleBufferCount - 1);
+              unsigned(Buf::vbd_touch) == unsigned(Buf::ob_point) + kObstacleBufferCount - 1 &&
+              unsigned(Buf::vbd_pairs) == unsigned(Buf::vbd_touch) + 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -123,12 +132,13 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 // coordinates' bits mapped to an order-preserving uint (negative floats flipped whole, positive
 // ones with their sign bit set); the grid kernel turns it into an origin, a cell size and
 // dimensions, and resets it for the next step.
-#define MAILLE_GPU_SELF_GRID(F)                                                   \
-  F(uint, lo_x)                                                                   \
-  F(uint, lo_y)                                                                   \
-  F(uint, lo_z)                                                                   \
-  F(uint, hi_x) F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) \
-      F(float, origin_z) F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
+#define MAILLE_GPU_SELF_GRID(F)                                                        \
+  F(uint, lo_x)                                                                        \
+  F(uint, lo_y)                                                                        \
+  F(uint, lo_z)                                                                        \
+  F(uint, hi_x)                                                                        \
+  F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) F(float, origin_z) \
+      F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
 
 // A geometric obstacle placed at a time, for the device's implicit solve
 // (gpu_vbd_obstacles.hpp): the shared law's parameters (obstacle_laws.glsl), M_d and M_i
@@ -136,16 +146,22 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 // the cull.
 #define MAILLE_GPU_OBSTACLE(F)                                                                    \
   F(uint, shape)                                                                                  \
-  F(float, top) F(float, tube) F(float, stiffness) F(float, damping) F(float, friction)           \
-      F(float, slip) F(uint, world_normal) F(uint, moves) F(float, reach2) F(float, d00)          \
-          F(float, d01) F(float, d02) F(float, d10) F(float, d11) F(float, d12) F(float, d20)     \
-              F(float, d21) F(float, d22) F(float, i00) F(float, i01) F(float, i02) F(float, i10) \
-                  F(float, i11) F(float, i12) F(float, i20) F(float, i21) F(float, i22)           \
-                      F(float, tx) F(float, ty) F(float, tz) F(float, lx) F(float, ly)            \
-                          F(float, lz) F(float, sx) F(float, sy) F(float, sz) F(float, cx)        \
-                              F(float, cy) F(float, cz)
+  F(float, top)                                                                                   \
+  F(float, tube) F(float, stiffness) F(float, damping) F(float, friction) F(float, slip)          \
+      F(uint, world_normal) F(uint, moves) F(float, reach2) F(float, d00) F(float, d01)           \
+          F(float, d02) F(float, d10) F(float, d11) F(float, d12) F(float, d20) F(float, d21)     \
+              F(float, d22) F(float, i00) F(float, i01) F(float, i02) F(float, i10) F(float, i11) \
+                  F(float, i12) F(float, i20) F(float, i21) F(float, i22) F(float, tx)            \
+                      F(float, ty) F(float, tz) F(float, lx) F(float, ly) F(float, lz)            \
+                          F(float, sx) F(float, sy) F(float, sz) F(float, cx) F(float, cy)        \
+                              F(float, cz)
 
 inline constexpr std::uint32_t kEndIsB = 0x80000000u;
+
+// A contact pair seen from one of its points (vbd_pairs): the other point, then the conditional
+// spring-damper's k, z, threshold s, rest length, and the lagged friction's mu, F_n and normal
+// (from the pair's first point to its second, as seen from the first: negated for the second).
+inline constexpr std::uint32_t kVbdPairWords = 10;
 
 using uint = std::uint32_t;
 #define MAILLE_GPU_MEMBER(type, name) type name;
@@ -193,6 +209,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
     MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_VBD_PAIR_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;

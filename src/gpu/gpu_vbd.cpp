@@ -9,8 +9,6 @@
 #include <limits>
 
 #include "gl_buffers.hpp"
-#include "maille/colouring.hpp"
-#include "maille/detail/csr.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
@@ -26,6 +24,7 @@ enum Pass : unsigned {
   health,
   lag_pass,
   first_touch,
+  bounds_pass,
   passes
 };
 
@@ -49,37 +48,28 @@ bool has_block(std::string_view law) {
 }  // namespace
 
 VbdColours vbd_colours(const Model& m) {
-  const std::uint32_t n = m.points.size();
-  // Every link of the model, seen from both ends (CSR of neighbours).
-  std::vector<std::uint32_t> row, neighbour;
-  detail::build_neighbour_rows(n, row, neighbour, [&](auto&& edge) {
-    for (const auto& pool : m.links.pools())
-      for (const LinkEnds& e : pool->slot_ends()) edge(e.a, e.b);
-  });
-  // Greedy in point order: the smallest colour none of the coloured neighbours holds (fixed
-  // points are never coloured, so links to them constrain nothing).
-  std::vector<std::uint32_t> free, colour(n, kUncoloured), stamp;
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (m.points.inv_mass[i] > 0) free.push_back(i);
-  const std::uint32_t colours =
-      colour_points(free, colour, stamp, [&](std::uint32_t i, auto&& visit) {
-        for (std::uint32_t k = row[i]; k < row[i + 1]; ++k) visit(neighbour[k]);
-      });
   VbdColours out;
-  detail::build_rows(colours, out.row, out.order, [&](auto&& emit) {
-    for (const std::uint32_t i : free) emit(colour[i], i);
-  });
+  VbdGraph(m).colour(out);
   return out;
 }
 
 std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block) {
   const std::string how = "implicit_euler with solver = \"vbd\" on the GPU backend";
-  for (const Stage* st : stages)
+  for (const Stage* st : stages) {
+    const ContactKinds kinds = st->contacts_found();
+    if (has(kinds, ContactKinds::stencils))
+      return "stage '" + st->name() + "' puts point-triangle and edge-edge contacts into the " +
+             "solve (primitive = \"triangles\"): " + how + " reads the contact set's point " +
+             "pairs and geometric obstacles only: run this scene with --backend cpu (or " +
+             "primitive = \"points\")";
+    if (kinds == ContactKinds::pairs) continue;  // found on the host, uploaded every step
     if (vbd_obstacle_count({&st, 1}) == 0)
       return "stage '" + st->name() + "' has no implicit terms on the GPU (" + how +
-             " runs the model's links, gravity, air drag, wind and obstacles with method = "
-             "\"geometric\"; self-collision, the other obstacle methods and group contacts "
-             "enter only the CPU's solve): run this scene with --backend cpu";
+             " runs the model's links, gravity, air drag, wind, the contact set's point pairs " +
+             "(self-collision with primitive = \"points\", [[contact]]) and obstacles with " +
+             "method = \"geometric\"; facet and conditional obstacles enter only the CPU's " +
+             "solve): run this scene with --backend cpu";
+  }
   if (const std::uint32_t o = vbd_obstacle_count(stages); o > kVbdMaxObstacles)
     return std::to_string(o) + " geometric obstacles: " + how + " takes at most " +
            std::to_string(kVbdMaxObstacles) + ": run this scene with --backend cpu";
@@ -109,6 +99,7 @@ GpuVbd::GpuVbd() {
   kernels_[health] = Kernel("gpu vbd health", vbd_health_shader());
   kernels_[lag_pass] = Kernel("gpu vbd obstacle lag", vbd_lag_shader());
   kernels_[first_touch] = Kernel("gpu vbd first touch", vbd_first_touch_shader());
+  kernels_[bounds_pass] = Kernel("gpu vbd bounds", vbd_bounds_shader());
 }
 
 GpuVbd::~GpuVbd() {
@@ -121,13 +112,15 @@ void GpuVbd::forget() {
   for (Kernel& k : kernels_) k.forget();
   kernels_.clear();
   obstacles_.forget();
+  pairs_.forget();
 }
 
 void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
                   const std::vector<KindLaw>& kinds, std::span<const Stage* const> stages) {
   points_ = m.points.size();
   obstacles_.load(m, stages);
-  colours_ = vbd_colours(m);
+  pairs_.load(m, colours_);
+  pairs_in_colours_ = false;
   const std::size_t n3 = 3 * std::size_t(points_);
   for (Buf b : {Buf::vbd_xn, Buf::vbd_y, Buf::vbd_prev1, Buf::vbd_prev2})
     upload(buffers_[unsigned(b) - unsigned(Buf::vbd_xn)], std::vector<float>(n3, 0.0f));
@@ -140,13 +133,7 @@ void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
       history_ = true;
     }
   upload(buffers_[unsigned(Buf::vbd_vlast) - unsigned(Buf::vbd_xn)], last);
-  upload(buffers_[unsigned(Buf::vbd_order) - unsigned(Buf::vbd_xn)], colours_.order);
-  // Each colour's dispatch writes one merit slot per work group, after the 8 solver words.
-  slot_.assign(colours_.count() + 1, 0u);
-  for (std::uint32_t c = 0; c < colours_.count(); ++c)
-    slot_[c + 1] = slot_[c] + (colours_.row[c + 1] - colours_.row[c] + kGroupSize - 1) / kGroupSize;
-  upload(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)],
-         std::vector<std::uint32_t>(8 + std::size_t(slot_.back()), 0u));
+  arrange();
   prev_swapped_ = false;
   heaviest_ = 0;
   for (const std::uint32_t i : colours_.order)
@@ -160,6 +147,16 @@ void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
   }
 }
 
+void GpuVbd::arrange() {
+  upload(buffers_[unsigned(Buf::vbd_order) - unsigned(Buf::vbd_xn)], colours_.order);
+  // Each colour's dispatch writes one merit slot per work group, after the 8 solver words.
+  slot_.assign(colours_.count() + 1, 0u);
+  for (std::uint32_t c = 0; c < colours_.count(); ++c)
+    slot_[c + 1] = slot_[c] + (colours_.row[c + 1] - colours_.row[c] + kGroupSize - 1) / kGroupSize;
+  upload(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)],
+         std::vector<std::uint32_t>(8 + std::size_t(slot_.back()), 0u));
+}
+
 void GpuVbd::bind() const {
   for (unsigned k = 0; k < kVbdBufferCount; ++k) {
     unsigned b = k;
@@ -169,10 +166,22 @@ void GpuVbd::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unsigned(Buf::vbd_xn) + k, buffers_[b]);
   }
   obstacles_.bind();
+  pairs_.bind();
 }
 
 DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings, double t, Real h,
-                                std::uint64_t step, bool wind, bool measure) {
+                                std::uint64_t step, bool wind, bool measure,
+                                const ContactSet& contacts) {
+  // The step's pairs and the colours that keep them apart (the links' alone once none is left).
+  std::size_t pairs = 0;
+  if (!contacts.pairs().empty() || pairs_in_colours_) {
+    pairs = pairs_.update(contacts, colours_);
+    arrange();
+    pairs_in_colours_ = pairs > 0;
+  }
+  const bool bounded = pairs > 0;
+  for (const Pass p : {begin_pass, sweep_pass, residual_pass, accelerate, bounds_pass})
+    kernels_[p].set_flag("u_pairs", bounded);
   bind();
   // The obstacles: placed at t for the lag (at x_n, v_n), at t + h for the solve.
   const std::uint32_t obstacles = obstacles_.count();
@@ -195,6 +204,8 @@ DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings
   glNamedBufferSubData(buffers_[unsigned(Buf::vbd_state) - unsigned(Buf::vbd_xn)], 0, sizeof(start),
                        start);
 
+  Kernel& bounds = kernels_[bounds_pass];
+  if (bounded) bounds.run(points_);  // at x_n, for the guess
   Kernel& begin = kernels_[begin_pass];
   begin.set("u_gravity", m.fields.gravity);
   begin.set("u_h", float(h));
@@ -216,6 +227,7 @@ DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings
   acc.set("u_h", float(h));
   Real omega = 1;
   for (int k = 1; k <= settings.iterations; ++k) {
+    if (bounded) bounds.run(points_);  // at the sweep's start, as the CPU takes them
     for (std::uint32_t c = 0; c < colours_.count(); ++c) {
       sweep.set("u_first", colours_.row[c]);
       sweep.set("u_slot", slot_[c]);

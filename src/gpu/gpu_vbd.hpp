@@ -41,8 +41,10 @@
 #include "../integrators/implicit_vbd.hpp"
 #include "gpu_layout.hpp"
 #include "gpu_vbd_obstacles.hpp"
+#include "gpu_vbd_pairs.hpp"
 #include "kernel.hpp"
 #include "maille/backend.hpp"
+#include "maille/contact_set.hpp"
 #include "maille/integrator.hpp"
 #include "maille/model.hpp"
 #include "maille/stage.hpp"
@@ -59,12 +61,7 @@ using maille::kVbdMemory;
 // many points, all coloured as if active): such models are refused by name.
 inline constexpr std::uint32_t kVbdMaxColours = 64;
 
-// Free points by colour (the CPU's greedy rule over every link of the model).
-struct VbdColours {
-  std::vector<std::uint32_t> order;  // free points, colour by colour, increasing in each
-  std::vector<std::uint32_t> row;    // colour c: order[row[c] .. row[c + 1])
-  std::uint32_t count() const { return row.empty() ? 0 : std::uint32_t(row.size() - 1); }
-};
+// Free points by colour, the CPU's greedy rule over every link of the model (no pairs).
 VbdColours vbd_colours(const Model& m);
 
 // Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage other
@@ -89,13 +86,15 @@ class GpuVbd {
             std::span<const Stage* const> stages);
   // One step from t, from the device's x, v (the backend's buffers bound, the wind's face
   // forces at t computed when `wind`); x, v at t + h after it.
+  // `contacts`: the step's point pairs (Backend::implicit_step), uploaded with their colours.
   DeviceImplicitStep step(const Model& m, const ImplicitSettings& settings, double t, Real h,
-                          std::uint64_t step, bool wind, bool measure);
+                          std::uint64_t step, bool wind, bool measure, const ContactSet& contacts);
   // The guess's memory into s (once the device has one).
   void download_memory(State& s) const;
 
  private:
   void bind() const;
+  void arrange();  // colours_' order and merit slots to the device
 
   std::uint32_t points_ = 0;
   VbdColours colours_;
@@ -107,6 +106,8 @@ class GpuVbd {
   std::string source_;  // the sweep's, for the model's kinds
   std::vector<Kernel> kernels_;
   GpuVbdObstacles obstacles_;
+  GpuVbdPairs pairs_;
+  bool pairs_in_colours_ = false;  // colours_ holds the last step's pairs
 };
 
 // The kernels' sources (gpu_vbd_shaders.cpp).
@@ -117,5 +118,6 @@ std::string vbd_accelerate_shader();
 std::string vbd_lag_shader();
 std::string vbd_first_touch_shader();
 std::string vbd_health_shader();
+std::string vbd_bounds_shader();
 
 }  // namespace maille::gpu

@@ -1,11 +1,15 @@
 // The GPU's vertex block descent kernels (gpu_vbd.hpp has the passes): the CPU solver's
 // arithmetic (src/integrators/implicit_vbd.cpp) in float, the links' forces and blocks from the
 // shared laws (include/maille/detail/link_laws.glsl).
+#include <bit>
+#include <cstdint>
+#include <cstdio>
 #include <string>
 
 #include "gpu_glsl.hpp"
 #include "gpu_vbd.hpp"
 #include "gpu_vbd_obstacles.hpp"
+#include "maille/self_collision.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
@@ -18,12 +22,31 @@ std::string link_block_function(const std::vector<KindLaw>& kinds) {
   return link_switch_function(kinds, {"mat3", "link_block", "_block", ", float inv_h", ", inv_h"});
 }
 
+// A float constant of the C++ as GLSL, bit for bit.
+std::string float_literal(float f) {
+  char text[40];
+  std::snprintf(text, sizeof text, "uintBitsToFloat(0x%08xu)", std::bit_cast<std::uint32_t>(f));
+  return text;
+}
+
+// vbd_pairs' functions (glsl/vbd_pairs.glsl) with the CPU's constants; `terms`: pair_terms too
+// (after the shared link laws).
+std::string pair_functions(bool terms) {
+  std::string s = "#define PAIR_WORDS " + std::to_string(kVbdPairWords) + "u\n";
+  s += "#define BOUND_FRACTION " + float_literal(float(kBoundFraction)) + "\n";
+  s += "#define SLIP " + float_literal(float(kSelfCollisionSlip)) + "\n";
+  if (terms) s += "#define PAIR_TERMS 1\n";
+  s += glsl::vbd_pairs;
+  return s;
+}
+
 }  // namespace
 
 std::string vbd_begin_shader() {
-  std::string s =
-      kernel_head({Buf::x, Buf::v, Buf::mass, Buf::inv_mass, Buf::face_offset, Buf::face_of_point,
-                   Buf::face_force, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_vlast, Buf::vbd_prev1});
+  std::string s = kernel_head({Buf::x, Buf::v, Buf::mass, Buf::inv_mass, Buf::face_offset,
+                               Buf::face_of_point, Buf::face_force, Buf::vbd_xn, Buf::vbd_y,
+                               Buf::vbd_vlast, Buf::vbd_prev1, Buf::vbd_pairs});
+  s += pair_functions(false);
   s += glsl::vbd_begin;
   return s;
 }
@@ -33,11 +56,12 @@ std::string vbd_begin_shader() {
 // m (1/h^2 + gamma/h) I + links' blocks + obstacles'. A step that starts or leaves an obstacle's
 // contact follows the CPU's rules (gpu_vbd_obstacles.hpp).
 std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual) {
-  std::string s =
-      kernel_head({Buf::x, Buf::v, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
-                   Buf::link_params, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order, Buf::vbd_state,
-                   Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag, Buf::vbd_touch});
+  std::string s = kernel_head({Buf::x, Buf::v, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
+                               Buf::link_params, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order,
+                               Buf::vbd_state, Buf::vbd_obstacles, Buf::vbd_ob_member,
+                               Buf::vbd_ob_lag, Buf::vbd_touch, Buf::vbd_pairs});
   s += shared::link_laws;
+  s += pair_functions(true);
   s += vbd_obstacle_functions();
   s += link_force_function(kinds);
   s += link_block_function(kinds);
@@ -60,8 +84,9 @@ std::string vbd_decide_shader() {
 // for points touching an obstacle and jumps longer than half the thinnest obstacle; then the
 // sweep's x into the buffer that the host names prev1 next.
 std::string vbd_accelerate_shader() {
-  std::string s = kernel_head(
-      {Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2, Buf::vbd_state, Buf::vbd_touch});
+  std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2,
+                               Buf::vbd_state, Buf::vbd_touch, Buf::vbd_pairs});
+  s += pair_functions(false);
   s += glsl::vbd_accelerate;
   return s;
 }
@@ -83,6 +108,14 @@ std::string vbd_first_touch_shader() {
                                Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag});
   s += vbd_obstacle_functions();
   s += glsl::vbd_first_touch;
+  return s;
+}
+
+// Each point's bound at the current x (the CPU's take_bounds over the pairs).
+std::string vbd_bounds_shader() {
+  std::string s = kernel_head({Buf::x, Buf::vbd_pairs});
+  s += pair_functions(false);
+  s += glsl::vbd_bounds;
   return s;
 }
 

@@ -107,8 +107,9 @@ std::span<const StageKey<SimulationSettings>> simulation_keys() {
                     "`[self_collision]` with `primitive = \"points\"` and `broad_phase = "
                     "\"uniform\"`, `[[obstacle]]` with `method = \"geometric\"` (every shape, "
                     "motion, friction), `leapfrog`, `symplectic_euler`, and `implicit_euler` "
-                    "with `solver = \"vbd\"` and `coarse = \"off\"` on models whose only stages "
-                    "are geometric obstacles; a stage or scheme it lacks is refused by name). "
+                    "with `solver = \"vbd\"` and `coarse = \"off\"` (geometric obstacles, "
+                    "point-point self-collision and `[[contact]]` pairs inside its solve); a "
+                    "stage or scheme it lacks is refused by name). "
                     "`--backend` overrides it; see docs/gpu.md"}),
         integer<&S::backend_options, &BackendOptions::device>(
             "gpu_device", -1, 64,

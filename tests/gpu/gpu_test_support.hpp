@@ -1,12 +1,14 @@
 // What the GPU tests share: float's rounding unit, the fixture that registers the backend, the
 // extents their float-derived bounds start from, and the "float-storage" rounding of a state
-// (the CPU run that the whole-run tests measure the GPU's drift against), and a run on a backend.
+// (the CPU run that the whole-run tests measure the GPU's drift against), a run on a backend, and
+// VBD's step-by-step parity with the CPU.
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -73,6 +75,67 @@ inline std::vector<Vec3> run_on(const Scene& scene, const std::string& backend, 
   }
   EXPECT_TRUE(sim.check_energy());
   return {sim.state().x().begin(), sim.state().x().end()};
+}
+
+// Implicit Euler by VBD as both backends run it: 10 sweeps with Chebyshev's acceleration (0.9),
+// no coarse correction (the GPU has none), one thread, no sampling.
+inline SimulationSettings vbd_settings(const Scene& s, const std::string& backend,
+                                       double h = 1.0 / 60) {
+  SimulationSettings st = s.settings;
+  st.step = h;
+  st.integrator = "implicit_euler";
+  st.implicit.solver = ImplicitSolver::vbd;
+  st.implicit.iterations = 10;
+  st.implicit.acceleration = 0.9;
+  st.implicit.coarse = VbdCoarse::off;
+  st.backend = backend;
+  st.threads = 1;
+  st.publish_every = 1 << 30;
+  st.sample_every = 1 << 30;
+  return st;
+}
+
+inline std::vector<Vec3> positions(const Simulator& sim) {
+  return {sim.state().x().begin(), sim.state().x().end()};
+}
+
+// Each GPU step starts from the CPU's state (x, v and the guess's memory), `steps` steps of VBD
+// at 1/60 s (vbd_settings): the GPU's step within the rounding bound (8 roundings per update
+// and sweep, of the largest coordinate) plus twice the CPU's own distance to the converged step,
+// measured by the CPU with 200 sweeps from the same state. Where a contact's decision (a Newton
+// step that starts or leaves one, the acceleration's fallback) goes the other way on float
+// positions, the GPU's iterate is another of the same step, no worse converged than the CPU's:
+// both lie within their convergence error of the step's solution. Prints the worst distance over
+// its allowance and how many steps needed more than rounding.
+inline void expect_each_step_matches(const Scene& s, int steps, const char* what) {
+  constexpr double kRoundingsPerUpdate = 8;
+  const SimulationSettings settings = vbd_settings(s, "cpu");
+  SimulationSettings fine_settings = settings;
+  fine_settings.implicit.iterations = 200;
+  Simulator cpu(s.model, settings), gpu(s.model, vbd_settings(s, "gpu")),
+      fine(s.model, fine_settings);
+  double worst_ratio = 0, worst = 0;
+  int beyond_rounding = 0;
+  for (int k = 0; k < steps; ++k) {
+    gpu.restore(cpu.state(), 0);
+    fine.restore(cpu.state(), 0);
+    ASSERT_TRUE(cpu.step());
+    ASSERT_TRUE(gpu.step()) << gpu.blow_up()->message;
+    ASSERT_TRUE(fine.step());
+    const auto xc = positions(cpu);
+    const double off = max_distance(xc, positions(gpu));
+    const double bound =
+        kRoundingsPerUpdate * kFloatEps * max_abs(xc) * settings.implicit.iterations;
+    const double allowed = bound + 2 * max_distance(xc, positions(fine));
+    if (off > bound) ++beyond_rounding;
+    EXPECT_LE(off, allowed) << what << ", step " << k;
+    worst_ratio = std::max(worst_ratio, off / allowed);
+    worst = std::max(worst, off);
+  }
+  std::printf(
+      "%s, one step at a time at 1/60 s: GPU - CPU at most %.3g m, %.3g of its allowance; %d of "
+      "%d steps beyond the rounding bound\n",
+      what, worst, worst_ratio, beyond_rounding, steps);
 }
 
 }  // namespace maille::test

@@ -1,8 +1,8 @@
 // Geometric obstacles inside the GPU's vertex block descent (src/gpu/gpu_vbd_obstacles.*)
 // against the CPU's solver (coarse = "off", the same sweeps and acceleration): a cloth falling
 // on a sphere at 1/60 s step by step and over a whole run, the deepest penetration against a
-// bound from k and m g, lagged friction on an incline (sticks for tan theta < mu), the refusal
-// of the other stages.
+// bound from k and m g, lagged friction on an incline (sticks for tan theta < mu). The other
+// contacts and the refusals: test_gpu_vbd_pairs.cpp.
 //
 // Tolerances. Away from contacts the two solvers differ by rounding only (test_gpu_vbd.cpp: a
 // step within c eps X S of the CPU's, c = 8 roundings per update, S the sweeps). A contact adds
@@ -32,7 +32,6 @@ namespace maille {
 namespace {
 
 using GpuVbdObstacles = test::GpuTest;
-constexpr double kRoundingsPerUpdate = 8;
 
 // The peer scene (apps/maille/study_large_steps.cpp's sphere_text), smaller: an n x n cloth,
 // 1 m square, `drop` m above a ball of radius 0.25 at the origin (k = 2000 N/m, z = 1 N.s/m;
@@ -56,55 +55,9 @@ Scene cloth_over_ball(int n, double drop, const std::string& extra = "", bool ba
   return std::move(s.value());
 }
 
-SimulationSettings vbd(const Scene& s, const std::string& backend, double h = 1.0 / 60) {
-  SimulationSettings st = s.settings;
-  st.step = h;
-  st.integrator = "implicit_euler";
-  st.implicit.solver = ImplicitSolver::vbd;
-  st.implicit.iterations = 10;
-  st.implicit.acceleration = 0.9;
-  st.implicit.coarse = VbdCoarse::off;  // the GPU has none
-  st.backend = backend;
-  st.threads = 1;
-  st.publish_every = 1 << 30;
-  st.sample_every = 1 << 30;
-  return st;
-}
-
-std::vector<Vec3> positions(const Simulator& sim) {
-  return {sim.state().x().begin(), sim.state().x().end()};
-}
-
-// Each GPU step starts from the CPU's state (x, v and the guess's memory), `steps` steps: the
-// GPU's step within the allowance of the header (the rounding bound, plus twice the CPU's own
-// distance to the converged step, measured by the CPU with 200 sweeps from the same state).
-// Prints the worst distance over its allowance and how many steps needed more than rounding.
-void expect_each_step_matches(const Scene& s, int steps, const char* what) {
-  SimulationSettings fine_settings = vbd(s, "cpu");
-  fine_settings.implicit.iterations = 200;
-  Simulator cpu(s.model, vbd(s, "cpu")), gpu(s.model, vbd(s, "gpu")), fine(s.model, fine_settings);
-  double worst_ratio = 0, worst = 0;
-  int beyond_rounding = 0;
-  for (int k = 0; k < steps; ++k) {
-    gpu.restore(cpu.state(), 0);
-    fine.restore(cpu.state(), 0);
-    ASSERT_TRUE(cpu.step());
-    ASSERT_TRUE(gpu.step()) << gpu.blow_up()->message;
-    ASSERT_TRUE(fine.step());
-    const auto xc = positions(cpu);
-    const double off = test::max_distance(xc, positions(gpu));
-    const double bound = kRoundingsPerUpdate * test::kFloatEps * test::max_abs(xc) * 10;
-    const double allowed = bound + 2 * test::max_distance(xc, positions(fine));
-    if (off > bound) ++beyond_rounding;
-    EXPECT_LE(off, allowed) << what << ", step " << k;
-    worst_ratio = std::max(worst_ratio, off / allowed);
-    worst = std::max(worst, off);
-  }
-  std::printf(
-      "%s, one step at a time at 1/60 s: GPU - CPU at most %.3g m, %.3g of its allowance; %d of "
-      "%d steps beyond the rounding bound\n",
-      what, worst, worst_ratio, beyond_rounding, steps);
-}
+using test::expect_each_step_matches;
+using test::positions;
+using test::vbd_settings;
 
 // The fall, the impact and the draping on the ball: 1 s at 1/60 s.
 TEST_F(GpuVbdObstacles, ClothOnASphereMatchesTheCpuStepByStep) {
@@ -122,7 +75,7 @@ TEST_F(GpuVbdObstacles, ClothOnAThinTurningBoxMatchesTheCpuStepByStep) {
       "1.0, 0.0], frequency = 0.3 }\n",
       false);
   expect_each_step_matches(s, 40, "cloth on a thin turning box");
-  Simulator gpu(s.model, vbd(s, "gpu"));
+  Simulator gpu(s.model, vbd_settings(s, "gpu"));
   ASSERT_TRUE(gpu.run_steps(40));
   // Every point over the board (within 0.35 m of its axis: inside the square footprint
   // whatever its turn) stays above its lower face.
@@ -138,8 +91,8 @@ TEST_F(GpuVbdObstacles, ClothOnAThinTurningBoxMatchesTheCpuStepByStep) {
 // float after every step. The GPU is allowed 4 times that distance.
 TEST_F(GpuVbdObstacles, ClothOnASphereWholeRunStaysWithinTheFloatStorageDrift) {
   const Scene s = cloth_over_ball(16, 0.15);
-  Simulator cpu(s.model, vbd(s, "cpu")), rounded(s.model, vbd(s, "cpu")),
-      gpu(s.model, vbd(s, "gpu"));
+  Simulator cpu(s.model, vbd_settings(s, "cpu")), rounded(s.model, vbd_settings(s, "cpu")),
+      gpu(s.model, vbd_settings(s, "gpu"));
   for (int k = 0; k < 60; ++k) {
     ASSERT_TRUE(cpu.step());
     ASSERT_TRUE(rounded.step());
@@ -173,7 +126,7 @@ TEST_F(GpuVbdObstacles, NoPointSinksDeeperThanThePenaltyBound) {
   const double bound = 0.25 * 9.81 / 2000 + v * std::sqrt(m / 2000);
   const Vec3 centre{0, Real(0.2), 0};
   for (const std::string backend : {"cpu", "gpu"}) {
-    Simulator sim(s.model, vbd(s, backend));
+    Simulator sim(s.model, vbd_settings(s, backend));
     double worst = 0;
     for (int step = 0; step < 120; ++step) {
       ASSERT_TRUE(sim.step()) << backend << " step " << step;
@@ -204,7 +157,7 @@ double slid_on_incline(double mu, const std::string& backend) {
   auto loaded = parse_scene(text, "incline.toml", LinkKindRegistry::with_builtins(),
                             StageRegistry::with_builtins());
   EXPECT_TRUE(loaded) << loaded.error().to_string();
-  Simulator sim(loaded->model, vbd(*loaded, backend));
+  Simulator sim(loaded->model, vbd_settings(*loaded, backend));
   EXPECT_TRUE(sim.run_steps(60));
   const Vec3 down{Real(-c), Real(-s), 0};
   double sum = 0;
@@ -225,21 +178,6 @@ TEST_F(GpuVbdObstacles, FrictionOnAnInclineSticksAtLargeSteps) {
                 backend.c_str(), stuck, slid);
     EXPECT_LT(std::abs(stuck), 2e-3) << backend;
     EXPECT_GT(slid, expected / 3) << backend;
-  }
-}
-
-// Under the GPU's VBD, stages other than geometric obstacles are refused by name.
-TEST_F(GpuVbdObstacles, OtherStagesAreRefusedUnderVbd) {
-  const Scene s = cloth_over_ball(8, 0.1, "[self_collision]\ngroups = [\"cloth\"]\n");
-  try {
-    Simulator sim(s.model, vbd(s, "gpu"));
-    ADD_FAILURE() << "accepted";
-  } catch (const std::invalid_argument& e) {
-    const std::string why = e.what();
-    EXPECT_NE(why.find("stage 'self_collision' has no implicit terms on the GPU"),
-              std::string::npos)
-        << why;
-    EXPECT_NE(why.find("obstacles with method = \"geometric\""), std::string::npos) << why;
   }
 }
 

@@ -142,3 +142,17 @@ MAILLE_SHARED vec3 contact_friction_law(vec3 xa, vec3 xb, vec3 va, vec3 vb, vec3
   real speed = sqrt(dot(vt, vt));
   return vt * (mu * abs(dot(fn, n)) / max(speed, slip));
 }
+
+// Friction lagged into an implicit solve (IPC's form; self-collision's point pairs under the
+// implicit solvers, src/collision/self/self_contact_link.hpp, and the GPU's VBD): the normal n
+// (from a to b) and the normal force's size F_n of the step's start are held, so the friction
+// -mu F_n v_t / max(|v_t|, slip) on a (v_t the part of v_b - v_a across n) is a smooth term of
+// the solve. Returns its scale mu F_n / max(|v_t|, slip) (0 without friction): the force on a is
+// v_t times it, its velocity Jacobian the scale times (I - n n^T).
+MAILLE_SHARED real lagged_friction_scale(vec3 va, vec3 vb, vec3 n, real mu, real lag_force,
+                                         real slip) {
+  if (!(lag_force > real(0) && mu > real(0))) return real(0);
+  vec3 dv = vb - va;
+  vec3 vt = dv - n * dot(dv, n);
+  return mu * lag_force / max(sqrt(dot(vt, vt)), slip);
+}

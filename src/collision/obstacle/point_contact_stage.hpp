@@ -19,7 +19,7 @@ namespace maille {
 class PointContactStage : public Stage, public PointContacts {
  public:
   void apply(const Model&, State& s, const StageContext& ctx) final { scan(s, ctx, s.f().data()); }
-  bool finds_contacts() const final { return true; }
+  ContactKinds contacts_found() const final { return ContactKinds::obstacles; }
   void find_contacts(const Model&, State& s, const StageContext& ctx, ContactSet& set) final {
     scan(s, ctx, nullptr);
     set.add(*this);

@@ -170,7 +170,11 @@ class SelfCollisionStage final : public Stage, public MotionBound {
 
   // Implicit schemes: this step's candidates within s + margin, once (no explicit pass); the
   // counters give the candidates and those acting at x_n.
-  bool finds_contacts() const override { return true; }
+  ContactKinds contacts_found() const override {
+    return engine_.settings().primitive == Primitive::triangles
+               ? ContactKinds::pairs | ContactKinds::stencils
+               : ContactKinds::pairs;
+  }
   void find_contacts(const Model& m, State& s, const StageContext& ctx, ContactSet& set) override {
     contacts_.clear();
     triangle_terms_.storage().clear();

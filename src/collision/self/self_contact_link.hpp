@@ -41,12 +41,11 @@ struct FrictionalContact {
     return p.lag_force > 0 ? std::numeric_limits<Real>::infinity() : p.normal.threshold;
   }
   static Vec3 friction_force(const Vec3& va, const Vec3& vb, const Params& p, Real& scale) {
-    scale = 0;
-    if (!(p.lag_force > 0 && p.friction > 0)) return {};
+    scale = law::lagged_friction_scale(va, vb, p.lag_normal, p.friction, p.lag_force,
+                                       kSelfCollisionSlip);
+    if (!(scale > 0)) return {};
     const Vec3 dv = vb - va, n = p.lag_normal;
-    const Vec3 vt = dv - n * dot(dv, n);
-    scale = p.friction * p.lag_force / std::max(norm(vt), kSelfCollisionSlip);
-    return vt * scale;
+    return (dv - n * dot(dv, n)) * scale;
   }
   static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                     const Params& p) {

@@ -31,8 +31,15 @@ void main() {
       a = len > 0.0 ? a_ext * (clamp(dot(a_last, a_ext) / len, 0.0, len) / len) : vec3(0.0);
     }
     guess = xi + vi * u_h + a * (u_h * u_h);
+    vec3 vguess = vi + a * u_h;  // (guess - x_n) / h, without the cancellation (below)
+    // A point of a pair: within its bound (taken at x_n by the bounds pass before this one).
+    vec3 move = vi * u_h + a * (u_h * u_h), held = vp_within_bound(i, move);
+    if (held != move) {
+      guess = xi + held;
+      vguess = held * (1.0 / u_h);
+    }
     STORE3(x, i, guess);
-    STORE3(v, i, vi + a * u_h);  // (guess - x_n) / h, without the cancellation (below)
+    STORE3(v, i, vguess);
   }
   STORE3(vbd_y, i, y);
   STORE3(vbd_prev1, i, guess);

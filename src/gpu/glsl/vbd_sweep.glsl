@@ -35,6 +35,7 @@ void main() {
         H += link_block(l.kind, xi, xj, vi, vj, p, inv_h);
       }
     }
+    pair_terms(i, xi, vi, inv_h, g, H);
     bool touching = ob_terms(i, xi, vi, inv_h, g, H);
 #if RESIDUAL
     merit = length(g);
@@ -48,6 +49,7 @@ void main() {
     bool touched = touching;  // the CPU's touching_[i] after the update
     if (!(any(isnan(dx)) || any(isinf(dx)))) {
       merit = dot(g, dx);
+      dx = vp_within_bound(i, dx);  // a point of a pair: within its bound
       vec3 tx = xi + dx, tv = vi + dx * inv_h, tg;
       vec3 xn = LOAD3(vbd_xn, i);
       // Same contacts, or leaving one cleanly: the whole step. Starting or (far) leaving one:
