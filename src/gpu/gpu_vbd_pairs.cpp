@@ -14,6 +14,7 @@
 #include "maille/colouring.hpp"
 #include "maille/detail/csr.hpp"
 #include "maille/link_pool.hpp"
+#include "maille/links/conditional.hpp"
 
 namespace maille::gpu {
 
@@ -32,7 +33,7 @@ void law_of(const LinkPoolBase& pool, std::size_t slot, float* out) {
     for (std::size_t k = 0; k < kLawValues; ++k) out[k] = float(values[k]);
     return;
   }
-  if (pool.shared_law() != "conditional_law" || pool.fields().size() != 4)
+  if (pool.shared_law() != ConditionalSpringDamper::shared_law || pool.fields().size() != 4)
     throw std::runtime_error("contact pairs of kind '" + std::string(pool.keyword()) +
                              "' have no law in the GPU's VBD (it runs conditional spring-dampers "
                              "with lagged friction): run this scene with --backend cpu");

@@ -156,3 +156,14 @@ MAILLE_SHARED real lagged_friction_scale(vec3 va, vec3 vb, vec3 n, real mu, real
   vec3 vt = dv - n * dot(dv, n);
   return mu * lag_force / max(sqrt(dot(vt, vt)), slip);
 }
+
+// That friction's force on a at scale `scale` (lagged_friction_scale): v_t times the scale.
+MAILLE_SHARED vec3 lagged_friction_force(vec3 va, vec3 vb, vec3 n, real scale) {
+  vec3 dv = vb - va;
+  return (dv - n * dot(dv, n)) * scale;
+}
+
+// Its block J_v / h: the scale times (I - n n^T), over h.
+MAILLE_SHARED mat3 lagged_friction_block(vec3 n, real scale, real inv_h) {
+  return (identity3() - outer3(n, n)) * (scale * inv_h);
+}

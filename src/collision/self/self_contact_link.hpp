@@ -44,8 +44,7 @@ struct FrictionalContact {
     scale = law::lagged_friction_scale(va, vb, p.lag_normal, p.friction, p.lag_force,
                                        kSelfCollisionSlip);
     if (!(scale > 0)) return {};
-    const Vec3 dv = vb - va, n = p.lag_normal;
-    return (dv - n * dot(dv, n)) * scale;
+    return law::lagged_friction_force(va, vb, p.lag_normal, scale);
   }
   static Vec3 force(const Vec3& xa, const Vec3& xb, const Vec3& va, const Vec3& vb,
                     const Params& p) {
@@ -57,7 +56,7 @@ struct FrictionalContact {
     LinkJacobian j = Normal::jacobian(xa, xb, va, vb, p.normal, mode);
     Real scale;
     friction_force(va, vb, p, scale);
-    if (scale > 0) j.dv += (Mat3::identity() - Mat3::outer(p.lag_normal, p.lag_normal)) * scale;
+    if (scale > 0) j.dv += law::lagged_friction_block(p.lag_normal, scale, Real(1));  // J_v
     return j;
   }
   static Real energy(const Vec3& xa, const Vec3& xb, const Params& p) {

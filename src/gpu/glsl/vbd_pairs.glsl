@@ -39,9 +39,8 @@ void pair_terms(uint i, vec3 xi, vec3 vi, float inv_h, inout vec3 g, inout mat3 
     vec3 n = vec3(vp_value(w, 6u), vp_value(w, 7u), vp_value(w, 8u));
     float scale = lagged_friction_scale(vi, vj, n, vp_value(w, 4u), vp_value(w, 5u), SLIP);
     if (scale > 0.0) {
-      vec3 dv = vj - vi;
-      g += (dv - n * dot(dv, n)) * scale;
-      H += (mat3(1.0) - outerProduct(n, n)) * (scale * inv_h);
+      g += lagged_friction_force(vi, vj, n, scale);
+      H += lagged_friction_block(n, scale, inv_h);
     }
   }
 }
