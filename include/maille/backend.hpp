@@ -126,7 +126,7 @@ struct NameTable<BackendKind> {
        "OpenGL 4.5 compute shaders (float): link forces, gravity, drag, wind, leapfrog, "
        "symplectic Euler and implicit Euler by vertex block descent, driven points, conditional "
        "contacts, self-collision (points), geometric obstacles; under VBD, obstacles, "
-       "self-collision (points) and [[contact]] pairs inside the solve"},
+       "self-collision (points and triangles) and [[contact]] inside the solve"},
   }};
 };
 

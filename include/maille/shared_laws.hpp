@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "maille/mat3.hpp"
@@ -20,9 +21,11 @@ namespace maille::law {
 using vec3 = Vec3;
 using mat3 = Mat3;
 using real = Real;
+using uint = std::uint32_t;
 using std::abs;
 using std::clamp;
 using std::max;
+using std::min;
 using std::sqrt;
 
 inline Vec3 zero3() {

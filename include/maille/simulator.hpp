@@ -311,8 +311,8 @@ class Simulator : private ForceEvaluator {
   void check_backend(const Integrator& scheme, const Stage* extra = nullptr) const;
   bool step_on_backend();
   void implicit_step_on_backend(Real h);  // a step the backend makes whole (Backend::steps)
-  void find_pairs_for_backend();          // the step's point pairs on the host, for the device
-  void sync_host() const;  // the device's x, v, f into state_ when the device is ahead
+  void find_contacts_for_backend();  // the step's pairs and stencils on the host, for the device
+  void sync_host() const;            // the device's x, v, f into state_ when the device is ahead
   void check_backend_health();
   double energy_scale() const;
   // simulator_threads.cpp: the default thread count follows the free cores.

@@ -78,7 +78,7 @@ void Simulator::implicit_step_on_backend(Real h) {
     device_ids_.refreshes = profile_.counter("vbd_candidate_refreshes");  // none: static colours
   }
   const bool measure = pending_sample_.has_value();
-  find_pairs_for_backend();
+  find_contacts_for_backend();
   const DeviceImplicitStep r = backend_->implicit_step(model_, *integrator_, state_.time, h,
                                                        state_.step + 1, measure, contacts_);
   profile_.set_count(device_ids_.iterations, r.iterations);
@@ -87,15 +87,16 @@ void Simulator::implicit_step_on_backend(Real h) {
   if (r.residual) profile_.set_gauge(device_ids_.residual, *r.residual);
 }
 
-// The stages that put point pairs into the contact set find them on the host at x_n (the
-// state brought back from the device), as the CPU's step does; the device uploads the pairs
-// and evaluates them by the shared laws at every iterate. Stages of other contacts (geometric
-// obstacles) have device versions of their own and are not asked.
-void Simulator::find_pairs_for_backend() {
+// The stages that put point pairs or stencils into the contact set find them on the host at
+// x_n (the state brought back from the device), as the CPU's step does; the device uploads them
+// and evaluates them by the shared laws at every iterate. Stages of obstacle contacts
+// (geometric obstacles) have device versions of their own and are not asked.
+void Simulator::find_contacts_for_backend() {
   contacts_.clear();
   bool synced = false;
   for (auto& st : stages_of(Phase::forces)) {
-    if (!has(st.stage->contacts_found(), ContactKinds::pairs)) continue;
+    const ContactKinds kinds = st.stage->contacts_found();
+    if (!has(kinds, ContactKinds::pairs) && !has(kinds, ContactKinds::stencils)) continue;
     if (!synced) sync_host(), synced = true;
     const StageContext ctx = context(state_);
     Timed t(profile_, st.profile_id);

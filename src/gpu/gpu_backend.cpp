@@ -265,7 +265,7 @@ class GpuBackend final : public Backend {
     }
     for (const Stage* st : stages) {  // every stage needs a registered device version
       // but those whose point pairs the VBD step uploads (vbd_refuses accepted them)
-      if (steps(scheme) && st->contacts_found() == ContactKinds::pairs) continue;
+      if (steps(scheme) && uploaded_contacts(st->contacts_found())) continue;
       const GpuStageEntry* entry = GpuStageRegistry::builtin().find(st->name());
       if (!entry)
         return "stage '" + st->name() +

@@ -82,19 +82,23 @@ namespace maille::gpu {
     "4 per point and obstacle (point-major): lagged friction's normal force (N), normal") \
   X(37, VbdTouching, uint, vbd_touch, "per point: 1 while it touches an obstacle (a sweep's)")
 
-// The step's point pairs under implicit Euler by VBD (gpu_vbd_pairs.hpp), after the
-// obstacles': owned and bound by the backend's GpuVbdPairs. One buffer (a sweep may bind at most
-// 16 storage blocks), n the model's points: [0] n, [1, n + 2) each point's first entry, [n + 2,
-// 2 n + 2) each point's bound (float bits), then kVbdPairWords words per entry.
-#define MAILLE_GPU_VBD_PAIR_BUFFERS(X) \
-  X(38, VbdPairs, uint, vbd_pairs,     \
-    "the step's contact pairs seen from each of their points, and the points' bounds")
+// The step's contacts under implicit Euler by VBD (gpu_vbd_contacts.hpp), after the obstacles':
+// owned and bound by the backend's GpuVbdContacts. One buffer (a sweep may bind at most 16
+// storage blocks), n the model's points, kVbdContactHeader words of header: [0] n, then where
+// each part starts: [1] each point's bound (float bits, n), [2] each point's first pair entry
+// (n + 1), [3] the pair entries (kVbdPairWords each), [4] each point's first stencil entry
+// (n + 1), [5] the stencil entries (candidate * 4 + role), [6] the stencils (kVbdStencilWords
+// each), [7] each point's drift ball (limit, then its centre: 4 floats).
+#define MAILLE_GPU_VBD_CONTACT_BUFFERS(X) \
+  X(38, VbdContacts, uint, vbd_contacts,  \
+    "the step's contact pairs and stencils seen from each of their points, bounds, drift balls")
 
 enum class Buf : unsigned {
 #define MAILLE_GPU_ENUM(binding, block, type, name, doc) name = binding,
   MAILLE_GPU_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_SELF_BUFFERS(MAILLE_GPU_ENUM)
       MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_ENUM)
-          MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_ENUM) MAILLE_GPU_VBD_PAIR_BUFFERS(MAILLE_GPU_ENUM)
+          MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_ENUM)
+              MAILLE_GPU_VBD_CONTACT_BUFFERS(MAILLE_GPU_ENUM)
 #undef MAILLE_GPU_ENUM
 };
 #define MAILLE_GPU_COUNT_BUFFER(binding, block, type, name, doc) +1
@@ -118,7 +122,7 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
               unsigned(Buf::ob_point) ==
                   kBufferCount + kSelfBufferCount + kVbdBufferCount + kGridBufferCount &&
               unsigned(Buf::vbd_touch) == unsigned(Buf::ob_point) + kObstacleBufferCount - 1 &&
-              unsigned(Buf::vbd_pairs) == unsigned(Buf::vbd_touch) + 1);
+              unsigned(Buf::vbd_contacts) == unsigned(Buf::vbd_touch) + 1);
 
 // Records: F(type, member).
 // One link seen from one of its ends: the other end, the kind (its index in the model's GPU
@@ -132,13 +136,14 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 // coordinates' bits mapped to an order-preserving uint (negative floats flipped whole, positive
 // ones with their sign bit set); the grid kernel turns it into an origin, a cell size and
 // dimensions, and resets it for the next step.
-#define MAILLE_GPU_SELF_GRID(F)                                                        \
-  F(uint, lo_x)                                                                        \
-  F(uint, lo_y)                                                                        \
-  F(uint, lo_z)                                                                        \
-  F(uint, hi_x)                                                                        \
-  F(uint, hi_y) F(uint, hi_z) F(float, origin_x) F(float, origin_y) F(float, origin_z) \
-      F(float, cell) F(uint, nx) F(uint, ny) F(uint, nz)
+#define MAILLE_GPU_SELF_GRID(F)                                                         \
+  F(uint, lo_x)                                                                         \
+  F(uint, lo_y)                                                                         \
+  F(uint, lo_z)                                                                         \
+  F(uint, hi_x)                                                                         \
+  F(uint, hi_y)                                                                         \
+  F(uint, hi_z) F(float, origin_x) F(float, origin_y) F(float, origin_z) F(float, cell) \
+      F(uint, nx) F(uint, ny) F(uint, nz)
 
 // A geometric obstacle placed at a time, for the device's implicit solve
 // (gpu_vbd_obstacles.hpp): the shared law's parameters (obstacle_laws.glsl), M_d and M_i
@@ -147,21 +152,27 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 #define MAILLE_GPU_OBSTACLE(F)                                                                    \
   F(uint, shape)                                                                                  \
   F(float, top)                                                                                   \
-  F(float, tube) F(float, stiffness) F(float, damping) F(float, friction) F(float, slip)          \
-      F(uint, world_normal) F(uint, moves) F(float, reach2) F(float, d00) F(float, d01)           \
-          F(float, d02) F(float, d10) F(float, d11) F(float, d12) F(float, d20) F(float, d21)     \
-              F(float, d22) F(float, i00) F(float, i01) F(float, i02) F(float, i10) F(float, i11) \
-                  F(float, i12) F(float, i20) F(float, i21) F(float, i22) F(float, tx)            \
-                      F(float, ty) F(float, tz) F(float, lx) F(float, ly) F(float, lz)            \
-                          F(float, sx) F(float, sy) F(float, sz) F(float, cx) F(float, cy)        \
-                              F(float, cz)
+  F(float, tube)                                                                                  \
+  F(float, stiffness) F(float, damping) F(float, friction) F(float, slip) F(uint, world_normal)   \
+      F(uint, moves) F(float, reach2) F(float, d00) F(float, d01) F(float, d02) F(float, d10)     \
+          F(float, d11) F(float, d12) F(float, d20) F(float, d21) F(float, d22) F(float, i00)     \
+              F(float, i01) F(float, i02) F(float, i10) F(float, i11) F(float, i12) F(float, i20) \
+                  F(float, i21) F(float, i22) F(float, tx) F(float, ty) F(float, tz) F(float, lx) \
+                      F(float, ly) F(float, lz) F(float, sx) F(float, sy) F(float, sz)            \
+                          F(float, cx) F(float, cy) F(float, cz)
 
 inline constexpr std::uint32_t kEndIsB = 0x80000000u;
 
-// A contact pair seen from one of its points (vbd_pairs): the other point, then the conditional
-// spring-damper's k, z, threshold s, rest length, and the lagged friction's mu, F_n and normal
-// (from the pair's first point to its second, as seen from the first: negated for the second).
+// vbd_contacts' parts (above). A contact pair seen from one of its points: the other point,
+// then the conditional spring-damper's k, z, threshold s, rest length, and the lagged friction's
+// mu, F_n and normal (its sign does not matter: the friction projects across it). A stencil (a
+// point-triangle or edge-edge candidate of self-collision): its four points, flags (bit 0: an
+// edge pair; bits 1 to 4: which of its corners are colliding particles), the first candidate of
+// its particle's run (the once-per-feature rule scans back to it), the radius, k, z, mu, the
+// lagged F_n and normal.
+inline constexpr std::uint32_t kVbdContactHeader = 8;
 inline constexpr std::uint32_t kVbdPairWords = 10;
+inline constexpr std::uint32_t kVbdStencilWords = 14;
 
 using uint = std::uint32_t;
 #define MAILLE_GPU_MEMBER(type, name) type name;
@@ -209,7 +220,7 @@ inline std::string glsl_buffers(std::initializer_list<Buf> used) {
     MAILLE_GPU_VBD_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_GRID_BUFFERS(MAILLE_GPU_DECLARE)
     MAILLE_GPU_OBSTACLE_BUFFERS(MAILLE_GPU_DECLARE)
-    MAILLE_GPU_VBD_PAIR_BUFFERS(MAILLE_GPU_DECLARE)
+    MAILLE_GPU_VBD_CONTACT_BUFFERS(MAILLE_GPU_DECLARE)
 #undef MAILLE_GPU_DECLARE
   }
   return out;

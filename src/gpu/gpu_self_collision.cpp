@@ -111,7 +111,8 @@ void GpuSelfCollision::bind() const {
 
 void GpuSelfCollision::evaluate(double) {
   const SelfCollisionView view = self_collision_view(*stage_);
-  if (!view.enabled || particles_ == 0) return;
+  // Triangles (accepted under VBD, whose solve takes their stencils) have no explicit pass here.
+  if (!view.enabled || particles_ == 0 || view.settings->primitive != Primitive::points) return;
   bind();
   kernels_[bounds].run(particles_);
   kernels_[grid].run(1);

@@ -56,17 +56,12 @@ VbdColours vbd_colours(const Model& m) {
 std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block) {
   const std::string how = "implicit_euler with solver = \"vbd\" on the GPU backend";
   for (const Stage* st : stages) {
-    const ContactKinds kinds = st->contacts_found();
-    if (has(kinds, ContactKinds::stencils))
-      return "stage '" + st->name() + "' puts point-triangle and edge-edge contacts into the " +
-             "solve (primitive = \"triangles\"): " + how + " reads the contact set's point " +
-             "pairs and geometric obstacles only: run this scene with --backend cpu (or " +
-             "primitive = \"points\")";
-    if (kinds == ContactKinds::pairs) continue;  // found on the host, uploaded every step
+    // Pairs and stencils: found on the host, uploaded every step.
+    if (uploaded_contacts(st->contacts_found())) continue;
     if (vbd_obstacle_count({&st, 1}) == 0)
       return "stage '" + st->name() + "' has no implicit terms on the GPU (" + how +
-             " runs the model's links, gravity, air drag, wind, the contact set's point pairs " +
-             "(self-collision with primitive = \"points\", [[contact]]) and obstacles with " +
+             " runs the model's links, gravity, air drag, wind, self-collision, [[contact]] and " +
+             "obstacles with " +
              "method = \"geometric\"; facet and conditional obstacles enter only the CPU's " +
              "solve): run this scene with --backend cpu";
   }
@@ -112,15 +107,15 @@ void GpuVbd::forget() {
   for (Kernel& k : kernels_) k.forget();
   kernels_.clear();
   obstacles_.forget();
-  pairs_.forget();
+  contacts_.forget();
 }
 
 void GpuVbd::load(const Model& m, std::span<const StageMemory> memory,
                   const std::vector<KindLaw>& kinds, std::span<const Stage* const> stages) {
   points_ = m.points.size();
   obstacles_.load(m, stages);
-  pairs_.load(m, colours_);
-  pairs_in_colours_ = false;
+  contacts_.load(m, colours_);
+  contacts_in_colours_ = false;
   const std::size_t n3 = 3 * std::size_t(points_);
   for (Buf b : {Buf::vbd_xn, Buf::vbd_y, Buf::vbd_prev1, Buf::vbd_prev2})
     upload(buffers_[unsigned(b) - unsigned(Buf::vbd_xn)], std::vector<float>(n3, 0.0f));
@@ -166,22 +161,25 @@ void GpuVbd::bind() const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, unsigned(Buf::vbd_xn) + k, buffers_[b]);
   }
   obstacles_.bind();
-  pairs_.bind();
+  contacts_.bind();
 }
 
 DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings, double t, Real h,
                                 std::uint64_t step, bool wind, bool measure,
                                 const ContactSet& contacts) {
-  // The step's pairs and the colours that keep them apart (the links' alone once none is left).
-  std::size_t pairs = 0;
-  if (!contacts.pairs().empty() || pairs_in_colours_) {
-    pairs = pairs_.update(contacts, colours_);
+  // The step's contacts and the colours that keep them apart (the links' alone once none is
+  // left).
+  GpuVbdContacts::Counts counts;
+  if (!contacts.pairs().empty() || !contacts.stencils().empty() || contacts_in_colours_) {
+    counts = contacts_.update(contacts, colours_);
     arrange();
-    pairs_in_colours_ = pairs > 0;
+    contacts_in_colours_ = counts.any();
   }
-  const bool bounded = pairs > 0;
-  for (const Pass p : {begin_pass, sweep_pass, residual_pass, accelerate, bounds_pass})
-    kernels_[p].set_flag("u_pairs", bounded);
+  const bool bounded = counts.any();
+  for (const Pass p : {begin_pass, sweep_pass, residual_pass, accelerate, bounds_pass}) {
+    kernels_[p].set_flag("u_contacts", bounded);
+    kernels_[p].set_flag("u_guarded", bounded && counts.guarded);
+  }
   bind();
   // The obstacles: placed at t for the lag (at x_n, v_n), at t + h for the solve.
   const std::uint32_t obstacles = obstacles_.count();

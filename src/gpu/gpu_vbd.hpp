@@ -40,8 +40,8 @@
 
 #include "../integrators/implicit_vbd.hpp"
 #include "gpu_layout.hpp"
+#include "gpu_vbd_contacts.hpp"
 #include "gpu_vbd_obstacles.hpp"
-#include "gpu_vbd_pairs.hpp"
 #include "kernel.hpp"
 #include "maille/backend.hpp"
 #include "maille/contact_set.hpp"
@@ -69,6 +69,12 @@ VbdColours vbd_colours(const Model& m);
 // implicit terms on the device), more than kVbdMaxObstacles obstacles, a link kind whose shared
 // law has no <law>_block, more colours than kVbdMaxColours, obstacles whose held friction (16
 // bytes per point and obstacle) exceeds `max_block`, the driver's largest storage block (bytes).
+// Whether a stage's contacts are the GPU's VBD's to upload: pairs and stencils, nothing else.
+inline bool uploaded_contacts(ContactKinds kinds) {
+  return kinds != ContactKinds::none &&
+         (std::uint8_t(kinds) & ~std::uint8_t(ContactKinds::pairs | ContactKinds::stencils)) == 0;
+}
+
 std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block);
 
 class GpuVbd {
@@ -106,8 +112,8 @@ class GpuVbd {
   std::string source_;  // the sweep's, for the model's kinds
   std::vector<Kernel> kernels_;
   GpuVbdObstacles obstacles_;
-  GpuVbdPairs pairs_;
-  bool pairs_in_colours_ = false;  // colours_ holds the last step's pairs
+  GpuVbdContacts contacts_;
+  bool contacts_in_colours_ = false;  // colours_ holds the last step's contacts
 };
 
 // The kernels' sources (gpu_vbd_shaders.cpp).

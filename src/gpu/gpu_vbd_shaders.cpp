@@ -29,14 +29,17 @@ std::string float_literal(float f) {
   return text;
 }
 
-// vbd_pairs' functions (glsl/vbd_pairs.glsl) with the CPU's constants; `terms`: pair_terms too
-// (after the shared link laws).
-std::string pair_functions(bool terms) {
+// vbd_contacts' functions (glsl/vbd_contacts.glsl) with the CPU's constants, after the shared
+// laws they call: the contact laws for `geometry` (stencil distances, the drift guard's hold),
+// the link laws too for `terms` (the pairs' and stencils' forces and blocks).
+std::string contact_functions(bool geometry, bool terms) {
   std::string s = "#define PAIR_WORDS " + std::to_string(kVbdPairWords) + "u\n";
+  s += "#define STENCIL_WORDS " + std::to_string(kVbdStencilWords) + "u\n";
   s += "#define BOUND_FRACTION " + float_literal(float(kBoundFraction)) + "\n";
   s += "#define SLIP " + float_literal(float(kSelfCollisionSlip)) + "\n";
-  if (terms) s += "#define PAIR_TERMS 1\n";
-  s += glsl::vbd_pairs;
+  if (geometry || terms) s += std::string(shared::contact_laws) + "#define CONTACT_GEOMETRY 1\n";
+  if (terms) s += "#define CONTACT_TERMS 1\n";
+  s += glsl::vbd_contacts;
   return s;
 }
 
@@ -45,8 +48,8 @@ std::string pair_functions(bool terms) {
 std::string vbd_begin_shader() {
   std::string s = kernel_head({Buf::x, Buf::v, Buf::mass, Buf::inv_mass, Buf::face_offset,
                                Buf::face_of_point, Buf::face_force, Buf::vbd_xn, Buf::vbd_y,
-                               Buf::vbd_vlast, Buf::vbd_prev1, Buf::vbd_pairs});
-  s += pair_functions(false);
+                               Buf::vbd_vlast, Buf::vbd_prev1, Buf::vbd_contacts});
+  s += contact_functions(true, false);
   s += glsl::vbd_begin;
   return s;
 }
@@ -59,9 +62,9 @@ std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual) {
   std::string s = kernel_head({Buf::x, Buf::v, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
                                Buf::link_params, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order,
                                Buf::vbd_state, Buf::vbd_obstacles, Buf::vbd_ob_member,
-                               Buf::vbd_ob_lag, Buf::vbd_touch, Buf::vbd_pairs});
+                               Buf::vbd_ob_lag, Buf::vbd_touch, Buf::vbd_contacts});
   s += shared::link_laws;
-  s += pair_functions(true);
+  s += contact_functions(true, true);
   s += vbd_obstacle_functions();
   s += link_force_function(kinds);
   s += link_block_function(kinds);
@@ -85,8 +88,8 @@ std::string vbd_decide_shader() {
 // sweep's x into the buffer that the host names prev1 next.
 std::string vbd_accelerate_shader() {
   std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2,
-                               Buf::vbd_state, Buf::vbd_touch, Buf::vbd_pairs});
-  s += pair_functions(false);
+                               Buf::vbd_state, Buf::vbd_touch, Buf::vbd_contacts});
+  s += contact_functions(false, false);
   s += glsl::vbd_accelerate;
   return s;
 }
@@ -113,8 +116,8 @@ std::string vbd_first_touch_shader() {
 
 // Each point's bound at the current x (the CPU's take_bounds over the pairs).
 std::string vbd_bounds_shader() {
-  std::string s = kernel_head({Buf::x, Buf::vbd_pairs});
-  s += pair_functions(false);
+  std::string s = kernel_head({Buf::x, Buf::vbd_contacts});
+  s += contact_functions(true, false);
   s += glsl::vbd_bounds;
   return s;
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "maille/shared_laws.hpp"
+
 namespace maille {
 
 void DriftGuard::take_limits(std::span<TriangleContacts* const> stencils, const Model& m) {
@@ -90,21 +92,10 @@ void DriftGuard::take_common(const Vec3* x) {
   common_ = (lo + hi) * Real(0.5);
 }
 
-// The largest s in [0, 1] with from + s (to - from) in the ball |y - c| <= r: the roots of
-// |from - c + s d|^2 = r^2.
+// The move held in the ball about the prediction (law::ball_hold, shared with the GPU's VBD).
 Vec3 DriftGuard::held_move(std::uint32_t i, const Vec3& from, const Vec3& to) {
-  const Real limit = limit_[i];
   held_[i] = 1;
-  const Vec3 f = from - predicted_[i] - common_, d = to - from;
-  const Real a = norm2(d), b = dot(f, d), c = norm2(f) - limit * limit;
-  if (!(a > 0)) return from;
-  const Real disc = b * b - a * c;
-  const Real nearest = std::clamp(-b / a, Real(0), Real(1));  // the segment's point nearest c
-  if (disc < 0) return from + d * nearest;
-  const Real root = std::sqrt(disc);
-  const Real in = (-b - root) / a, out = (-b + root) / a;  // the segment's line in the ball
-  if (out < 0 || in > 1) return from + d * nearest;
-  return from + d * std::min(out, Real(1));
+  return law::ball_hold(from, to, from - predicted_[i] - common_, limit_[i]);
 }
 
 bool DriftGuard::search_due() const {

@@ -108,8 +108,8 @@ std::span<const StageKey<SimulationSettings>> simulation_keys() {
                     "\"uniform\"`, `[[obstacle]]` with `method = \"geometric\"` (every shape, "
                     "motion, friction), `leapfrog`, `symplectic_euler`, and `implicit_euler` "
                     "with `solver = \"vbd\"` and `coarse = \"off\"` (geometric obstacles, "
-                    "point-point self-collision and `[[contact]]` pairs inside its solve); a "
-                    "stage or scheme it lacks is refused by name). "
+                    "`[self_collision]` with either primitive and `[[contact]]` inside its "
+                    "solve); a stage or scheme it lacks is refused by name). "
                     "`--backend` overrides it; see docs/gpu.md"}),
         integer<&S::backend_options, &BackendOptions::device>(
             "gpu_device", -1, 64,

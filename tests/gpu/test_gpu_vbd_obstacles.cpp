@@ -2,7 +2,7 @@
 // against the CPU's solver (coarse = "off", the same sweeps and acceleration): a cloth falling
 // on a sphere at 1/60 s step by step and over a whole run, the deepest penetration against a
 // bound from k and m g, lagged friction on an incline (sticks for tan theta < mu). The other
-// contacts and the refusals: test_gpu_vbd_pairs.cpp.
+// contacts and the refusals: test_gpu_vbd_contacts.cpp.
 //
 // Tolerances. Away from contacts the two solvers differ by rounding only (test_gpu_vbd.cpp: a
 // step within c eps X S of the CPU's, c = 8 roundings per update, S the sweeps). A contact adds

@@ -140,3 +140,52 @@ MAILLE_SHARED mat3 stencil_contact_block(vec3 d, real k, real z, real s, real in
   vec3 n = d / sqrt(d2);
   return outer3(n, n) * (k + z * inv_h);
 }
+
+// The feature of a triangle {t0, t1, t2} that a closest point at weights w lies on (the
+// once-per-feature rule: a contact on an edge or a corner shared by several of a particle's
+// candidate triangles pushes once, from the lowest of them): kind 2 the face (a = `face`, an
+// index the caller names it by), 1 an edge (its corners a < b), 0 a corner (a). Triangles
+// sharing an edge or a corner give it the same kind and ids.
+MAILLE_SHARED void triangle_feature(vec3 w, uint t0, uint t1, uint t2, uint face,
+                                    MAILLE_OUT(uint) kind, MAILLE_OUT(uint) a,
+                                    MAILLE_OUT(uint) b) {
+  uint used0 = 0u;
+  uint used1 = 0u;
+  uint count = 0u;
+  if (w.x != real(0)) {
+    used0 = t0;
+    count = 1u;
+  }
+  if (w.y != real(0)) {
+    if (count == 0u) used0 = t1; else used1 = t1;
+    count = count + 1u;
+  }
+  if (w.z != real(0)) {
+    if (count == 0u) used0 = t2; else used1 = t2;
+    count = count + 1u;
+  }
+  kind = count == 3u ? 2u : count == 2u ? 1u : 0u;
+  a = count == 3u ? face : count == 2u ? min(used0, used1) : used0;
+  b = count == 2u ? max(used0, used1) : 0u;
+}
+
+// The drift guard's hold (src/integrators/drift_guard.hpp): a move from `from` to `to` kept in
+// the ball |y - centre| <= limit, f = from - centre (as the caller rounds it): the point of the
+// segment farthest along it inside the ball (the largest s in [0, 1] with from + s (to - from)
+// inside: the roots of |f + s d|^2 = limit^2), or the segment's point nearest the centre when
+// the segment misses the ball (its start may lie outside).
+MAILLE_SHARED vec3 ball_hold(vec3 from, vec3 to, vec3 f, real limit) {
+  vec3 d = to - from;
+  real a = dot(d, d);
+  real b = dot(f, d);
+  real c = dot(f, f) - limit * limit;
+  if (!(a > real(0))) return from;
+  real disc = b * b - a * c;
+  real nearest = clamp(-b / a, real(0), real(1));
+  if (disc < real(0)) return from + d * nearest;
+  real root = sqrt(disc);
+  real in_ = (-b - root) / a;
+  real out_ = (-b + root) / a;
+  if (out_ < real(0) || in_ > real(1)) return from + d * nearest;
+  return from + d * min(out_, real(1));
+}

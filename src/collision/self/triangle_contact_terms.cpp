@@ -85,9 +85,9 @@ bool TriangleContactTerms::finish(std::size_t e, const Vec3& d, Real d2, bool ru
   out.friction = 0;
   if (rubbing) {  // the explicit law's (triangle_proximity.cpp), its normal and F_n held
     const Vec3 n = lag_normal_[e];
-    const Vec3 vt = dv - n * dot(dv, n);
-    out.friction = friction_ * lag_force_[e] / std::max(norm(vt), kSelfCollisionSlip);
-    out.force -= vt * out.friction;
+    out.friction =
+        law::lagged_friction_scale(Vec3{}, dv, n, friction_, lag_force_[e], kSelfCollisionSlip);
+    out.force -= law::lagged_friction_force(Vec3{}, dv, n, out.friction);
   }
   return true;
 }

@@ -40,6 +40,13 @@ class TriangleContactTerms final : public TriangleContacts {
   // on: law::edge_edge_acts), filled with them.
   std::vector<std::uint8_t>& edge_particles() { return edge_particles_; }
   std::size_t edge_begin() const { return edge_begin_; }
+  // The law and each candidate's lag and corners, as a device uploads them (the GPU's VBD).
+  Real stiffness() const { return stiffness_; }
+  Real damping() const { return damping_; }
+  Real friction() const { return friction_; }
+  Real lag_force(std::size_t e) const { return e < lag_force_.size() ? lag_force_[e] : Real(0); }
+  Vec3 lag_normal(std::size_t e) const { return e < lag_normal_.size() ? lag_normal_[e] : Vec3{}; }
+  std::uint8_t edge_particle_bits(std::size_t e) const { return edge_particles_[e - edge_begin_]; }
 
   // The candidates acting at (x, v): {point-triangle, edge-edge} (the stage's counters).
   std::array<std::size_t, 2> touching(const Vec3* x, const Vec3* v) const;

@@ -21,13 +21,9 @@ std::array<Real, 3> closest_weights(const Vec3& p, const Vec3& a, const Vec3& b,
 
 Feature feature_of(const std::array<std::uint32_t, 3>& tri, std::uint32_t triangle,
                    const std::array<Real, 3>& w) {
-  std::array<std::uint32_t, 3> used{};
-  std::uint32_t count = 0;
-  for (int e = 0; e < 3; ++e)
-    if (w[std::size_t(e)] != 0) used[count++] = tri[std::size_t(e)];
-  if (count == 3) return {2, triangle, 0};
-  if (count == 2) return {1, std::min(used[0], used[1]), std::max(used[0], used[1])};
-  return {0, used[0], 0};
+  Feature f;
+  law::triangle_feature({w[0], w[1], w[2]}, tri[0], tri[1], tri[2], triangle, f.kind, f.a, f.b);
+  return f;
 }
 
 TriangleProximity::TriangleProximity(const Model& m, const std::vector<std::uint32_t>& set,

@@ -12,8 +12,10 @@ void main() {
   // sweep).
   vec3 dx = (xi - LOAD3(vbd_prev2, i)) * (u_omega - 1.0);
   float half_ = 0.5 * u_thinnest;
-  // Not a point touching an obstacle or in a pair (bounded), as on the CPU.
-  if (u_extrapolate && vbd_touch[i] == 0u && !vp_bounded(i) && dot(dx, dx) <= half_ * half_) {
+  // Not a point touching an obstacle or in a contact (bounded), nor out of its drift ball, as
+  // on the CPU.
+  if (u_extrapolate && vbd_touch[i] == 0u && !vc_bounded(i) && dot(dx, dx) <= half_ * half_ &&
+      vc_inside(i, xi + dx)) {
     xi += dx;
     STORE3(x, i, xi);
     STORE3(v, i, LOAD3(v, i) + dx * (1.0 / u_h));

@@ -32,8 +32,17 @@ void main() {
     }
     guess = xi + vi * u_h + a * (u_h * u_h);
     vec3 vguess = vi + a * u_h;  // (guess - x_n) / h, without the cancellation (below)
-    // A point of a pair: within its bound (taken at x_n by the bounds pass before this one).
-    vec3 move = vi * u_h + a * (u_h * u_h), held = vp_within_bound(i, move);
+    // A point of a contact: within its bound (taken at x_n by the bounds pass before this one),
+    // and, with drift balls, within its ball about its prediction x_n + h v_n (the CPU's guard).
+    if (u_guarded) {
+      uint w = vc_guard(i);
+      vec3 centre = xi + vi * u_h;
+      vbd_contacts[w + 1u] = floatBitsToUint(centre.x);
+      vbd_contacts[w + 2u] = floatBitsToUint(centre.y);
+      vbd_contacts[w + 3u] = floatBitsToUint(centre.z);
+    }
+    vec3 move = vi * u_h + a * (u_h * u_h), held = vc_within_bound(i, move);
+    if (u_guarded) held = vc_hold(i, xi, xi + held) - xi;
     if (held != move) {
       guess = xi + held;
       vguess = held * (1.0 / u_h);

@@ -36,6 +36,7 @@ void main() {
       }
     }
     pair_terms(i, xi, vi, inv_h, g, H);
+    stencil_terms(i, inv_h, g, H);
     bool touching = ob_terms(i, xi, vi, inv_h, g, H);
 #if RESIDUAL
     merit = length(g);
@@ -49,7 +50,8 @@ void main() {
     bool touched = touching;  // the CPU's touching_[i] after the update
     if (!(any(isnan(dx)) || any(isinf(dx)))) {
       merit = dot(g, dx);
-      dx = vp_within_bound(i, dx);  // a point of a pair: within its bound
+      dx = vc_within_bound(i, dx);  // a point of a contact: within its bound
+      if (u_guarded) dx = vc_hold(i, xi, xi + dx) - xi;  // and within its drift ball
       vec3 tx = xi + dx, tv = vi + dx * inv_h, tg;
       vec3 xn = LOAD3(vbd_xn, i);
       // Same contacts, or leaving one cleanly: the whole step. Starting or (far) leaving one:
