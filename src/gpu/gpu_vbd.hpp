@@ -1,7 +1,8 @@
 // Implicit Euler by vertex block descent on the GPU: the CPU solver's formulation
-// (src/integrators/implicit_vbd.hpp) with the model's links, gravity, air drag, wind and
-// geometric obstacles (their contacts inside the solve: gpu_vbd_obstacles.hpp), colour by colour
-// in compute shaders. Per step (GpuBackend::implicit_step):
+// (src/integrators/implicit_vbd.hpp) with the model's links, gravity, air drag, wind, geometric
+// obstacles (their contacts inside the solve: gpu_vbd_obstacles.hpp) and the contact set's pairs
+// and stencils (found on the host, uploaded: gpu_vbd_contacts.hpp), colour by colour in compute
+// shaders. Per step (GpuBackend::implicit_step):
 //   lag         per point, with obstacles that have friction: their normal force and normal at
 //               x_n, v_n (placed at t), held for the solve (placed at t + h)
 //   begin       per point: x_n, y = x_n + h v_n + h^2 f_ext / m (f_ext = m g + the wind's face
@@ -28,7 +29,8 @@
 // Colours: greedy over the free points in index order, each taking the smallest colour none of
 // its coloured neighbours holds (the CPU's rule), over the graph of every link of the model,
 // conditional links included (always, since the device does not search candidates): computed
-// on the host at load. Fixed and driven points are never in a colour, so they stay put.
+// on the host at load, and again each step that has contacts, with their points as neighbours
+// (gpu_vbd_contacts.hpp). Fixed and driven points are never in a colour, so they stay put.
 #pragma once
 
 #include <array>
@@ -64,18 +66,20 @@ inline constexpr std::uint32_t kVbdMaxColours = 64;
 // Free points by colour, the CPU's greedy rule over every link of the model (no pairs).
 VbdColours vbd_colours(const Model& m);
 
-// Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage other
-// than a geometric obstacle (self-collision, the other obstacle methods, group contacts have no
-// implicit terms on the device), more than kVbdMaxObstacles obstacles, a link kind whose shared
-// law has no <law>_block, more colours than kVbdMaxColours, obstacles whose held friction (16
-// bytes per point and obstacle) exceeds `max_block`, the driver's largest storage block (bytes).
+// Why the GPU's VBD cannot run this model with these stages ("" when it can): a stage that is
+// neither a geometric obstacle nor one whose contacts are pairs and stencils (facet and
+// conditional obstacles have no implicit terms on the device), more than kVbdMaxObstacles
+// obstacles, a link kind whose shared law has no <law>_block, more colours than kVbdMaxColours,
+// obstacles whose held friction (16 bytes per point and obstacle) exceeds `max_block`, the
+// driver's largest storage block (bytes).
+std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block);
+
 // Whether a stage's contacts are the GPU's VBD's to upload: pairs and stencils, nothing else.
 inline bool uploaded_contacts(ContactKinds kinds) {
   return kinds != ContactKinds::none &&
          (std::uint8_t(kinds) & ~std::uint8_t(ContactKinds::pairs | ContactKinds::stencils)) == 0;
 }
 
-std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, double max_block);
 
 class GpuVbd {
  public:
