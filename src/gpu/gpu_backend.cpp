@@ -385,7 +385,7 @@ class GpuBackend final : public Backend {
     current();
     bind();
     wind_faces(m, t);  // f_ext at the step's start
-    if (!vbd_) vbd_ = std::make_unique<GpuVbd>();
+    if (!vbd_) vbd_ = std::make_unique<GpuVbd>(max_block_);
     if (vbd_stale_) {
       vbd_->load(m, vbd_memory_, kinds_, cpu_stages_);
       vbd_stale_ = false;

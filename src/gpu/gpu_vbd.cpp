@@ -85,7 +85,7 @@ std::string vbd_refuses(const Model& m, std::span<const Stage* const> stages, do
   return {};
 }
 
-GpuVbd::GpuVbd() {
+GpuVbd::GpuVbd(double max_block) : contacts_(max_block) {
   glCreateBuffers(GLsizei(kVbdBufferCount), buffers_.data());
   kernels_.resize(passes);
   kernels_[begin_pass] = Kernel("gpu vbd begin", vbd_begin_shader());

@@ -80,10 +80,10 @@ inline bool uploaded_contacts(ContactKinds kinds) {
          (std::uint8_t(kinds) & ~std::uint8_t(ContactKinds::pairs | ContactKinds::stencils)) == 0;
 }
 
-
 class GpuVbd {
  public:
-  GpuVbd();  // the context must be current
+  // The context must be current; `max_block`: the driver's largest storage block, bytes.
+  explicit GpuVbd(double max_block);
   ~GpuVbd();
   GpuVbd(const GpuVbd&) = delete;
   GpuVbd& operator=(const GpuVbd&) = delete;

@@ -72,7 +72,7 @@ void VbdGraph::colour(VbdColours& out, std::span<const std::uint32_t> contact_ro
   });
 }
 
-GpuVbdContacts::GpuVbdContacts() {
+GpuVbdContacts::GpuVbdContacts(double max_block) : max_block_(max_block) {
   glCreateBuffers(1, &buffer_);
 }
 
@@ -137,6 +137,14 @@ void GpuVbdContacts::pack(const ContactSet& set) {
   part[5] = part[4] + std::uint32_t(n + 1);
   part[6] = part[5] + std::uint32_t(stencil_entry_.size());
   part[7] = part[6] + std::uint32_t(stencils_.size());
+  const double bytes = 4.0 * (double(part[7]) + double(guard_.size()));
+  if (bytes > max_block_)
+    throw std::runtime_error(
+        "the step's contacts (" + std::to_string(counts_.pairs) + " pairs, " +
+        std::to_string(stencils) + " point-triangle and edge-edge candidates) need a " +
+        std::to_string(bytes / (1 << 20)) + " MiB storage buffer, more than this driver's " +
+        "limit of " + std::to_string(max_block_ / (1 << 20)) +
+        " MiB: run this scene with --backend cpu");
   words_.assign(part[7] + guard_.size(), 0u);
   std::copy(part, part + kVbdContactHeader, words_.begin());
   const std::uint32_t inf = std::bit_cast<std::uint32_t>(std::numeric_limits<float>::infinity());

@@ -62,7 +62,9 @@ class VbdGraph {
 
 class GpuVbdContacts {
  public:
-  GpuVbdContacts();  // the context must be current
+  // The context must be current; `max_block`: the driver's largest storage block, bytes (a
+  // step whose contacts need a larger buffer throws std::runtime_error saying so).
+  explicit GpuVbdContacts(double max_block);
   ~GpuVbdContacts();
   GpuVbdContacts(const GpuVbdContacts&) = delete;
   GpuVbdContacts& operator=(const GpuVbdContacts&) = delete;
@@ -90,6 +92,7 @@ class GpuVbdContacts {
 
   bool forgotten_ = false;
   unsigned buffer_ = 0;
+  double max_block_ = 0;
   std::uint32_t points_ = 0;
   VbdGraph graph_;
   std::vector<std::uint32_t> ends_;                         // per pair: its two points
