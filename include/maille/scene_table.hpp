@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,6 +46,13 @@ class SceneTable {
   virtual Vec3 vec3(std::string_view key, Vec3 fallback) = 0;
   virtual std::vector<std::string> texts(std::string_view key,
                                          std::vector<std::string> fallback) = 0;
+  // An array of as many integers as `fallback` has, each in [min, max] (resolutions).
+  virtual std::vector<std::int64_t> integers(std::string_view key,
+                                             std::vector<std::int64_t> fallback, std::int64_t min,
+                                             std::int64_t max) = 0;
+  // An array of numbers (integers read as numbers); nullopt when the key is absent or is not
+  // such an array: the caller says what it wants ("two numbers, range = [low, high]").
+  virtual std::optional<std::vector<double>> numbers(std::string_view key) = 0;
 
   // A sub-table (inline `key = { ... }` or `[table.key]`), null when absent; it fails on a key
   // of another type. Call finish() on it once read.

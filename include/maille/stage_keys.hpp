@@ -11,9 +11,12 @@
 //     `maille info --keys` prints them;
 //   - the resolved values: visit_keys() calls a function with every declared key and its value
 //     as text (`maille info` shows them; checkpoints' model fingerprints can hash them).
-// Keys whose reading is structural (groups, a mesh file, a placement, a sub-table) are declared
-// too, with `custom`: the stage's parser reads them, the declaration documents them and takes
-// part in the gate.
+// A key whose value is not one of the plain types carries its own reader in its declaration
+// (`parsed`: a mesh file, a MIDI source, a [low, high] pair), so that every key is read the same
+// way. Keys that resolve against the model (point references, groups paired with their sources
+// in the file) or into a value no member holds alone (an obstacle's placement) are declared too,
+// with `custom`: the table's parser reads them, the declaration documents them and takes part in
+// the gate.
 #pragma once
 
 #include <charconv>
@@ -32,7 +35,17 @@
 
 namespace maille {
 
-enum class KeyType : std::uint8_t { number, integer, choice, vector, text, texts, table, custom };
+enum class KeyType : std::uint8_t {
+  number,
+  integer,
+  choice,
+  vector,
+  text,
+  texts,
+  table,
+  number_or_auto,
+  custom
+};
 
 // The documentation half of a declaration (designated initialisers: {.unit = "m", .doc = ...}).
 struct KeyDoc {
@@ -52,7 +65,7 @@ struct StageKey {
   KeyDoc info{};
   Bound bound = Bound::any;  // number keys
   Real lo = 0, hi = 0;       // number and integer keys: the range checked after the bound
-  // Reads the key into the settings (null for custom keys: the stage's parser reads them).
+  // Reads the key into the settings (null for custom keys: the table's parser reads them).
   void (*read)(SceneTable&, S&, const StageKey&) = nullptr;
   // The value in the settings as text (null: a key whose value is not kept as such).
   std::string (*value)(const S&) = nullptr;
@@ -63,6 +76,14 @@ struct StageKey {
   // A check beyond the type, bound and range, run right after the key is read ("must be < 1"):
   // its message names the key like every other.
   void (*check)(SceneTable&, const S&) = nullptr;
+  // Read by the parser itself, with read_key, before the others (read_keys skips it): a key
+  // that decides what the rest means (an obstacle's method), or that the parser checks against
+  // the model before the others are read (groups).
+  bool first = false;
+  // A key that only some settings take (a torus's tube, a MIDI source's channel): when
+  // `applies` says no, the key is not read and its presence is refused with `refusal`.
+  bool (*applies)(const S&) = nullptr;
+  std::string_view refusal{};
 };
 
 // The type-erased view of a declaration, as the docs and `maille info --keys` show it.
@@ -243,11 +264,89 @@ constexpr StageKey<key_detail::owner_t<M>> named_text(std::string_view key, KeyD
   return declared;
 }
 
-// A choice the stage's parser reads itself (it decides what else is read: a method, a shape).
+// An array of strings member (groups); `value` (optional) shows it, else its items joined by ",".
+template <auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> texts(
+    std::string_view key, KeyDoc d, std::string (*value)(const key_detail::owner_t<M>&) = nullptr) {
+  using S = key_detail::owner_t<M>;
+  return {key,
+          KeyType::texts,
+          d,
+          Bound::any,
+          0,
+          0,
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            auto& v = key_detail::at<M, More...>(s);
+            v = t.texts(k.key, v);
+          },
+          value ? value : +[](const S& s) {
+            std::string out;
+            for (const auto& item : key_detail::at<M, More...>(s))
+              out.append(out.empty() ? "" : ",").append(item);
+            return out;
+          }};
+}
+
+// A number member that may also be the text "auto", kept as 0 (the member's automatic value):
+// a number is checked against the bound, then lo <= value <= hi when hi > lo.
+template <auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> number_or_auto(std::string_view key, Bound bound,
+                                                          Real lo, Real hi, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  return {key,
+          KeyType::number_or_auto,
+          d,
+          bound,
+          lo,
+          hi,
+          [](SceneTable& t, S& s, const StageKey<S>& k) {
+            using T = key_detail::type_t<M, More...>;
+            auto& v = key_detail::at<M, More...>(s);
+            if (t.has_text(k.key)) {
+              t.text(k.key, "auto", {"auto"});
+              v = T(0);
+            } else {
+              v = static_cast<T>(t.real(k.key, static_cast<Real>(v), k.bound));
+            }
+            if (k.hi > k.lo) t.check_range(k.key, static_cast<Real>(v), k.lo, k.hi, k.info.unit);
+          },
+          [](const S& s) {
+            const auto v = key_detail::at<M, More...>(s);
+            return v > 0 ? key_detail::number_text(double(v)) : std::string("auto");
+          }};
+}
+
+// A key with a reader of its own (a value that is not one of the types above: a mesh file, a
+// MIDI source, a [low, high] pair); `value` (optional) shows what it resolved to.
+template <class S>
+constexpr StageKey<S> parsed(std::string_view key, KeyType type, KeyDoc d,
+                             void (*read)(SceneTable&, S&, const StageKey<S>&),
+                             std::string (*value)(const S&) = nullptr) {
+  return {key, type, d, Bound::any, 0, 0, read, value};
+}
+
+// The declaration read by the parser before the others (read_key; read_keys skips it): a key
+// that decides what else is read (a method), or one checked against the model first (groups).
+template <class S>
+constexpr StageKey<S> read_first(StageKey<S> k) {
+  k.first = true;
+  return k;
+}
+
+// A choice read first (above).
 template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> parsed_choice(std::string_view key, KeyDoc d) {
-  auto k = choice<M, More...>(key, d);
-  k.read = nullptr;
+  return read_first(choice<M, More...>(key, d));
+}
+
+// The declaration of a key that only some settings take: when `applies(s)` is false (s as read
+// so far), the key is not read and a table that gives it fails with `refusal` ("only a torus
+// has a tube").
+template <class S>
+constexpr StageKey<S> only_if(StageKey<S> k, std::type_identity_t<bool (*)(const S&)> applies,
+                              std::string_view refusal) {
+  k.applies = applies;
+  k.refusal = refusal;
   return k;
 }
 
@@ -266,14 +365,24 @@ constexpr StageKey<S> checked(StageKey<S> k,
   return k;
 }
 
+// Reads one declaration that has a reader: its `applies` gate, the reader, its check.
+template <class S>
+void read_declared(SceneTable& t, S& s, const StageKey<S>& k) {
+  if (k.applies && !k.applies(s)) {
+    if (t.has(k.key)) t.fail(k.key, std::string(k.refusal));
+    return;
+  }
+  k.read(t, s, k);
+  if (k.check) k.check(t, s);
+}
+
 // Reads one declared key (parsers whose reading is structural read key by key, in their order).
 template <class S>
 void read_key(SceneTable& t, S& s, std::span<const StageKey<S>> keys, std::string_view key) {
   for (const auto& k : keys)
     if (k.key == key) {
       if (!k.read) throw std::logic_error("read_key: '" + std::string(key) + "' is custom");
-      k.read(t, s, k);
-      if (k.check) k.check(t, s);
+      read_declared(t, s, k);
       return;
     }
   throw std::logic_error("read_key: '" + std::string(key) + "' is not declared");
@@ -313,16 +422,28 @@ void check_methods(SceneTable& t, std::span<const StageKey<S>> keys, std::string
                         .append(")"));
 }
 
-// Reads every declared key that has a reader (after the gate, when a method is given).
+// Reads every declared key that has a reader, but those read first (after the gate, when a
+// method is given).
 template <class S>
 void read_keys(SceneTable& t, S& s, std::span<const StageKey<S>> keys,
                std::string_view method = {}) {
   if (!method.empty()) check_methods(t, keys, method);
   for (const auto& k : keys)
-    if (k.read) {
-      k.read(t, s, k);
-      if (k.check) k.check(t, s);
-    }
+    if (k.read && !k.first) read_declared(t, s, k);
+}
+
+// A member read as a sub-table (`[simulation.implicit]`, `[fields.wind]`) by its own declared
+// keys, `Keys()`: absent, the member keeps its defaults; present, its keys are read and any
+// other is refused (finish).
+template <auto Keys, auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> subtable(std::string_view key, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  return {key, KeyType::table, d, Bound::any, 0, 0, [](SceneTable& t, S& s, const StageKey<S>& k) {
+            if (auto c = t.child(k.key)) {
+              read_keys(*c, key_detail::at<M, More...>(s), Keys());
+              c->finish();
+            }
+          }};
 }
 
 // Calls f(key, value text) for every declared key whose value the settings hold.
@@ -347,6 +468,8 @@ inline std::string type_text(KeyType t) {
       return "array of strings";
     case KeyType::table:
       return "table";
+    case KeyType::number_or_auto:
+      return "`\"auto\"` or number";
     case KeyType::custom:
       return "";
   }

@@ -18,10 +18,7 @@ template <class P, class F>
 void read_keys_with(TomlCursor& t, P& p, std::span<const StageKey<P>> keys, std::string_view key,
                     F&& at) {
   for (const auto& k : keys) {
-    if (k.read) {
-      k.read(t, p, k);
-      if (k.check) k.check(t, p);
-    }
+    if (k.read && !k.first) read_declared(t, p, k);
     if (k.key == key) at();
   }
 }

@@ -206,6 +206,18 @@ void TomlCursor::finish() const {
     if (!used_.contains(k.str())) fail_at(k.source(), k.str(), "unknown key");
 }
 
+std::optional<std::vector<double>> TomlCursor::numbers(std::string_view key) {
+  const toml::node* n = node(key);
+  const toml::array* a = n ? n->as_array() : nullptr;
+  if (!a) return std::nullopt;
+  std::vector<double> out;
+  for (const auto& e : *a) {
+    if (!e.is_number()) return std::nullopt;
+    out.push_back(*e.value<double>());
+  }
+  return out;
+}
+
 std::vector<std::string> TomlCursor::texts(std::string_view key,
                                            std::vector<std::string> fallback) {
   const toml::node* n = node(key);

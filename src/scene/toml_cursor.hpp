@@ -51,9 +51,9 @@ class TomlCursor final : public SceneTable {
   Vec3 vec3(std::string_view key);  // required
   Vec3 vec3(std::string_view key, Vec3 fallback) override;
   std::vector<std::string> texts(std::string_view key, std::vector<std::string> fallback) override;
-  // An array of `n` integers in [min, max] (resolutions).
+  std::optional<std::vector<double>> numbers(std::string_view key) override;
   std::vector<std::int64_t> integers(std::string_view key, std::vector<std::int64_t> fallback,
-                                     std::int64_t min, std::int64_t max);
+                                     std::int64_t min, std::int64_t max) override;
   // Fails at `key` unless lo <= value <= hi: "must be in [lo, hi] UNIT (got value)".
   void check_range(std::string_view key, Real value, Real lo, Real hi,
                    std::string_view unit) const override;
