@@ -51,14 +51,9 @@ void exclusion_fits(SceneTable& t, const Model& m, const SelfCollisionSettings& 
 // table is checked against them). Validation runs without building the engine.
 StageSpec self_collision_table(SceneTable& t, const Model& m) {
   SelfCollisionSettings s;
-  s.groups = t.texts("groups", {});
+  read_key(t, s, self_collision_keys(), "groups");
   for (const auto& g : s.groups)
     if (!m.group(g)) t.fail("groups", "no group named '" + g + "'");
-  if (t.has_text("cell_size"))
-    t.text("cell_size", "auto", {"auto"});
-  else
-    s.cell_size = t.real("cell_size", 0, Bound::positive);
-  t.check_range("cell_size", s.cell_size, 0, limits::max_coordinate, "m");
   read_keys(t, s, self_collision_keys());
   exclusion_fits(t, m, s);
   if (const StageProblem p = resolve_self_collision(m, s)) t.fail(p.key, p.message);

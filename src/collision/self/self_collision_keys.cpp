@@ -11,15 +11,18 @@ namespace maille {
 std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
   using S = SelfCollisionSettings;
   static const std::array<StageKey<S>, 11> keys{
-      custom<S>("groups", KeyType::texts,
-                {.doc = "which points collide, with themselves and with each other",
-                 .default_doc = "every group",
-                 .range_doc = "existing groups with free points"},
-                [](const S& s) {
-                  std::string out;
-                  for (const auto& g : s.groups) out.append(out.empty() ? "" : ",").append(g);
-                  return out.empty() ? std::string("every group") : out;
-                }),
+      // Read first: the parser checks the groups against the model before the other keys.
+      read_first(
+          texts<&S::groups>("groups",
+                            {.doc = "which points collide, with themselves and with each other",
+                             .default_doc = "every group",
+                             .range_doc = "existing groups with free points"},
+                            [](const S& s) {
+                              std::string out;
+                              for (const auto& g : s.groups)
+                                out.append(out.empty() ? "" : ",").append(g);
+                              return out.empty() ? std::string("every group") : out;
+                            })),
       number<&S::radius>("radius", Bound::non_negative, 0, limits::max_coordinate,
                          {.unit = "m",
                           .doc = "contact distance s",
@@ -36,16 +39,12 @@ std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
           "broad_phase",
           {.doc = "how candidate pairs are found; all give exactly the same pairs (the GPU "
                   "backend runs its own uniform grid and refuses the others)"}),
-      custom<S>("cell_size", KeyType::custom,
-                {.unit = "m",
-                 .doc = "grid cell size; `auto`: measured (below)",
-                 .default_doc = "`\"auto\"`",
-                 .range_doc = "`\"auto\"` or >= radius",
-                 .type_doc = "string or number"},
-                [](const S& s) {
-                  return s.cell_size > 0 ? key_detail::number_text(double(s.cell_size))
-                                         : std::string("auto");
-                }),
+      number_or_auto<&S::cell_size>("cell_size", Bound::positive, 0, limits::max_coordinate,
+                                    {.unit = "m",
+                                     .doc = "grid cell size; `auto`: measured (below)",
+                                     .default_doc = "`\"auto\"`",
+                                     .range_doc = "`\"auto\"` or >= radius",
+                                     .type_doc = "string or number"}),
       choice<&S::exclusion>("exclusion",
                             {.doc = "how topological neighbours are excluded; `matrix` and "
                                     "`signature` exclude the same pairs"}),
