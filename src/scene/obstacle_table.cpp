@@ -1,9 +1,6 @@
 // [[obstacle]] (docs/scene-format.md): one obstacle, a canonical shape or a mesh file, by one of
 // three methods. Keys the chosen method does not use are errors naming the key and the method;
 // the others keep their defaults, so the viewer can switch the method live (StageSpec::vary).
-#include <algorithm>
-#include <cctype>
-#include <filesystem>
 #include <memory>
 
 #include "maille/geometric_point.hpp"
@@ -20,11 +17,12 @@ namespace {
 // motion = { path = "rotate" | "translate" | "oscillate", ... }
 ObstacleMotion motion(SceneTable& t, const Vec3& position) {
   ObstacleMotion mo;
-  mo.kind = t.choice("path", ObstacleMotion::Kind::rotate);
+  mo.kind = ObstacleMotion::Kind::rotate;  // path's default (a motion table moves)
   // Each path reads its keys (motion_keys(), scene_keys.cpp); another path's key is unknown.
   auto read = [&](std::initializer_list<const char*> keys) {
     for (const char* key : keys) read_key(t, mo, motion_keys(), key);
   };
+  read({"path"});
   switch (mo.kind) {
     case ObstacleMotion::Kind::rotate:
       mo.center = position;  // center's default
@@ -40,34 +38,6 @@ ObstacleMotion motion(SceneTable& t, const Vec3& position) {
   }
   t.finish();
   return mo;
-}
-
-void read_shape(SceneTable& t, Obstacle& o) {
-  if (t.has("mesh")) {
-    if (t.has("shape")) t.fail("mesh", "give either shape or mesh, not both");
-    const std::string file = t.text("mesh", "");
-    if (file.find('\0') != std::string::npos) t.fail("mesh", "the path contains a NUL byte");
-    const std::filesystem::path where = std::filesystem::path(t.file()).parent_path() / file;
-    try {
-      o.mesh = std::make_shared<const TriMesh>(read_mesh(where.string()));
-    } catch (const MeshError& e) {
-      t.fail("mesh", e.what());
-    }
-    o.mesh_file = where.string();
-    if (o.method == ObstacleMethod::geometric)
-      t.fail("mesh",
-             "a mesh has no canonical distance function: use method = \"facets\" or "
-             "\"conditional\"");
-  } else {
-    o.shape = t.choice("shape", o.shape);
-  }
-  // The shape's own keys (read with the declared ones, below) on that shape only.
-  if (o.shape != ShapeKind::torus || o.mesh) {
-    if (t.has("tube")) t.fail("tube", "only a torus has a tube");
-  }
-  if (o.shape != ShapeKind::cone || o.mesh) {
-    if (t.has("top")) t.fail("top", "only a cone has a top radius");
-  }
 }
 
 void read_placement(SceneTable& t, Obstacle& o) {
@@ -116,21 +86,19 @@ StageSpec spec_of(const Obstacle& o) {
 
 StageSpec obstacle_table(SceneTable& t, const Model& m) {
   Obstacle o;
-  o.name = t.text("name", "obstacle");
-  const bool safe = !o.name.empty() && std::all_of(o.name.begin(), o.name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-  });
-  if (!safe) t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
+  // The keys are declared in obstacle_keys(); those read first decide what the others mean.
+  const auto keys = obstacle_keys();
+  read_key(t, o, keys, "name");
   for (const StageSpec& other : m.stages)
     if (other.name == obstacle_stage_name(o))
       t.fail("name", "another obstacle is named '" + o.name + "'");
-  o.method = t.choice("method", o.method);
-  read_shape(t, o);
+  read_key(t, o, keys, "method");
+  read_key(t, o, keys, "mesh");
+  read_key(t, o, keys, "shape");
   read_placement(t, o);
-  // The declared keys (obstacle_keys()): a key the method does not use is refused by name.
-  read_keys(t, o, obstacle_keys(), to_string(o.method));
-  o.world_normal = t.choice("normal", ContactNormal::canonical) == ContactNormal::world;
-  o.collides_with = t.texts("collides_with", {});
+  // The others: a key the method does not use is refused by name, a shape's own key (tube,
+  // top) on another shape too.
+  read_keys(t, o, keys, to_string(o.method));
   for (const auto& g : o.collides_with)
     if (!m.group(g)) t.fail("collides_with", "no group named '" + g + "'");
   if (const StageProblem p = check_obstacle(m, o)) t.fail(p.key, p.message);

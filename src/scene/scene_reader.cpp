@@ -136,11 +136,11 @@ class SceneReader {
   DrivePath drive(TomlCursor& t, const Vec3& origin) {
     DrivePath p;
     p.origin = origin;
-    p.kind = t.choice("path", p.kind);
     // Each path reads its keys (drive_keys()) in this order; another path's key is unknown.
     auto read = [&](std::initializer_list<const char*> keys) {
       for (const char* key : keys) read_key(t, p, drive_keys(), key);
     };
+    read({"path"});
     read({"phase"});
     switch (p.kind) {
       case DrivePath::Kind::sine:

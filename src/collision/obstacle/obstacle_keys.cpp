@@ -1,10 +1,15 @@
 // [[obstacle]]'s keys, declared once (stage_keys.hpp), with the methods that use each: a key the
 // chosen method does not use is an error naming the key and the method (the scene reader's
 // gate), and the others keep their defaults so that the viewer can switch the method live.
+#include <algorithm>
 #include <array>
+#include <cctype>
+#include <filesystem>
+#include <memory>
 
 #include "maille/geometric_point.hpp"
 #include "maille/limits.hpp"
+#include "maille/mesh.hpp"
 #include "maille/obstacle.hpp"
 #include "maille/stage_keys.hpp"
 
@@ -37,29 +42,63 @@ std::string motion_text(const Obstacle& o) {
   return out;
 }
 
+// mesh = "FILE": read relative to the scene file, for the methods with facets only.
+void read_mesh_key(SceneTable& t, Obstacle& o, const StageKey<Obstacle>& k) {
+  if (!t.has(k.key)) return;
+  if (t.has("shape")) t.fail(k.key, "give either shape or mesh, not both");
+  const std::string file = t.text(k.key, "");
+  if (file.find('\0') != std::string::npos) t.fail(k.key, "the path contains a NUL byte");
+  const std::filesystem::path where = std::filesystem::path(t.file()).parent_path() / file;
+  try {
+    o.mesh = std::make_shared<const TriMesh>(read_mesh(where.string()));
+  } catch (const MeshError& e) {
+    t.fail(k.key, e.what());
+  }
+  o.mesh_file = where.string();
+  if (o.method == ObstacleMethod::geometric)
+    t.fail(k.key,
+           "a mesh has no canonical distance function: use method = \"facets\" or "
+           "\"conditional\"");
+}
+
 }  // namespace
 
 std::span<const StageKey<Obstacle>> obstacle_keys() {
   using O = Obstacle;
   static const std::array<StageKey<O>, 20> keys{
-      custom<O>("name", KeyType::text,
-                {.doc = "names the stage (`obstacle:NAME`) and its stats columns",
-                 .default_doc = "`\"obstacle\"`",
-                 .range_doc = "letters, digits, `_`, `-`; unique"},
-                [](const O& o) { return o.name; }),
+      // Read first, then its uniqueness among the model's stages (obstacle_table.cpp).
+      read_first(checked(
+          text<&O::name>("name", {.doc = "names the stage (`obstacle:NAME`) and its stats columns",
+                                  .default_doc = "`\"obstacle\"`",
+                                  .range_doc = "letters, digits, `_`, `-`; unique"}),
+          [](SceneTable& t, const O& o) {
+            const bool safe =
+                !o.name.empty() && std::all_of(o.name.begin(), o.name.end(), [](char c) {
+                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+                });
+            if (!safe)
+              t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
+          })),
+      // The method, then the mesh, then the shape are read first: they decide the other keys.
       parsed_choice<&O::method>("method", {.doc = "how the obstacle acts (above)"}),
-      parsed_choice<&O::shape>(
-          "shape", {.doc = "canonical shapes of unit size: sphere radius 1; cube [-1,1]³; "
-                           "cylinder, cone and capsule along y, radius 1, y from -1 to 1; torus "
-                           "about y, major radius 1; plane: the half-space y <= 0 for "
-                           "`geometric`, the square [-1,1]×{0}×[-1,1] (normal +y) otherwise"}),
-      custom<O>("mesh", KeyType::text,
-                {.methods = "facets, conditional",
-                 .doc = "instead of `shape`: a mesh file, relative to the scene file "
-                        "([meshes.md](meshes.md)); errors name the file and line",
-                 .default_doc = "none",
-                 .range_doc = "an OBJ or STL file"},
-                [](const O& o) { return o.mesh ? o.mesh_file : std::string("none"); }),
+      only_if(
+          parsed_choice<&O::shape>(
+              "shape", {.doc = "canonical shapes of unit size: sphere radius 1; cube "
+                               "[-1,1]³; cylinder, cone and capsule along y, radius 1, y "
+                               "from -1 to 1; torus about y, major radius 1; plane: the "
+                               "half-space y <= 0 for `geometric`, the square "
+                               "[-1,1]×{0}×[-1,1] (normal +y) otherwise"}),
+          [](const O& o) { return !o.mesh; }, "give either shape or mesh, not both"),
+      read_first(parsed<O>("mesh", KeyType::text,
+                           {.methods = "facets, conditional",
+                            .doc = "instead of `shape`: a mesh file, relative to the scene file "
+                                   "([meshes.md](meshes.md)); errors name the file and line",
+                            .default_doc = "none",
+                            .range_doc = "an OBJ or STL file"},
+                           read_mesh_key,
+                           [](const O& o) { return o.mesh ? o.mesh_file : std::string("none"); })),
+      // The placement resolves into one map (Obstacle::place, no member per key): the parser
+      // reads the three keys together (obstacle_table.cpp).
       custom<O>("position", KeyType::vector,
                 {.unit = "m", .doc = "translation t", .default_doc = "`[0, 0, 0]`"},
                 [](const O& o) { return key_detail::vector_text(o.place.translation); }),
@@ -72,11 +111,18 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                  .default_doc = "`[1, 1, 1]`",
                  .range_doc = "> 1e-9 each"},
                 direct_map),
-      number<&O::tube>("tube", Bound::positive, 0, 1,
-                       {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
-      number<&O::top>(
-          "top", Bound::non_negative, 0, 1,
-          {.doc = "cone only: top radius / bottom radius (0: pointed)", .range_doc = "[0, 1]"}),
+      only_if(
+          number<&O::tube>(
+              "tube", Bound::positive, 0, 1,
+              {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
+          [](const O& o) { return o.shape == ShapeKind::torus && !o.mesh; },
+          "only a torus has a tube"),
+      only_if(
+          number<&O::top>(
+              "top", Bound::non_negative, 0, 1,
+              {.doc = "cone only: top radius / bottom radius (0: pointed)", .range_doc = "[0, 1]"}),
+          [](const O& o) { return o.shape == ShapeKind::cone && !o.mesh; },
+          "only a cone has a top radius"),
       integer<&O::resolution>(
           "resolution", 8, 512,
           {.doc = "segments around curved shapes when tessellated (facets, conditional, "
@@ -96,17 +142,22 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
            .doc = "μ: Coulomb friction μ F_n against the sliding velocity relative to the "
                   "surface, viscous below 1 mm/s; implicit Euler (vbd) holds F_n and the normal "
                   "from the step's start (lagged friction)"}),
-      custom<O>("normal", KeyType::text,
-                {.methods = "geometric",
-                 .doc = "`canonical`: the canonical mapping (k times the world image of the "
-                        "canonical penetration; under a non-uniform scale it leans off the "
-                        "surface normal); `world`: along the world normal with the world depth",
-                 .default_doc = "`\"canonical\"`",
-                 .range_doc = "`canonical`, `world`"},
-                [](const O& o) {
-                  return std::string(
-                      to_string(o.world_normal ? ContactNormal::world : ContactNormal::canonical));
-                }),
+      // A named choice kept as a flag (Obstacle::world_normal).
+      parsed<O>(
+          "normal", KeyType::text,
+          {.methods = "geometric",
+           .doc = "`canonical`: the canonical mapping (k times the world image of the "
+                  "canonical penetration; under a non-uniform scale it leans off the "
+                  "surface normal); `world`: along the world normal with the world depth",
+           .default_doc = "`\"canonical\"`",
+           .range_doc = "`canonical`, `world`"},
+          [](SceneTable& t, O& o, const StageKey<O>& k) {
+            o.world_normal = t.choice(k.key, ContactNormal::canonical) == ContactNormal::world;
+          },
+          [](const O& o) {
+            return std::string(
+                to_string(o.world_normal ? ContactNormal::world : ContactNormal::canonical));
+          }),
       number<&O::threshold>("threshold", Bound::positive, 0, limits::max_coordinate,
                             {.unit = "m",
                              .methods = "conditional",
@@ -123,16 +174,18 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                           {.unit = "m",
                            .methods = "facets",
                            .doc = "the facet tolerance ε: \"above a facet\" means N·AP > ε"}),
-      custom<O>("collides_with", KeyType::texts,
-                {.doc = "which free points collide with the obstacle",
-                 .default_doc = "every free point",
-                 .range_doc = "groups"},
-                [](const O& o) {
-                  std::string out;
-                  for (const auto& g : o.collides_with)
-                    out.append(out.empty() ? "" : ",").append(g);
-                  return out.empty() ? std::string("every free point") : out;
-                }),
+      texts<&O::collides_with>("collides_with",
+                               {.doc = "which free points collide with the obstacle",
+                                .default_doc = "every free point",
+                                .range_doc = "groups"},
+                               [](const O& o) {
+                                 std::string out;
+                                 for (const auto& g : o.collides_with)
+                                   out.append(out.empty() ? "" : ",").append(g);
+                                 return out.empty() ? std::string("every free point") : out;
+                               }),
+      // A sub-table with keys of its own (motion_keys(), the scene library's), read with the
+      // placement by the parser (its center defaults to the position).
       custom<O>("motion", KeyType::table,
                 {.doc = "a scripted rigid motion, below", .default_doc = "none"}, motion_text),
   };
