@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <string>
 
 #include "scene_digest.hpp"
 
@@ -45,12 +47,12 @@ std::span<const StageKey<audio::AudioSettings>> audio_keys() {
                          .doc = "samples per second; exact sampling when `step` = 1 / (K rate), "
                                 "else resampled"}),
       choice<&A::format>("format", {.doc = "16-bit PCM or 32-bit float samples"}),
-      custom<A>("gain", KeyType::custom,
-                {.doc = "`auto`: 0.99 of full scale at the peak, one gain per quantity; a "
-                        "number: sample = gain × value",
-                 .default_doc = "`\"auto\"`",
-                 .range_doc = "> 0",
-                 .type_doc = "`\"auto\"` or number"}),
+      number_or_auto<&A::gain>("gain", Bound::positive, 0, 1e30,
+                               {.doc = "`auto`: 0.99 of full scale at the peak, one gain per "
+                                       "quantity; a number: sample = gain × value",
+                                .default_doc = "`\"auto\"`",
+                                .range_doc = "> 0",
+                                .type_doc = "`\"auto\"` or number"}),
       choice<&A::resampler>("resampler",
                             {.doc = "when the step does not divide 1 / rate: band-limited "
                                     "windowed sinc, or linear interpolation"}),
@@ -78,16 +80,64 @@ std::span<const StageKey<audio::AudioSettings>> audio_keys() {
   return keys;
 }
 
+namespace {
+
+// midi = "cc:N" | "note" | "pitchbend": the source and, for "cc:N", its controller.
+void read_midi(SceneTable& t, audio::Control& c, const StageKey<audio::Control>& k) {
+  if (!t.has(k.key)) return;
+  const std::string s = t.text(k.key, "");
+  if (s == "note") {
+    c.midi = audio::MidiSource::note;
+  } else if (s == "pitchbend") {
+    c.midi = audio::MidiSource::pitchbend;
+  } else if (s.rfind("cc:", 0) == 0) {
+    std::size_t used = 0;
+    int n = -1;
+    try {
+      n = std::stoi(s.substr(3), &used);
+    } catch (const std::exception&) {
+    }
+    if (n < 0 || n > 127 || used != s.size() - 3)
+      t.fail(k.key, "'" + s + "': a controller number is 0 to 127 (\"cc:74\")");
+    c.midi = audio::MidiSource::cc;
+    c.midi_number = n;
+  } else {
+    t.fail(k.key, "'" + s +
+                      "' is not a MIDI source: \"cc:N\" (N 0 to 127), \"note\" or "
+                      "\"pitchbend\"");
+  }
+}
+
+// range = [low, high]: two different finite numbers (required: a control's `key` is given).
+void read_range(SceneTable& t, audio::Control& c, const StageKey<audio::Control>& k) {
+  const auto r = t.numbers(k.key);
+  if (!r || r->size() != 2)
+    t.fail(k.key, "is required with 'key': two numbers, range = [low, high]");
+  c.low = (*r)[0];
+  c.high = (*r)[1];
+  if (!std::isfinite(c.low) || !std::isfinite(c.high) || c.low == c.high)
+    t.fail(k.key, "must be two different finite numbers");
+}
+
+bool has_key(const audio::Control& c) {
+  return !c.key.empty();
+}
+
+}  // namespace
+
 std::span<const StageKey<audio::Control>> control_keys() {
   using C = audio::Control;
   static const std::array<StageKey<C>, 7> keys{
-      custom<C>("midi", KeyType::text,
+      parsed<C>("midi", KeyType::text,
                 {.doc = "the MIDI source",
                  .default_doc = "none",
-                 .range_doc = "`\"cc:N\"` (N 0 to 127), `\"note\"`, `\"pitchbend\"`"}),
-      integer<&C::midi_channel>(
-          "midi_channel", 1, 16,
-          {.doc = "with `midi`: only messages on this channel", .default_doc = "any"}),
+                 .range_doc = "`\"cc:N\"` (N 0 to 127), `\"note\"`, `\"pitchbend\"`"},
+                read_midi),
+      only_if(
+          integer<&C::midi_channel>(
+              "midi_channel", 1, 16,
+              {.doc = "with `midi`: only messages on this channel", .default_doc = "any"}),
+          [](const C& c) { return c.midi != audio::MidiSource::none; }, "needs 'midi'"),
       checked(text<&C::osc>("osc", {.doc = "messages to this address, first argument a float (or "
                                            "double, or integer) in [0, 1]",
                                     .default_doc = "none",
@@ -117,15 +167,21 @@ std::span<const StageKey<audio::Control>> control_keys() {
                                     "' cannot change while a model plays: a control's key is "
                                     "a parameter of the model (links, fields, masses, drives)");
               }),
-      custom<C>("range", KeyType::custom,
-                {.unit = "the key's",
-                 .doc = "where 0 and 127 (MIDI), 0 and 1 (OSC) land",
-                 .default_doc = "required with `key`",
-                 .range_doc = "two different finite numbers",
-                 .type_doc = "[low, high]"}),
-      number<&C::smooth>(
-          "smooth", Bound::non_negative, 0, 10,
-          {.unit = "s", .doc = "with `key`: the glide from the current value to a new one"}),
+      only_if(parsed<C>("range", KeyType::custom,
+                        {.unit = "the key's",
+                         .doc = "where 0 and 127 (MIDI), 0 and 1 (OSC) land",
+                         .default_doc = "required with `key`",
+                         .range_doc = "two different finite numbers",
+                         .type_doc = "[low, high]"},
+                        read_range),
+              has_key, "maps a value onto 'key': give 'key' too"),
+      only_if(
+          number<&C::smooth>(
+              "smooth", Bound::non_negative, 0, 10,
+              {.unit = "s", .doc = "with `key`: the glide from the current value to a new one"}),
+          has_key, "glides a 'key': give 'key' too"),
+      // A sub-table whose keys are excite_keys(); its `point` names a point of the model, so
+      // control_table.cpp reads it.
       custom<C>("excite", KeyType::table,
                 {.doc = "a strike or a pluck: `excite` below",
                  .default_doc = "none",
@@ -158,7 +214,7 @@ std::span<const StageKey<audio::Excitation>> excite_keys() {
           [](SceneTable& t, const X& x) {
             if (!(norm(x.axis) > Real(1e-12))) t.fail("axis", "must not be zero");
           }),
-      // Read by control_table.cpp (its unit follows `quantity`) within this declared range.
+      // A number whose unit in messages follows `quantity` (read before it).
       StageKey<X>{"amount",
                   KeyType::number,
                   {.unit = "m/s or m",
@@ -167,7 +223,13 @@ std::span<const StageKey<audio::Excitation>> excite_keys() {
                    .default_doc = "required"},
                   Bound::any,
                   -1e3,
-                  1e3},
+                  1e3,
+                  [](SceneTable& t, X& x, const StageKey<X>& k) {
+                    x.amount = t.real(k.key, Bound::any);
+                    if (x.amount == 0) t.fail(k.key, "must not be zero");
+                    t.check_range(k.key, Real(x.amount), k.lo, k.hi,
+                                  x.quantity == audio::Quantity::velocity ? "m/s" : "m");
+                  }},
   };
   return keys;
 }

@@ -80,16 +80,7 @@ audio::AudioSpec read_audio_tables(TomlCursor& top, const Model& m) {
   for (auto& t : top.tables("listen")) spec.listeners.push_back(listener(t, m));
   if (auto t = top.table("audio")) {
     audio::AudioSettings& s = spec.settings;
-    read_key(*t, s, audio_keys(), "rate");  // the keys: audio_keys.cpp
-    read_key(*t, s, audio_keys(), "format");
-    if (t->has("gain") && !t->has_text("gain")) {
-      s.gain = t->real("gain", 1, Bound::positive);
-      t->check_range("gain", s.gain, 0, 1e30, "");
-    } else if (t->text("gain", "auto", {"auto"}) == "auto") {
-      s.gain = 0;
-    }
-    for (const char* key : {"resampler", "osc_port", "osc_host", "midi_port"})
-      read_key(*t, s, audio_keys(), key);
+    read_keys(*t, s, audio_keys());  // the keys: audio_keys.cpp
     if (spec.listeners.empty())
       t->fail("", "an [audio] table needs at least one [[listen]] table (its channels)");
     t->finish();
