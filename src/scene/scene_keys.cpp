@@ -120,9 +120,9 @@ std::span<const StageKey<SimulationSettings>> simulation_keys() {
         number<&S::runaway_factor>("runaway_factor", Bound::positive, 0, 0,
                                    {.doc = "blow-up when kinetic + elastic energy exceeds this "
                                            "times the scene's energy scale"}),
-        custom<S>("implicit", KeyType::table,
-                  {.doc = "implicit Euler's solver: `[simulation.implicit]` below",
-                   .default_doc = "defaults"}),
+        subtable<&implicit_keys, &S::implicit>(
+            "implicit", {.doc = "implicit Euler's solver: `[simulation.implicit]` below",
+                         .default_doc = "defaults"}),
     };
   }();
   return keys;
@@ -135,8 +135,8 @@ std::span<const StageKey<Fields>> fields_keys() {
       number<&Fields::air_drag>(
           "air_drag", Bound::non_negative, 0, limits::max_stiffness,
           {.unit = "1/s", .doc = "γ: force −γ m v on every free point", .range_doc = ">= 0"}),
-      custom<Fields>(
-          "wind", KeyType::table,
+      subtable<&wind_keys, &Fields::wind>(
+          "wind",
           {.doc = "wind on the surface's faces: `[fields.wind]` below", .default_doc = "none"}),
   };
   return keys;

@@ -90,22 +90,14 @@ class SceneReader {
 
   SimulationSettings simulation(TomlCursor& t) {
     SimulationSettings s;
-    read_keys(t, s, simulation_keys());
-    if (auto i = t.table("implicit")) {  // declared in implicit_keys.cpp
-      read_keys(*i, s.implicit, implicit_keys());
-      i->finish();
-    }
+    read_keys(t, s, simulation_keys());  // [simulation.implicit] too (implicit_keys.cpp)
     t.finish();
     return s;
   }
 
   Fields fields(TomlCursor& t) {
     Fields f;
-    read_keys(t, f, fields_keys());
-    if (auto w = t.table("wind")) {
-      read_keys(*w, f.wind, wind_keys());  // declared in src/core/wind_keys.cpp
-      w->finish();
-    }
+    read_keys(t, f, fields_keys());  // [fields.wind] too (src/core/wind_keys.cpp)
     t.finish();
     return f;
   }
