@@ -12,6 +12,7 @@ namespace maille {
 namespace {
 
 constexpr std::int64_t kMaxRes = 1 << 14;  // points along a rope or a membrane's radius
+constexpr std::int64_t kMaxAxis = std::int64_t{limits::max_points};  // points along an axis
 
 template <auto M, auto... More>
 constexpr auto length(std::string_view key, KeyDoc d) {
@@ -51,15 +52,24 @@ constexpr auto pretension(std::string_view doc) {
       });
 }
 
-// A resolution: read by builder_tables.cpp (an array, checked against the memory budget).
-template <class P>
-constexpr StageKey<P> resolution(std::string_view type, std::string_view default_doc) {
-  return custom<P>("resolution", KeyType::custom,
+// A resolution: an array of integers >= 2, one per axis, read into `Axes` in order
+// (builder_tables.cpp then checks the size budget against the model right after it).
+template <auto X, auto... Rest>
+constexpr auto resolution(std::string_view type, std::string_view default_doc) {
+  using P = key_detail::owner_t<X>;
+  return parsed<P>("resolution", KeyType::custom,
                    {.unit = "points",
                     .doc = "points along each axis",
                     .default_doc = default_doc,
                     .range_doc = ">= 2 each",
-                    .type_doc = type});
+                    .type_doc = type},
+                   [](SceneTable& t, P& p, const StageKey<P>& k) {
+                     const auto res = t.integers(
+                         k.key, {std::int64_t(p.*X), std::int64_t(p.*Rest)...}, 2, kMaxAxis);
+                     p.*X = static_cast<std::uint32_t>(res[0]);
+                     std::size_t i = 1;
+                     ((p.*Rest = static_cast<std::uint32_t>(res[i++])), ...);
+                   });
 }
 
 template <class S, std::size_t N, std::size_t K>
@@ -84,7 +94,7 @@ std::span<const StageKey<FlagParams>> flag_keys() {
               vector<&P::up>("up", {.doc = "direction of the height (along the pole)"}),
               length<&P::width>("width", {}),
               length<&P::height>("height", {}),
-              resolution<P>("[nx, ny]", "`[30, 20]`"),
+              resolution<&P::nx, &P::ny>("[nx, ny]", "`[30, 20]`"),
               mass<&P::mass>({.doc = "total, shared equally"}),
           },
           material<P>("structural links", "every link")),
@@ -136,7 +146,7 @@ std::span<const StageKey<NetParams>> net_keys() {
                    vector<&P::across>("across", {.doc = "grid direction of the depth"}),
                    length<&P::width>("width", {}),
                    length<&P::depth>("depth", {}),
-                   resolution<P>("[nx, ny]", "`[15, 15]`"),
+                   resolution<&P::nx, &P::ny>("[nx, ny]", "`[15, 15]`"),
                    mass<&P::mass>({.doc = "total"}),
                },
                material<P>("every link", "every link")),
@@ -181,7 +191,18 @@ std::span<const StageKey<LatticeParams>> lattice_keys() {
                         if (!(p.size.x > 0 && p.size.y > 0 && p.size.z > 0))
                           t.fail("size", "must be > 0 on every axis");
                       }),
-              resolution<P>("[nx, ny, nz]", "`[5, 5, 5]`"),
+              parsed<P>("resolution", KeyType::custom,
+                        {.unit = "points",
+                         .doc = "points along each axis",
+                         .default_doc = "`[5, 5, 5]`",
+                         .range_doc = ">= 2 each",
+                         .type_doc = "[nx, ny, nz]"},
+                        [](SceneTable& t, P& p, const StageKey<P>& k) {
+                          auto& r = p.resolution;
+                          const auto res = t.integers(k.key, {r[0], r[1], r[2]}, 2, kMaxAxis);
+                          for (std::size_t i = 0; i < 3; ++i)
+                            r[i] = static_cast<std::uint32_t>(res[i]);
+                        }),
               choice<&P::shape>("shape", {.doc = "`ball`: the points inside the inscribed sphere"}),
               mass<&P::mass>({.doc = "total"}),
           },
@@ -204,7 +225,7 @@ std::span<const StageKey<FloorParams>> floor_keys() {
       vector<&P::center>("center", {.unit = "m", .doc = "the grid's centre"}),
       length<&P::width>("width", {.doc = "along x"}),
       length<&P::depth>("depth", {.doc = "along z"}),
-      resolution<P>("[nx, nz]", "`[20, 20]`"),
+      resolution<&P::nx, &P::nz>("[nx, nz]", "`[20, 20]`"),
   };
   return keys;
 }

@@ -13,7 +13,7 @@ namespace maille {
 namespace {
 
 // Reads the declared keys in order (builder_keys.cpp) and runs `at` right after the key named
-// `key` (custom keys are read there: resolutions; or the size budget is checked there).
+// `key` (the size budget is checked there, against the model).
 template <class P, class F>
 void read_keys_with(TomlCursor& t, P& p, std::span<const StageKey<P>> keys, std::string_view key,
                     F&& at) {
@@ -41,8 +41,6 @@ void budget(TomlCursor& t, std::string_view key, const Model& m, std::uint64_t p
   if (const std::string why = limits::check_size(total); !why.empty()) t.fail(key, why);
 }
 
-constexpr std::int64_t kMaxAxis = std::int64_t{limits::max_points};
-
 // Builders throw std::invalid_argument for combinations a table check cannot see; report them
 // at the table.
 template <class F>
@@ -57,11 +55,8 @@ Group guarded(TomlCursor& t, F&& build) {
 Group flag(TomlCursor& t, Model& m, const std::string& name) {
   FlagParams p;
   read_keys_with(t, p, flag_keys(), "resolution", [&] {
-    const auto res = t.integers("resolution", {p.nx, p.ny}, 2, kMaxAxis);
-    const std::uint64_t n = times(std::uint64_t(res[0]), std::uint64_t(res[1]));
+    const std::uint64_t n = times(p.nx, p.ny);
     budget(t, "resolution", m, n, times(n, 6), times(n, 2));  // structural, shear, bending
-    p.nx = static_cast<std::uint32_t>(res[0]);
-    p.ny = static_cast<std::uint32_t>(res[1]);
   });
   return guarded(t, [&] { return build_flag(m, p, name); });
 }
@@ -76,11 +71,8 @@ Group rope(TomlCursor& t, Model& m, const std::string& name) {
 Group net(TomlCursor& t, Model& m, const std::string& name) {
   NetParams p;
   read_keys_with(t, p, net_keys(), "resolution", [&] {
-    const auto res = t.integers("resolution", {p.nx, p.ny}, 2, kMaxAxis);
-    const std::uint64_t n = times(std::uint64_t(res[0]), std::uint64_t(res[1]));
+    const std::uint64_t n = times(p.nx, p.ny);
     budget(t, "resolution", m, n, times(n, 2), 0);
-    p.nx = static_cast<std::uint32_t>(res[0]);
-    p.ny = static_cast<std::uint32_t>(res[1]);
   });
   return guarded(t, [&] { return build_net(m, p, name); });
 }
@@ -99,25 +91,18 @@ Group membrane(TomlCursor& t, Model& m, const std::string& name) {
 Group lattice(TomlCursor& t, Model& m, const std::string& name) {
   LatticeParams p;
   read_keys_with(t, p, lattice_keys(), "resolution", [&] {
-    const auto res = t.integers("resolution", {5, 5, 5}, 2, kMaxAxis);
     // 3 structural, 6 face-diagonal and 4 body-diagonal links per point; outer faces.
-    const std::uint64_t n =
-        times(times(std::uint64_t(res[0]), std::uint64_t(res[1])), std::uint64_t(res[2]));
+    const auto& r = p.resolution;
+    const std::uint64_t n = times(times(r[0], r[1]), r[2]);
     budget(t, "resolution", m, n, times(n, 13), times(n, 2));
-    p.resolution = {static_cast<std::uint32_t>(res[0]), static_cast<std::uint32_t>(res[1]),
-                    static_cast<std::uint32_t>(res[2])};
   });
   return guarded(t, [&] { return build_lattice(m, p, name); });
 }
 
 Group floor(TomlCursor& t, Model& m, const std::string& name) {
   FloorParams p;
-  read_keys_with(t, p, floor_keys(), "resolution", [&] {
-    const auto res = t.integers("resolution", {p.nx, p.nz}, 2, kMaxAxis);
-    budget(t, "resolution", m, times(std::uint64_t(res[0]), std::uint64_t(res[1])), 0, 0);
-    p.nx = static_cast<std::uint32_t>(res[0]);
-    p.nz = static_cast<std::uint32_t>(res[1]);
-  });
+  read_keys_with(t, p, floor_keys(), "resolution",
+                 [&] { budget(t, "resolution", m, times(p.nx, p.nz), 0, 0); });
   return guarded(t, [&] { return build_floor(m, p, name); });
 }
 
