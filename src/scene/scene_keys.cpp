@@ -236,20 +236,25 @@ std::span<const StageKey<GeometricPointTable>> geometric_point_keys() {
       text<&G::point, &GeometricPoint::name>(
           "name", {.doc = "unique among geometric points; links refer to it", .required = true}),
       choice<&G::point, &GeometricPoint::shape>("shape", {.doc = "as `[[obstacle]]`"}),
-      checked(number<&G::point, &GeometricPoint::tube>(
-                  "tube", Bound::positive, 0, 0,
-                  {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
-              [](SceneTable& t, const G& g) {
-                if (g.point.tube > 1)
-                  t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
-              }),
-      checked(number<&G::point, &GeometricPoint::top>(
-                  "top", Bound::non_negative, 0, 0,
-                  {.doc = "cone only: top radius / bottom radius", .range_doc = "[0, 1]"}),
-              [](SceneTable& t, const G& g) {
-                if (g.point.top > 1)
-                  t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
-              }),
+      only_if(
+          checked(number<&G::point, &GeometricPoint::tube>(
+                      "tube", Bound::positive, 0, 0,
+                      {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
+                  [](SceneTable& t, const G& g) {
+                    if (g.point.tube > 1)
+                      t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
+                  }),
+          [](const G& g) { return g.point.shape == ShapeKind::torus; }, "only a torus has a tube"),
+      only_if(
+          checked(number<&G::point, &GeometricPoint::top>(
+                      "top", Bound::non_negative, 0, 0,
+                      {.doc = "cone only: top radius / bottom radius", .range_doc = "[0, 1]"}),
+                  [](SceneTable& t, const G& g) {
+                    if (g.point.top > 1)
+                      t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
+                  }),
+          [](const G& g) { return g.point.shape == ShapeKind::cone; },
+          "only a cone has a top radius"),
       vector<&G::position>("position", {.unit = "m", .doc = "translation t"}),
       vector<&G::rotation>("rotation",
                            {.unit = "degrees", .doc = "about x, then y, then z (R = Rz Ry Rx)"}),
