@@ -233,8 +233,9 @@ std::span<const StageKey<LinkTable>> link_keys() {
 std::span<const StageKey<GeometricPointTable>> geometric_point_keys() {
   using G = GeometricPointTable;
   static const std::array<StageKey<G>, 7> keys{
-      text<&G::point, &GeometricPoint::name>(
-          "name", {.doc = "unique among geometric points; links refer to it", .required = true}),
+      // Read first: the reader checks it is unique before the others are read.
+      read_first(text<&G::point, &GeometricPoint::name>(
+          "name", {.doc = "unique among geometric points; links refer to it", .required = true})),
       choice<&G::point, &GeometricPoint::shape>("shape", {.doc = "as `[[obstacle]]`"}),
       only_if(
           checked(number<&G::point, &GeometricPoint::tube>(

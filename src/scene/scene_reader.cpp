@@ -233,9 +233,7 @@ class SceneReader {
     read_key(t, table, geometric_point_keys(), "name");
     for (const auto& other : m.geometric_points)
       if (other.name == g.name) t.fail("name", "another geometric point is named '" + g.name + "'");
-    // tube and top: on a torus and a cone only (their declarations refuse them elsewhere).
-    for (const char* key : {"shape", "tube", "top", "position", "rotation", "scale"})
-      read_key(t, table, geometric_point_keys(), key);
+    read_keys(t, table, geometric_point_keys());  // shape, its tube or top, the placement
     g.place = shapes::Affine::from(table.position, table.rotation, table.scale);
     m.geometric_points.push_back(std::move(g));
     t.finish();
