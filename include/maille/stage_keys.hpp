@@ -54,7 +54,7 @@ struct KeyDoc {
   std::string_view doc{};          // one line
   std::string_view default_doc{};  // when the default is not the member's initial value
   std::string_view range_doc{};    // when the range is not the declared bound and [lo, hi]
-  std::string_view type_doc{};     // custom keys: their type as the docs say it
+  std::string_view type_doc{};     // the type as the docs say it, when not the KeyType's
   bool required = false;           // number keys: no default, the table must give it
 };
 
