@@ -2,8 +2,6 @@
 // docs/sound.md "Controls"). What can be checked from the file is checked here; whether the key
 // may change while the model plays is checked when playing starts (control_keys.cpp), since it
 // needs the scene read again.
-#include <algorithm>
-#include <cmath>
 #include <string>
 
 #include "audio_keys.hpp"
