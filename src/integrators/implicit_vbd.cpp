@@ -171,7 +171,9 @@ void VertexBlockDescent::later_terms(std::span<const std::uint32_t> points, cons
   }
   for (std::size_t t = 0; t < triangle_stages_; ++t) {
     const TriangleRows& r = triangles_[t];
-    r.contacts->add_point_terms(points, r.swept_row.data(), r.swept_entries.data(), x, v, inv_h,
+    const bool live = sweeping_;  // this sweep's rows (take_live)
+    r.contacts->add_point_terms(points, (live ? r.live_row : r.swept_row).data(),
+                                (live ? r.live_entries : r.swept_entries).data(), x, v, inv_h,
                                 g_.data(), hess_.data());
   }
   for (const PointContacts* c : contacts_)
@@ -212,6 +214,7 @@ void VertexBlockDescent::arrange_lanes() {
 Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
   const std::size_t colours = colour_row_.size() - 1;
   if (bounded_) take_bounds(m, x);
+  sweeping_ = bounded_;  // the candidates' live rows were taken with the bounds
   const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
 #pragma omp parallel num_threads(threads_) if (parallel)
   for (std::size_t c = 0; c < colours; ++c) {
@@ -223,6 +226,7 @@ Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
       update_block(std::uint32_t(c), std::uint32_t(lo - begin), std::uint32_t(hi - lo), m, x, v, h);
     }
   }
+  sweeping_ = false;
   Real merit = 0;
   for (const std::uint32_t i : free_) merit += decrement_[i];
   return merit;

@@ -32,8 +32,9 @@ namespace maille {
 // points of the stages' point-point contact pairs (self-collision with primitive = "points") the
 // same way, by their pair distances (VertexBlockDescent::take_bounds).
 inline constexpr Real kBoundFraction = Real(0.4);
+// `gaps` (may be null): each stage's candidates' distances at x, gaps[stage][candidate].
 void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3* x,
-                         std::vector<Real>& bound);
+                         std::vector<Real>& bound, std::vector<std::vector<Real>>* gaps = nullptr);
 // `to`, pulled back toward `from` to lie within `bound` of it.
 inline Vec3 within_bound(const Vec3& from, const Vec3& to, Real bound) {
   const Vec3 d = to - from;
@@ -132,11 +133,15 @@ class VertexBlockDescent {
     std::vector<std::uint32_t> entries;  // candidates' roles, by point
     std::vector<std::uint8_t> kept;      // [candidates] 1: near enough to act (compact())
     std::vector<std::uint32_t> swept_row, swept_entries;  // the kept ones: the sweeps' rows
+    // Of the kept ones, those that may touch in this sweep (take_bounds): this sweep's rows.
+    std::vector<std::uint8_t> live;
+    std::vector<std::uint32_t> live_row, live_entries;
   };
 
   void build_static_rows(const Model& m);
   void triangle_rows(std::span<TriangleContacts* const> contacts);
   void take_bounds(const Model& m, const Vec3* x);
+  void take_live(std::size_t stage);
   void find_candidates(const Model& m, const Vec3* x, Real margin);
   // The sweeps' rows: of the candidates, those that may act while every point stays within its
   // allowance of x_n, the allowances taken from the motion of x (implicit_vbd.cpp).
@@ -189,9 +194,11 @@ class VertexBlockDescent {
   std::vector<std::uint32_t> stamp_;                  // [colours] last point that saw the colour
   std::vector<Vec3> xn_, vn_, y_, fext_, prev1_, prev2_, g_;  // [points]
   std::vector<Mat3> hess_;                                    // [points]
-  std::vector<Real> decrement_;      // [points] g . H^-1 g of the point's last Newton step
-  std::vector<Real> bound_;          // [points] conservative bounds of this step (+inf: none)
-  bool bounded_ = false;             // some point has a bound
+  std::vector<Real> decrement_;          // [points] g . H^-1 g of the point's last Newton step
+  std::vector<Real> bound_;              // [points] conservative bounds of this step (+inf: none)
+  bool bounded_ = false;                 // some point has a bound
+  std::vector<std::vector<Real>> gaps_;  // [stages][candidates] distances at take_bounds
+  bool sweeping_ = false;  // inside sweep(): the stages' live rows (TriangleRows::live_row)
   std::size_t transient_pools_ = 0;  // rows_ after the model pools: this step's stage pools
   // A block's Newton steps before they are taken: position, velocity, and the contacts there
   // (trial_g_, trial_h_ only receive the contact terms; touching flags say who is in contact).

@@ -136,7 +136,8 @@ bool EdgeProximity::linked(std::uint32_t p, std::uint32_t q) const {
 
 bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
                                int threads, std::vector<std::array<std::uint32_t, 2>>& out,
-                               const Real* grow, const std::vector<std::uint32_t>* only) {
+                               const Real* grow, const std::vector<std::uint32_t>* only,
+                               const PairReach* pair_reach) {
   Real longest = 0;
   for (const auto& e : edges_) longest = std::max(longest, norm(x[e[1]] - x[e[0]]));
   // A pair within `reach` has a's midpoint within reach + |a| / 2 of b: in b's grown cells.
@@ -164,10 +165,10 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
     const auto& ea = edges_[a];
     const Box& ba = boxes_[a];
     // Pair (a, b) past the boxes' test: the closest points within the reach.
-    auto consider = [&](std::uint32_t b) {
+    auto consider = [&](std::uint32_t b, Real r) {
       if (!moves(ea, edges_[b]) || excluded(a, b, exclusion)) return true;
       const Closest cl = closest(ea, edges_[b], x);
-      if (!(dot(cl.d, cl.d) < reach * reach)) return true;
+      if (!(dot(cl.d, cl.d) < r * r)) return true;
       if (list.size() >= cap) {
         thread_full_[std::size_t(thread_id())] = 1;
         return false;
@@ -184,7 +185,12 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
       if (ba.lo.x > bb.hi.x + g || bb.lo.x > ba.hi.x + g || ba.lo.y > bb.hi.y + g ||
           bb.lo.y > ba.hi.y + g || ba.lo.z > bb.hi.z + g || bb.lo.z > ba.hi.z + g)
         continue;
-      if (!consider(b)) break;
+      // The pair's own reach (pair_reach): the boxes again before the closest points.
+      const Real r = pair_reach ? std::min(reach, pair_reach->of(ea, edges_[b])) : reach;
+      if (pair_reach && (ba.lo.x > bb.hi.x + r || bb.lo.x > ba.hi.x + r || ba.lo.y > bb.hi.y + r ||
+                         bb.lo.y > ba.hi.y + r || ba.lo.z > bb.hi.z + r || bb.lo.z > ba.hi.z + r))
+        continue;
+      if (!consider(b, r)) break;
     }
   }
   for (const std::uint8_t t : thread_full_) full_ = full_ || t != 0;
@@ -198,6 +204,14 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
   if (!std::is_sorted(out.begin(), out.end())) std::sort(out.begin(), out.end());  // threads
   if (only) out.erase(std::unique(out.begin(), out.end()), out.end());
   return true;
+}
+
+Real EdgeProximity::PairReach::of(const std::array<std::uint32_t, 2>& a,
+                                  const std::array<std::uint32_t, 2>& b) const {
+  Real closing2 = 0;
+  for (const std::uint32_t p : a)
+    for (const std::uint32_t q : b) closing2 = std::max(closing2, norm2(v[p] - v[q]));
+  return radius + pair_margin(radius, h, closing2, max_margin);
 }
 
 bool EdgeProximity::pairs_hold(const Vec3* x, Real radius, Real reach,
@@ -304,16 +318,14 @@ void EdgeProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Real h
   // No pair reaches farther than its two shares: the grid's cells are sized for this step's
   // motion, not for the wide margin (kept for rebuilds, up to eight times a resting cloth's);
   // the same pairs (a thousandth more for the rounding) with fewer edges per cell.
+  // Each pair within its own reach: the radius and its margin, from the largest speed of a
+  // corner of one edge relative to a corner of the other (PairReach).
   const Real reach = std::min(radius + max_margin, Real(1.001) * 2 * widest);
-  if (!find_pairs(x, reach, exclusion, threads, wide_pairs_, grow_.data())) return;
+  const PairReach pair_reach{v, radius, h, max_margin};
+  if (!find_pairs(x, reach, exclusion, threads, wide_pairs_, grow_.data(), nullptr, &pair_reach))
+    return;
   for (const auto& pair : wide_pairs_) {
     const auto &ea = edges_[pair[0]], &eb = edges_[pair[1]];
-    Real closing2 = 0;  // the largest speed of a corner of a relative to a corner of b, squared
-    for (const std::uint32_t p : ea)
-      for (const std::uint32_t q : eb) closing2 = std::max(closing2, norm2(v[p] - v[q]));
-    const Real margin = pair_margin(radius, h, closing2, max_margin);
-    const Vec3 d = closest(ea, eb, x).d;
-    if (!(dot(d, d) < (radius + margin) * (radius + margin))) continue;
     out.push_back({ea[0], ea[1], eb[0], eb[1]});
     particles.push_back(kPointCorners);
   }

@@ -79,14 +79,23 @@ class EdgeProximity {
     Vec3 force;          // on edge a's closest point
     Real s, t, gap;      // the closest points' parameters; radius - distance
   };
+  // A pair's own reach in candidates(): the radius plus its margin (pair_margin) from its
+  // corners' velocities.
+  struct PairReach {
+    const Vec3* v;
+    Real radius, h, max_margin;
+    Real of(const std::array<std::uint32_t, 2>& a, const std::array<std::uint32_t, 2>& b) const;
+  };
   // Every pair (a < b) closer than `reach` into `out` (sorted); false when over the budget.
   // `grow` (may be null): per edge, a share of the reach such that a pair farther than the sum
   // of its edges' shares is not wanted (boxes farther apart are skipped before any distance).
   // `only` (may be null): only the pairs with one of those edges (they alone are binned, and
-  // every edge looks for them).
+  // every edge looks for them). `pair_reach` (may be null): a pair closer than the smaller of
+  // `reach` and its own reach.
   bool find_pairs(const Vec3* x, Real reach, const TopologicalExclusion* exclusion, int threads,
                   std::vector<std::array<std::uint32_t, 2>>& out, const Real* grow = nullptr,
-                  const std::vector<std::uint32_t>* only = nullptr);
+                  const std::vector<std::uint32_t>* only = nullptr,
+                  const PairReach* pair_reach = nullptr);
   void bin(const Vec3* x, Real grow, const std::vector<std::uint32_t>* only = nullptr);
   std::size_t cell_of(const Vec3& p) const;
   bool moves(const std::array<std::uint32_t, 2>& a, const std::array<std::uint32_t, 2>& b) const;

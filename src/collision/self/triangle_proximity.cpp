@@ -260,9 +260,9 @@ void TriangleProximity::take_shares(const Vec3* v, Real radius, Real h, Real max
 // The particle visits the cells its box (grown by its share) overlaps, a triangle lies in those
 // its box grown by its share overlaps, and a pair is taken in one cell only: the one holding
 // the low corner of the two grown boxes' overlap.
-template <class F>
+template <class R, class F>
 void TriangleProximity::near_grown(std::int64_t k, const Vec3* x,
-                                   const TopologicalExclusion* exclusion, F&& fn) const {
+                                   const TopologicalExclusion* exclusion, R&& reach, F&& fn) const {
   const std::uint32_t p = set_[std::size_t(k)];
   const Vec3 xp = x[p];
   const Real a = particle_share_[std::size_t(k)];
@@ -279,14 +279,21 @@ void TriangleProximity::near_grown(std::int64_t k, const Vec3* x,
           if (phi.x < lo.x || plo.x > hi.x || phi.y < lo.y || plo.y > hi.y || phi.z < lo.z ||
               plo.z > hi.z)
             continue;
-          const Vec3 corner{std::max(plo.x, lo.x), std::max(plo.y, lo.y), std::max(plo.z, lo.z)};
-          if (cell_at(corner) != std::array<std::int64_t, 3>{cx, cy, cz}) continue;
           const auto& tri = tris_[t];
           if (tri[0] == p || tri[1] == p || tri[2] == p) continue;
+          // The pair's own reach, at most the two shares: the particle's distance to the
+          // triangle's box, a lower bound of its distance to the triangle, rejects most pairs
+          // before the cell test and the closest point.
+          const Real r = std::min(g + a, reach(t));
+          const auto& b = boxes_[t];
+          if (xp.x < b[0].x - r || xp.x > b[1].x + r || xp.y < b[0].y - r || xp.y > b[1].y + r ||
+              xp.z < b[0].z - r || xp.z > b[1].z + r)
+            continue;
+          const Vec3 corner{std::max(plo.x, lo.x), std::max(plo.y, lo.y), std::max(plo.z, lo.z)};
+          if (cell_at(corner) != std::array<std::int64_t, 3>{cx, cy, cz}) continue;
           const std::array<Real, 3> w = closest_weights(xp, x[tri[0]], x[tri[1]], x[tri[2]]);
           const Vec3 d = xp - (x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2]);
           const Real d2 = dot(d, d);
-          const Real r = g + a;
           if (!(d2 < r * r) || d2 == 0) continue;
           if (!excluded(k, tri, exclusion)) fn(t, d2);
         }
@@ -320,12 +327,15 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
   for (std::int64_t k = 0; k < n; ++k) {
     auto& list = per_thread_candidates_[std::size_t(thread_id())];
     const std::uint32_t p = set_[std::size_t(k)];
-    near_grown(k, x, exclusion, [&](std::uint32_t t, Real d2) {
+    // The pair's reach: the radius and its margin, from the largest speed of the particle
+    // relative to a corner.
+    auto reach = [&](std::uint32_t t) {
+      Real closing2 = 0;
+      for (const std::uint32_t c : tris_[t]) closing2 = std::max(closing2, norm2(v[p] - v[c]));
+      return radius + pair_margin(radius, h, closing2, max_margin);
+    };
+    near_grown(k, x, exclusion, reach, [&](std::uint32_t t, Real) {
       const auto& tri = tris_[t];
-      Real closing2 = 0;  // the largest speed of the particle relative to a corner, squared
-      for (const std::uint32_t c : tri) closing2 = std::max(closing2, norm2(v[p] - v[c]));
-      const Real margin = pair_margin(radius, h, closing2, max_margin);
-      if (d2 >= (radius + margin) * (radius + margin)) return;
       if (list.size() >= cap) {  // refused below, as apply's contacts are
         thread_full_[std::size_t(thread_id())] = 1;
         return;

@@ -110,8 +110,9 @@ class TriangleProximity {
            const Real* grow_each = nullptr);
   // candidates(): each triangle's and each particle's share of a pair's reach.
   void take_shares(const Vec3* v, Real radius, Real h, Real max_margin);
-  template <class F>
-  void near_grown(std::int64_t k, const Vec3* x, const TopologicalExclusion* exclusion,
+  // reach(t): the pair's own reach (at most the two shares).
+  template <class R, class F>
+  void near_grown(std::int64_t k, const Vec3* x, const TopologicalExclusion* exclusion, R&& reach,
                   F&& fn) const;
   std::array<std::int64_t, 3> cell_at(const Vec3& p) const;  // floor, clamped to the grid
   // Whether near_ (found at anchor_ within `reach`) still holds every pair within `radius`.
