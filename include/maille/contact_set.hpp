@@ -112,6 +112,10 @@ class TriangleContacts {
   virtual void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
                                const std::uint32_t* entries, const Vec3* x, const Vec3* v,
                                Real inv_h, Vec3* f, Mat3* hessian) const = 0;
+  // Where a sweep started: the points there and each candidate's distance() there (null: no
+  // start). add_point_terms may then skip a candidate whose distance cannot have come down to
+  // the radius since (each side's points moved less than the margin): the same terms, less work.
+  virtual void set_sweep_start(const Vec3* /*x*/, const Real* /*distances*/) {}
   // Linear solvers: keeps the normals of the contacts active at (x, v) ...
   virtual void linearise(const Vec3* x, const Vec3* v) = 0;
   // ... and adds (a k + b z) sum c c^T n n^T u over them into out (one thread) ...

@@ -215,6 +215,11 @@ Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
   const std::size_t colours = colour_row_.size() - 1;
   if (bounded_) take_bounds(m, x);
   sweeping_ = bounded_;  // the candidates' live rows were taken with the bounds
+  if (bounded_) {        // the sweep's start, for the stages to skip candidates still far
+    sweep_start_.assign(x, x + points_);
+    for (std::size_t t = 0; t < triangle_stages_; ++t)
+      triangles_[t].contacts->set_sweep_start(sweep_start_.data(), gaps_[t].data());
+  }
   const bool parallel = threads_ > 1 && free_.size() >= kParallelPoints;
 #pragma omp parallel num_threads(threads_) if (parallel)
   for (std::size_t c = 0; c < colours; ++c) {
@@ -227,6 +232,8 @@ Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
     }
   }
   sweeping_ = false;
+  for (std::size_t t = 0; t < triangle_stages_ && bounded_; ++t)
+    triangles_[t].contacts->set_sweep_start(nullptr, nullptr);
   Real merit = 0;
   for (const std::uint32_t i : free_) merit += decrement_[i];
   return merit;

@@ -198,6 +198,7 @@ class VertexBlockDescent {
   std::vector<Real> bound_;              // [points] conservative bounds of this step (+inf: none)
   bool bounded_ = false;                 // some point has a bound
   std::vector<std::vector<Real>> gaps_;  // [stages][candidates] distances at take_bounds
+  std::vector<Vec3> sweep_start_;        // [points] x at the sweep's take_bounds
   bool sweeping_ = false;  // inside sweep(): the stages' live rows (TriangleRows::live_row)
   std::size_t transient_pools_ = 0;  // rows_ after the model pools: this step's stage pools
   // A block's Newton steps before they are taken: position, velocity, and the contacts there

@@ -236,3 +236,47 @@ TEST(TriangleProximity, KeptListGivesTheFreshSearchesForces) {
   // Contacts every step: with no exclusion, the sheet's points touch their neighbours' faces too.
   EXPECT_GT(touched, 100u);
 }
+
+// A sweep's start lets the terms skip the candidates still farther than the radius (their
+// points moved less than the distance's excess since): the forces and blocks are the same bits
+// as without it, whether the particles stayed, came closer by a little (still apart) or came
+// into contact (a candidate skipped wrongly would lose its force).
+TEST(TriangleContactTerms, ASweepStartSkipsOnlyCandidatesThatCannotTouch) {
+  Contacts t;
+  const Real inv_h = 60;
+  const std::size_t n = t.s.m.points.size();
+  std::vector<Real> start_distance;
+  for (std::size_t e = 0; e < t.terms.candidates().size(); ++e)
+    start_distance.push_back(t.terms.distance(e, t.s.x.data()));
+  std::vector<std::uint32_t> row, entries;
+  t.rows(row, entries);
+  const std::vector<std::uint32_t> points = Contacts::all(t.s.m);
+  // The three particles lifted to 2.5 radii above the sheet, then lowered by 0, 1 and 2 radii.
+  std::vector<Vec3> start = t.s.x;
+  for (std::uint32_t p : {9u, 10u, 11u}) start[p].y = Real(2.5) * kRadius;
+  for (std::size_t e = 0; e < start_distance.size(); ++e)
+    start_distance[e] = t.terms.distance(e, start.data());
+  int touching_somewhere = 0;
+  for (const Real drop : {Real(0), kRadius, 2 * kRadius}) {
+    std::vector<Vec3> x = start;
+    for (std::uint32_t p : {9u, 10u, 11u}) x[p].y -= drop;
+    std::vector<Vec3> f0(n), f1(n);
+    std::vector<Mat3> h0(n), h1(n);
+    t.terms.add_point_terms(points, row.data(), entries.data(), x.data(), t.s.v.data(), inv_h,
+                            f0.data(), h0.data());
+    t.terms.set_sweep_start(start.data(), start_distance.data());
+    t.terms.add_point_terms(points, row.data(), entries.data(), x.data(), t.s.v.data(), inv_h,
+                            f1.data(), h1.data());
+    t.terms.set_sweep_start(nullptr, nullptr);
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(f0[i].x, f1[i].x) << "drop " << drop << " point " << i;
+      EXPECT_EQ(f0[i].y, f1[i].y) << "drop " << drop << " point " << i;
+      EXPECT_EQ(f0[i].z, f1[i].z) << "drop " << drop << " point " << i;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(h0[i].m[r][c], h1[i].m[r][c]);
+    }
+    const bool touching = norm(f0[9]) > 0;
+    touching_somewhere += touching ? 1 : 0;
+  }
+  EXPECT_EQ(touching_somewhere, 1);  // only the last drop (to half a radius) touches
+}

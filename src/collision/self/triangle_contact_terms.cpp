@@ -139,7 +139,7 @@ void TriangleContactTerms::add_point_terms(std::span<const std::uint32_t> points
   for (const std::uint32_t i : points)
     for (std::uint32_t r = row[i]; r < row[i + 1]; ++r) {
       const std::uint32_t e = entries[r] / 4, role = entries[r] % 4;
-      if (!evaluate(e, x, v, ev)) continue;
+      if (far_since_start(e, x) || !evaluate(e, x, v, ev)) continue;
       const Real c = ev.c[role];
       f[i] += ev.force * c;
       if (ev.touching) hessian[i] += Mat3::outer(ev.n, ev.n) * (k * c * c);
@@ -148,6 +148,19 @@ void TriangleContactTerms::add_point_terms(std::span<const std::uint32_t> points
         hessian[i] += (Mat3::identity() - Mat3::outer(n, n)) * (ev.friction * inv_h * c * c);
       }
     }
+}
+
+// Whether candidate e is still farther than the radius, known from the sweep's start alone: a
+// feature's distance falls by at most the largest move of a point of each side, so by at most
+// twice the largest move of its four points since the start (a relative 1e-9 for the rounding).
+// Such a candidate gives no force (evaluate() would find it not touching) unless it holds a
+// lagged friction.
+bool TriangleContactTerms::far_since_start(std::size_t e, const Vec3* x) const {
+  if (!start_x_ || held(e)) return false;
+  const auto& c = candidates_[e];
+  Real moved2 = 0;
+  for (const std::uint32_t p : c) moved2 = std::max(moved2, norm2(x[p] - start_x_[p]));
+  return start_distance_[e] - 2 * std::sqrt(moved2) >= radius_ * (1 + Real(1e-9));
 }
 
 void TriangleContactTerms::linearise(const Vec3* x, const Vec3* v) {

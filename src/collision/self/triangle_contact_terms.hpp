@@ -61,6 +61,10 @@ class TriangleContactTerms final : public TriangleContacts {
   void add_point_terms(std::span<const std::uint32_t> points, const std::uint32_t* row,
                        const std::uint32_t* entries, const Vec3* x, const Vec3* v, Real inv_h,
                        Vec3* f, Mat3* hessian) const override;
+  void set_sweep_start(const Vec3* x, const Real* distances) override {
+    start_x_ = x;
+    start_distance_ = distances;
+  }
   void linearise(const Vec3* x, const Vec3* v) override;
   void apply(Real a, Real b, const Vec3* u, Vec3* out) const override;
   void add_diagonal(Real a, Real b, Mat3* diagonal) const override;
@@ -103,6 +107,9 @@ class TriangleContactTerms final : public TriangleContacts {
   };
   Mat3 block(const Active& ac, Real s, Real b) const;
   std::vector<Active> active_;  // linearise's contacts
+  bool far_since_start(std::size_t e, const Vec3* x) const;
+  const Vec3* start_x_ = nullptr;  // set_sweep_start
+  const Real* start_distance_ = nullptr;
 };
 
 }  // namespace maille::collision
