@@ -88,6 +88,10 @@ struct StencilCoupling {
 // corner j takes -w_j F. Roles: 0 the particle (coefficient c = 1), 1 to 3 the corners
 // (c = -w_j). A contact on an edge or a corner shared by several of the particle's candidates
 // counts once (the lowest triangle), as in the explicit force. Friction stays explicit.
+// A stencil pair's floor, as a fraction of its radius: the conservative bounds keep a pair found
+// farther apart than the floor from coming nearer (law::stencil_bound).
+inline constexpr Real kStencilFloor = Real(0.001);
+
 class TriangleContacts {
  public:
   virtual ~TriangleContacts() = default;

@@ -36,6 +36,7 @@ std::string contact_functions(bool geometry, bool terms) {
   std::string s = "#define PAIR_WORDS " + std::to_string(kVbdPairWords) + "u\n";
   s += "#define STENCIL_WORDS " + std::to_string(kVbdStencilWords) + "u\n";
   s += "#define BOUND_FRACTION " + float_literal(float(kBoundFraction)) + "\n";
+  s += "#define STENCIL_FLOOR " + float_literal(float(kStencilFloor)) + "\n";
   s += "#define SLIP " + float_literal(float(kSelfCollisionSlip)) + "\n";
   if (geometry || terms) s += std::string(shared::contact_laws) + "#define CONTACT_GEOMETRY 1\n";
   if (terms) s += "#define CONTACT_TERMS 1\n";

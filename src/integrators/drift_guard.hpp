@@ -43,9 +43,10 @@ class DriftGuard {
   // The displacement common to the stages' points, from where they are (x) against their
   // predictions: the centre of the box of their differences, the fixed and driven points'
   // included with none (a fixed point does not move; a driven one takes its drive's move after
-  // the solve, before the next search, as its velocity predicts), so that the centre keeps
-  // them in their balls. Taken once per search, before the solver's moves from it on (a ball
-  // must not move while points move within it).
+  // the solve, before the next search, as its velocity predicts), drawn back to within the
+  // anchors' limit of zero when they are some (an anchor does not move with it). Taken once
+  // per search, before the solver's moves from it on (a ball must not move while points move
+  // within it).
   void take_common(const Vec3* x);
 
   // A move of point i from `from` to `to`, held within its ball: `to` when inside, else the
@@ -90,6 +91,7 @@ class DriftGuard {
   std::vector<std::uint8_t> held_;
   std::vector<std::uint32_t> guarded_;  // the free points of a limited stage
   std::vector<std::uint32_t> anchors_;  // its fixed and driven points (they share the centre)
+  Real anchor_limit_ = kUnguarded;      // the smallest limit of the stages with anchors
   std::vector<std::uint32_t> moved_;    // moved()
 };
 

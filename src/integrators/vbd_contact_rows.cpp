@@ -11,6 +11,7 @@
 #include "maille/colouring.hpp"
 #include "maille/detail/csr.hpp"
 #include "maille/link_set.hpp"
+#include "maille/shared_laws.hpp"
 
 namespace maille {
 
@@ -86,7 +87,7 @@ void conservative_bounds(std::span<TriangleContacts* const> contacts, const Vec3
     for (std::size_t e = 0; e < cand.size(); ++e) {
       const Real d = t->distance(e, x);
       if (gaps) (*gaps)[k][e] = d;
-      const Real b = kBoundFraction * d;
+      const Real b = law::stencil_bound(kBoundFraction, d, t->radius(), kStencilFloor);
       for (const std::uint32_t p : cand[e]) bound[p] = std::min(bound[p], b);
     }
   }

@@ -132,6 +132,18 @@ MAILLE_SHARED vec3 stencil_contact_force(vec3 d, vec3 dv, real k, real z, real s
   return n * (k * (s - dist) - z * dot(dv, n));
 }
 
+// A point's conservative bound from one of its stencils at distance d (the implicit solvers'
+// bounds per update, the explicit schemes' clamp per step): `share` of the distance beyond the
+// stencil's floor, `floor_fraction` of its radius s. An update moves each point of the stencil at
+// most that far, so it closes the pair by at most 2 share (d - floor) < d - floor: a pair found
+// beyond the floor stays beyond it however many updates press it, and one at the floor holds
+// its points. Without the floor, a penalty pressed past its strength k s lets the distance fall
+// geometrically, update after update, to the rounding of the positions (1e-11 m on the coarse
+// wrung strip), where a crossing is decided by rounding (docs/implicit.md).
+MAILLE_SHARED real stencil_bound(real share, real d, real s, real floor_fraction) {
+  return share * max(d - floor_fraction * s, real(0));
+}
+
 // Its block per unit c_j^2: (k + z / h) n n^T while touching (the Gauss-Newton Hessian of the
 // penalty with the damper through v = (x - x_n) / h), else 0.
 MAILLE_SHARED mat3 stencil_contact_block(vec3 d, real k, real z, real s, real inv_h) {

@@ -224,12 +224,12 @@ bool EdgeProximity::pairs_hold(const Vec3* x, Real radius, Real reach,
   return 2 * std::sqrt(moved2) <= reach - radius;
 }
 
-bool EdgeProximity::bound_motion(const Vec3* x, Real share, Real* bound) const {
+bool EdgeProximity::bound_motion(const Vec3* x, Real share, Real radius, Real* bound) const {
   if (edges_.size() < 2) return true;
   if (pairs_reach_ < 0) return false;
   for (const auto& [a, b] : pairs_) {
     const auto &ea = edges_[a], &eb = edges_[b];
-    const Real d = share * norm(closest(ea, eb, x).d);
+    const Real d = law::stencil_bound(share, norm(closest(ea, eb, x).d), radius, kStencilFloor);
     for (const std::uint32_t c : {ea[0], ea[1], eb[0], eb[1]}) bound[c] = std::min(bound[c], d);
   }
   return true;

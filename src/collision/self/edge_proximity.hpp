@@ -57,9 +57,9 @@ class EdgeProximity {
   // The potential 1/2 k (radius - d)^2 of the contacts the last apply() pushed.
   double energy(Real stiffness) const;
   // After apply() at x: for every pair of its Verlet list, `share` times the segments' distance
-  // bounds the four corners' moves (bound: by global id, lowered only); as
+  // beyond the pair's floor bounds the four corners' moves (bound: by global id, lowered only); as
   // TriangleProximity::bound_motion. False when the last pass had no list.
-  bool bound_motion(const Vec3* x, Real share, Real* bound) const;
+  bool bound_motion(const Vec3* x, Real share, Real radius, Real* bound) const;
   std::size_t edges() const { return edges_.size(); }
   bool full() const { return full_; }
   std::size_t max_contacts() const { return max_contacts_; }

@@ -298,8 +298,8 @@ class SelfCollision {
   bool motion_bounds(const Vec3* x, Real share, std::vector<Real>& bound) const {
     if (!triangles_) return false;
     for (const std::uint32_t p : set_) bound[p] = share * s_.radius;
-    const bool faces = triangles_->bound_motion(x, share, bound.data());
-    const bool edges = edges_->bound_motion(x, share, bound.data());
+    const bool faces = triangles_->bound_motion(x, share, s_.radius, bound.data());
+    const bool edges = edges_->bound_motion(x, share, s_.radius, bound.data());
     return faces && edges;
   }
 

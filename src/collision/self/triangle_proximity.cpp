@@ -474,13 +474,14 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   return all_.size();
 }
 
-bool TriangleProximity::bound_motion(const Vec3* x, Real share, Real* bound) const {
+bool TriangleProximity::bound_motion(const Vec3* x, Real share, Real radius, Real* bound) const {
   if (near_off_ || near_reach_ < 0) return tris_.empty();
   for (const auto& [k, t] : near_) {
     const std::uint32_t p = set_[k];
     const auto& tri = tris_[t];
     const std::array<Real, 3> w = closest_weights(x[p], x[tri[0]], x[tri[1]], x[tri[2]]);
-    const Real b = share * norm(x[p] - (x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2]));
+    const Real d = norm(x[p] - (x[tri[0]] * w[0] + x[tri[1]] * w[1] + x[tri[2]] * w[2]));
+    const Real b = law::stencil_bound(share, d, radius, kStencilFloor);
     bound[p] = std::min(bound[p], b);
     for (const std::uint32_t c : tri) bound[c] = std::min(bound[c], b);
   }

@@ -81,10 +81,11 @@ class TriangleProximity {
   // The potential 1/2 k (radius - d)^2 of the contacts the last apply() pushed.
   double energy(Real stiffness) const;
   // After apply() at x: for every pair of its Verlet list, `share` times the particle-triangle
-  // distance bounds the particle's and the corners' moves (bound: by global id, lowered only).
+  // distance beyond the pair's floor (law::stencil_bound, kStencilFloor of `radius`) bounds the
+  // particle's and the corners' moves (bound: by global id, lowered only).
   // Every pair off the list is farther than the radius at x (the list holds while no point has
   // moved more than its skin's half). False when the last pass had no list (over the budget).
-  bool bound_motion(const Vec3* x, Real share, Real* bound) const;
+  bool bound_motion(const Vec3* x, Real share, Real radius, Real* bound) const;
   std::size_t triangles() const { return tris_.size(); }
   bool full() const { return full_; }
   std::size_t max_contacts() const { return max_contacts_; }
