@@ -15,8 +15,9 @@
 //              the step's motion margin as conditional links (Stage::find_contacts,
 //              contact_set.hpp), like self-collision's contacts
 //
-// Installed by the scene reader, one stage (kGroupContactStage) for every [[contact]] table of
-// a scene whose method is "broad_phase" (the default).
+// Installed by the [[contact]] table's registry entry (src/scene/contact_table.cpp, a gathered
+// table), one stage (kGroupContactStage) for every [[contact]] table of a scene whose method is
+// "broad_phase" (the default).
 #pragma once
 
 #include <array>
@@ -59,7 +60,7 @@ struct GroupContactSpec {
   ContactMethod method = ContactMethod::broad_phase;  // the stage runs broad_phase specs only
 };
 
-// [[contact]]'s keys (stage_keys.hpp), declared in group_contact_keys.cpp: the scene reader
+// [[contact]]'s keys (stage_keys.hpp), declared in group_contact_keys.cpp: contact_tables()
 // reads them, docs/scene-format.md's table is checked against them, `maille info` shows them.
 std::span<const StageKey<GroupContactSpec>> contact_keys();
 

@@ -65,6 +65,10 @@ class SceneTable {
                            std::string_view unit) const = 0;
   // Throws the scene error for `key` (at the key's line when present, else the table's).
   [[noreturn]] virtual void fail(std::string_view key, const std::string& message) const = 0;
+  // The same for item `index` of the array at `key` (at the item's line and column when there
+  // is such an item, else as fail()): "between = [\"a\", \"nope\"]" blamed on "nope".
+  [[noreturn]] virtual void fail_item(std::string_view key, std::size_t index,
+                                      const std::string& message) const = 0;
 };
 
 }  // namespace maille

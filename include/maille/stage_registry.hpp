@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -30,6 +31,13 @@ struct StageTableEntry {
   std::function<StageSpec(SceneTable& table, const Model& model)> parse;
   // The table's keys (stage_keys.hpp: describe_keys), for `maille info --keys` and the docs.
   std::vector<KeyInfo> keys{};
+  // Instead of `parse`, for an array whose elements make one stage together ([[contact]]: every
+  // broad-phase table one stage): called once with all of them (none: not called), it returns
+  // the stage, or none when no element asks for one. It may add bricks to the model (a
+  // [[contact]] by links adds its conditional links): gathered tables are read before the
+  // others, in the order of registration, right after the model's own bricks.
+  std::function<std::optional<StageSpec>(std::span<SceneTable* const> tables, Model& model)>
+      gather{};
 };
 
 // add() throws std::logic_error for a table already registered (names.hpp: registered_twice).

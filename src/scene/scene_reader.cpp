@@ -2,7 +2,8 @@
 //
 // Order of construction (point indices follow it): [[mass]] and [[fixed]] points in file order,
 // then each builder keyword in the order of builder_tables() (flag, rope, net, membrane,
-// lattice, floor), each in file order; then [[link]] and [[contact]]. Points are best referred
+// lattice, floor), each in file order; then [[link]], then the gathered stage tables ([[contact]]:
+// its links) and the other stage tables. Points are best referred
 // to by name ("bob") or by group and index ("flag:17"); a bare integer is a global index.
 #include <cctype>
 #include <cerrno>
@@ -32,8 +33,6 @@ namespace maille {
 
 namespace {
 
-constexpr std::size_t kMaxContactLinks = 20'000'000;
-
 const StageRegistry& builtin_stages() {
   static const StageRegistry builtins = StageRegistry::with_builtins();
   return builtins;
@@ -60,8 +59,7 @@ class SceneReader {
     for (auto& t : top.tables("geometric_point")) geometric_point(t, scene.model);
     for (auto& t : top.tables("link")) link(t, scene.model);
     if (!geometric_contacts_.empty()) install_geometric_contacts(scene.model);
-    for (auto& t : top.tables("contact")) contact(t, scene.model);
-    if (!group_contacts_.empty()) install_group_contacts(scene.model);
+    gathered_tables(top, scene.model);  // [[contact]]
     stage_tables(top, scene.model);
     scene.audio = read_audio_tables(top, scene.model);  // [[listen]], [audio]
     top.finish();
@@ -80,11 +78,27 @@ class SceneReader {
       model.stages.push_back(std::move(spec));
     };
     for (const auto& e : stages_.entries()) {
+      if (e.gather) continue;  // gathered_tables()
       if (e.array) {
         for (auto& t : top.tables(e.table)) install(t, e);
       } else if (auto t = top.table(e.table)) {
         install(*t, e);
       }
+    }
+  }
+
+  // Registered arrays whose elements make one stage together, and may add links ([[contact]]):
+  // each read whole, before the other stage tables.
+  void gathered_tables(TomlCursor& top, Model& model) {
+    for (const auto& e : stages_.entries()) {
+      if (!e.gather) continue;
+      std::vector<TomlCursor> tables = top.tables(e.table);
+      if (tables.empty()) continue;
+      std::vector<SceneTable*> views;
+      for (TomlCursor& t : tables) views.push_back(&t);
+      std::optional<StageSpec> spec = e.gather(views, model);
+      for (const TomlCursor& t : tables) t.finish();
+      if (spec) model.stages.push_back(std::move(*spec));
     }
   }
 
@@ -315,67 +329,9 @@ class SceneReader {
     t.finish();
   }
 
-  // [[contact]]: the keys are declared in contact_keys() (group_contact_keys.cpp); `between`
-  // is read here, since it names groups of the model.
-  void contact(TomlCursor& t, Model& m) {
-    const toml::node* n = t.node("between");
-    const toml::array* a = n ? n->as_array() : nullptr;
-    if (!a || a->size() != 2 || !(*a)[0].is_string() || !(*a)[1].is_string())
-      t.fail("between", "must name two groups: between = [\"a\", \"b\"]");
-    const Group* g[2];
-    for (std::size_t i = 0; i < 2; ++i) {
-      const std::string name = *(*a)[i].value<std::string>();
-      g[i] = m.group(name);
-      if (!g[i]) t.fail_at((*a)[i].source(), "between", "no group named '" + name + "'");
-    }
-    if (g[0] == g[1]) t.fail("between", "the two groups must differ (self-collision is a stage)");
-    GroupContactSpec c{g[0]->name, g[1]->name};
-    read_keys(t, c, contact_keys());
-    if (c.method == ContactMethod::broad_phase) {
-      bool any_free = false;
-      for (const Group* gr : g)
-        for (std::uint32_t i = gr->first; i < gr->first + gr->count && !any_free; ++i)
-          any_free = m.points.inv_mass[i] > 0;
-      if (!any_free) t.fail("between", "the two groups hold no free point: nothing can collide");
-      if (g[0]->first < g[1]->first + g[1]->count && g[1]->first < g[0]->first + g[0]->count)
-        t.fail("between", "the two groups share points");
-      group_contacts_.push_back(std::move(c));
-      t.finish();
-      return;
-    }
-    const std::uint64_t pairs = std::uint64_t(g[0]->count) * g[1]->count;
-    const limits::SizeEstimate total{m.points.size(), m.links.total() + pairs,
-                                     m.surface.triangles.size()};
-    const std::string too_big = limits::check_size(total);
-    if (pairs > kMaxContactLinks || !too_big.empty())
-      t.fail("between", "too many pairs: " + std::to_string(g[0]->count) + " x " +
-                            std::to_string(g[1]->count) + " = " + std::to_string(pairs) +
-                            " conditional links (limit " + std::to_string(kMaxContactLinks) + ")" +
-                            (too_big.empty() ? "" : "; " + too_big));
-    build_contacts(m, *g[0], *g[1], {c.stiffness, c.damping, c.threshold, c.rest_length});
-    t.finish();
-  }
-
-  // One stage for every broad-phase [[contact]]; its parameters are each table's declared keys
-  // ("contact[0].stiffness", ...), which `maille info` shows and checkpoints' fingerprints hash.
-  void install_group_contacts(Model& m) {
-    StageSpec spec{std::string(kGroupContactStage), Phase::forces,
-                   [specs = group_contacts_](const Model& model) {
-                     return make_group_contact_stage(model, specs);
-                   }};
-    for (std::size_t i = 0; i < group_contacts_.size(); ++i)
-      visit_keys(contact_keys(), group_contacts_[i],
-                 [&](const StageKey<GroupContactSpec>& k, std::string v) {
-                   spec.parameters.emplace_back(
-                       "contact[" + std::to_string(i) + "]." + std::string(k.key), std::move(v));
-                 });
-    m.stages.push_back(std::move(spec));
-  }
-
   const LinkKindRegistry& kinds_;
   const StageRegistry& stages_;
   std::vector<GeometricContact> geometric_contacts_;
-  std::vector<GroupContactSpec> group_contacts_;
   std::string file_;
   std::set<std::string> names_;
 };

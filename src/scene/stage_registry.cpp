@@ -135,10 +135,6 @@ std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
       for (auto& k : describe_fields(kind)) fields.keys.push_back(std::move(k));
     out.push_back(std::move(fields));
   }
-  out.push_back(declared("[[contact]]",
-                         "conditional spring-dampers between the points of two groups (CORDIS "
-                         "contacts)",
-                         contact_keys()));
   out.push_back(declared("[[listen]]", "one channel of the scene's sound", listen_keys()));
   out.push_back(declared("[audio]", "the sound's rate, format, gain and resampler", audio_keys()));
   out.push_back(declared("[[control]]", "a MIDI or OSC source mapped onto a scene key or a strike",
@@ -222,6 +218,14 @@ std::string with_declared_tables(std::string_view doc, std::span<const DeclaredT
 // Built-in stage tables register here, one line each.
 StageRegistry StageRegistry::with_builtins() {
   StageRegistry r;
+  // First: its links join the model's pools right after the [[link]] tables' (gathered tables
+  // are read before the others; the order is the golden hashes').
+  StageTableEntry contact{"contact", true,
+                          "conditional spring-dampers between the points of two groups (CORDIS "
+                          "contacts)",
+                          nullptr, describe_keys(contact_keys(), GroupContactSpec{})};
+  contact.gather = contact_tables;
+  r.add(std::move(contact));
   r.add({std::string(kSelfCollisionStage), false,
          "self-collision of cloth and ropes: grids, topological exclusion, conditional response",
          self_collision_table, describe_keys(self_collision_keys(), SelfCollisionSettings{})});

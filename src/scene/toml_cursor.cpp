@@ -52,6 +52,14 @@ void TomlCursor::fail(std::string_view key, const std::string& message) const {
   fail_at(n ? n->source() : table_.source(), key, message);
 }
 
+void TomlCursor::fail_item(std::string_view key, std::size_t index,
+                           const std::string& message) const {
+  const toml::node* n = table_.get(key);
+  const toml::array* a = n ? n->as_array() : nullptr;
+  if (!a || index >= a->size()) fail(key, message);
+  fail_at((*a)[index].source(), key, message);
+}
+
 const toml::node& TomlCursor::require(std::string_view key) {
   const toml::node* n = node(key);
   if (!n) fail_at(table_.source(), key, "is required but missing");

@@ -64,6 +64,8 @@ class TomlCursor final : public SceneTable {
   std::vector<TomlCursor> tables(std::string_view key);  // an array of tables
 
   [[noreturn]] void fail(std::string_view key, const std::string& message) const override;
+  [[noreturn]] void fail_item(std::string_view key, std::size_t index,
+                              const std::string& message) const override;
   [[noreturn]] void fail_at(const toml::source_region& where, std::string_view key,
                             const std::string& message) const;
   void finish() const override;  // fails on the first key never read

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "maille/links/spring_damper.hpp"
 #include "maille/scene.hpp"
 #include "test_support.hpp"
 
@@ -147,6 +148,93 @@ stiffness = -1.0
   // Without the registry entry the table is an unknown key.
   auto plain = parse_scene(kScene, "anchor.toml", LinkKindRegistry::with_builtins());
   EXPECT_FALSE(plain);
+}
+
+// A gathered table: every [[test_pull]] at once makes one stage (the sum of their springs from
+// one point toward the origin), and a table with `link = true` also adds a spring-damper link
+// to the model, as [[contact]] by links does. Two pulls of 20 and 30 N/m on a 0.5 kg point:
+// one stage of 50 N/m, omega = 10 rad/s; with the second table's 30 N/m also as a link to a
+// fixed point (0.1 m behind it, rest length 0.1 m: the same equilibrium), omega = sqrt(80 / 0.5).
+StageRegistry pull_registry() {
+  StageRegistry r = StageRegistry::with_builtins();
+  StageTableEntry pull{
+      "test_pull", true, "springs toward the origin, one stage (test only)", nullptr, {}};
+  pull.gather = [](std::span<SceneTable* const> tables, Model& m) -> std::optional<StageSpec> {
+    AnchorConfig c;
+    for (SceneTable* t : tables) {
+      c.stiffness += t->real("stiffness", Bound::positive);
+      if (t->boolean("link", false)) {
+        const std::uint32_t fixed = m.points.add(PointKind::fixed, 1, {-0.1, 0, 0});
+        const SpringDamper::Params p{t->real("stiffness", Bound::positive), Real(0.1), 0};
+        m.links.pool<SpringDamper>().add({0, fixed}, p);
+      }
+    }
+    return StageSpec{"test_pulls", Phase::forces,
+                     [c](const Model&) { return std::make_unique<AnchorStage>(c); }};
+  };
+  r.add(std::move(pull));
+  return r;
+}
+
+TEST(StageRegistry, AGatheredTableMakesOneStageFromAllItsElements) {
+  const std::string head = R"([simulation]
+step = 1e-3
+[fields]
+gravity = [0.0, 0.0, 0.0]
+[[mass]]
+name = "bob"
+mass = 0.5
+position = [0.1, 0.0, 0.0]
+)";
+  auto omega = [&](const std::string& tables, std::size_t stages, std::size_t links) {
+    auto scene =
+        parse_scene(head + tables, "pull.toml", LinkKindRegistry::with_builtins(), pull_registry());
+    EXPECT_TRUE(scene) << scene.error().to_string();
+    if (!scene) return 0.0;
+    EXPECT_EQ(scene->model.stages.size(), stages);
+    EXPECT_EQ(scene->model.links.total(), links);
+    Simulator sim(scene->model, test::settings(1e-4));
+    const auto t = test::upward_crossings(sim, 0, 0, 20000);
+    return t.size() >= 3 ? 2 * std::numbers::pi / test::mean_period(t) : 0.0;
+  };
+  // leapfrog at 1e-4 s: O((omega h)^2) = 1e-6 relative.
+  EXPECT_NEAR(omega("[[test_pull]]\nstiffness = 20.0\n[[test_pull]]\nstiffness = 30.0\n", 1, 0), 10,
+              1e-3);
+  EXPECT_NEAR(
+      omega("[[test_pull]]\nstiffness = 20.0\n[[test_pull]]\nstiffness = 30.0\nlink = true\n", 1,
+            1),
+      std::sqrt(80 / 0.5), 1e-2);
+  // Each element's unknown keys are refused at their line, as for any table.
+  auto bad = parse_scene(head + "[[test_pull]]\nstiffness = 20.0\n[[test_pull]]\nstifness = 1.0\n",
+                         "pull.toml", LinkKindRegistry::with_builtins(), pull_registry());
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().to_string().find("stiffness"), std::string::npos);
+}
+
+// [[contact]] is such a table: its `between` names groups, and one that names no group is blamed
+// at its own item (line and column), not at the key.
+TEST(StageRegistry, AContactNamingNoGroupIsBlamedAtTheItem) {
+  auto scene = parse_scene(R"([[rope]]
+name = "a"
+start = [0.0, 0.0, 0.0]
+end = [1.0, 0.0, 0.0]
+points = 4
+mass = 0.1
+[[rope]]
+name = "b"
+start = [0.0, 1.0, 0.0]
+end = [1.0, 1.0, 0.0]
+points = 4
+mass = 0.1
+[[contact]]
+between = ["a",
+           "nope"]
+)",
+                           "contact.toml", LinkKindRegistry::with_builtins());
+  ASSERT_FALSE(scene);
+  EXPECT_EQ(scene.error().line, 15);
+  EXPECT_EQ(scene.error().column, 12);
+  EXPECT_NE(scene.error().to_string().find("no group named 'nope'"), std::string::npos);
 }
 
 // A stage that produces a NaN force is named in the blow-up report, before anything moves.
