@@ -240,7 +240,8 @@ TEST(TriangleProximity, KeptListGivesTheFreshSearchesForces) {
 // A sweep's start lets the terms skip the candidates still farther than the radius (their
 // points moved less than the distance's excess since): the forces and blocks are the same bits
 // as without it, whether the particles stayed, came closer by a little (still apart) or came
-// into contact (a candidate skipped wrongly would lose its force).
+// into contact (a candidate skipped wrongly would lose its force); and with start distances that
+// say every candidate was far, it does skip them.
 TEST(TriangleContactTerms, ASweepStartSkipsOnlyCandidatesThatCannotTouch) {
   Contacts t;
   const Real inv_h = 60;
@@ -279,4 +280,16 @@ TEST(TriangleContactTerms, ASweepStartSkipsOnlyCandidatesThatCannotTouch) {
     touching_somewhere += touching ? 1 : 0;
   }
   EXPECT_EQ(touching_somewhere, 1);  // only the last drop (to half a radius) touches
+  // The skip acts: told that every candidate started far beyond its reach, the terms leave out
+  // the touching ones too (a gate that never skipped would pass the comparisons above).
+  std::vector<Vec3> x = start;
+  for (std::uint32_t p : {9u, 10u, 11u}) x[p].y -= 2 * kRadius;
+  const std::vector<Real> far(start_distance.size(), Real(1e3));
+  std::vector<Vec3> f(n);
+  std::vector<Mat3> h(n);
+  t.terms.set_sweep_start(start.data(), far.data());
+  t.terms.add_point_terms(points, row.data(), entries.data(), x.data(), t.s.v.data(), inv_h,
+                          f.data(), h.data());
+  t.terms.set_sweep_start(nullptr, nullptr);
+  for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(norm(f[i]), 0) << "point " << i;
 }
