@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "gl_buffers.hpp"
+#include "maille/shared_laws.hpp"
 #include "shared_laws_glsl.hpp"
 
 namespace maille::gpu {
@@ -236,9 +237,8 @@ DeviceImplicitStep GpuVbd::step(const Model& m, const ImplicitSettings& settings
     kernels_[decide].set("u_slots", slot_.back());
     kernels_[decide].set("u_growth", float(kFallbackGrowth));
     kernels_[decide].run(1);
-    // The CPU's recurrence (implicit_vbd.cpp), in double on the host.
-    const Real r2 = Real(rho) * Real(rho);
-    omega = k == 1 ? 1 : k == 2 ? 2 / (2 - r2) : 4 / (4 - r2 * omega);
+    // The CPU's recurrence (law::chebyshev_omega), in double on the host.
+    omega = law::chebyshev_omega(k, Real(rho), omega);
     acc.set("u_omega", float(omega));
     acc.set_flag("u_extrapolate", k >= 2);
     acc.run(points_);

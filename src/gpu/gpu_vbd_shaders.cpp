@@ -90,7 +90,7 @@ std::string vbd_decide_shader() {
 std::string vbd_accelerate_shader() {
   std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2,
                                Buf::vbd_state, Buf::vbd_touch, Buf::vbd_contacts});
-  s += contact_functions(false, false);
+  s += contact_functions(true, false);  // the shared laws: the Chebyshev rule
   s += glsl::vbd_accelerate;
   return s;
 }

@@ -41,6 +41,7 @@
 #include "implicit_system.hpp"
 #include "maille/link_loops.hpp"
 #include "maille/link_set.hpp"
+#include "maille/shared_laws.hpp"
 #include "maille/stage.hpp"
 
 namespace maille {
@@ -171,9 +172,7 @@ void VertexBlockDescent::later_terms(std::span<const std::uint32_t> points, cons
   }
   for (std::size_t t = 0; t < triangle_stages_; ++t) {
     const TriangleRows& r = triangles_[t];
-    const bool live = sweeping_;  // this sweep's rows (take_live)
-    r.contacts->add_point_terms(points, (live ? r.live_row : r.swept_row).data(),
-                                (live ? r.live_entries : r.swept_entries).data(), x, v, inv_h,
+    r.contacts->add_point_terms(points, r.swept_row.data(), r.swept_entries.data(), x, v, inv_h,
                                 g_.data(), hess_.data());
   }
   for (const PointContacts* c : contacts_)
@@ -213,9 +212,8 @@ void VertexBlockDescent::arrange_lanes() {
 // sphere and stretched it 40 % at 1/60 s. Longer leaving steps stop just inside.
 Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
   const std::size_t colours = colour_row_.size() - 1;
-  if (bounded_) take_bounds(m, x);
-  sweeping_ = bounded_;  // the candidates' live rows were taken with the bounds
-  if (bounded_) {        // the sweep's start, for the stages to skip candidates still far
+  if (bounded_) {  // the bounds, and the sweep's start for the stages to skip far candidates
+    take_bounds(m, x);
     sweep_start_.assign(x, x + points_);
     for (std::size_t t = 0; t < triangle_stages_; ++t)
       triangles_[t].contacts->set_sweep_start(sweep_start_.data(), gaps_[t].data());
@@ -231,7 +229,6 @@ Real VertexBlockDescent::sweep(const Model& m, Vec3* x, Vec3* v, Real h) {
       update_block(std::uint32_t(c), std::uint32_t(lo - begin), std::uint32_t(hi - lo), m, x, v, h);
     }
   }
-  sweeping_ = false;
   for (std::size_t t = 0; t < triangle_stages_ && bounded_; ++t)
     triangles_[t].contacts->set_sweep_start(nullptr, nullptr);
   Real merit = 0;
@@ -461,17 +458,18 @@ bool VertexBlockDescent::search_again(const Model& m, State& s) {
 // Chebyshev's extrapolation after sweep k: x = omega (x - x^(k-2)) + x^(k-2).
 void VertexBlockDescent::extrapolate(int k, Real rho, Real& omega, Vec3* x, Vec3* v, Real h,
                                      Real half_thinnest) {
-  omega = k == 1 ? 1 : k == 2 ? 2 / (2 - rho * rho) : 4 / (4 - rho * rho * omega);
+  omega = law::chebyshev_omega(k, rho, omega);
   // Points in contact (or that entered one in this sweep) are not extrapolated: across a stiff
   // contact's jump the extrapolation throws a point deep into (or through) a thin obstacle.
   if (k >= 2)
     for (const std::uint32_t i : free_) {
-      // Nor points near a face (a bound): the extrapolation could carry them across it.
-      if (touching_[i] || bound_[i] < std::numeric_limits<Real>::infinity()) continue;
-      // Nor by more than half the thinnest contact region: a jump that long could cross a thin
-      // box unseen (the sweeps' own steps are watched in update_block); nor past its drift limit.
-      const Vec3 to = (x[i] - prev2_[i]) * omega + prev2_[i];
-      if (norm2(to - x[i]) > half_thinnest * half_thinnest || !guard_.inside(i, to)) continue;
+      // Nor points near a face (a bound), nor by more than half the thinnest contact region (the
+      // sweeps' own steps are watched in update_block), nor past the drift limit.
+      const Vec3 to = law::chebyshev_place(x[i], prev2_[i], omega);
+      const bool bounded = bound_[i] < std::numeric_limits<Real>::infinity();
+      if (!law::chebyshev_takes(touching_[i] != 0, bounded, to - x[i], half_thinnest) ||
+          !guard_.inside(i, to))
+        continue;
       x[i] = to;
       v[i] = (x[i] - xn_[i]) * (Real(1) / h);
     }

@@ -133,15 +133,11 @@ class VertexBlockDescent {
     std::vector<std::uint32_t> entries;  // candidates' roles, by point
     std::vector<std::uint8_t> kept;      // [candidates] 1: near enough to act (compact())
     std::vector<std::uint32_t> swept_row, swept_entries;  // the kept ones: the sweeps' rows
-    // Of the kept ones, those that may touch in this sweep (take_bounds): this sweep's rows.
-    std::vector<std::uint8_t> live;
-    std::vector<std::uint32_t> live_row, live_entries;
   };
 
   void build_static_rows(const Model& m);
   void triangle_rows(std::span<TriangleContacts* const> contacts);
   void take_bounds(const Model& m, const Vec3* x);
-  void take_live(std::size_t stage);
   void find_candidates(const Model& m, const Vec3* x, Real margin);
   // The sweeps' rows: of the candidates, those that may act while every point stays within its
   // allowance of x_n, the allowances taken from the motion of x (implicit_vbd.cpp).
@@ -199,8 +195,7 @@ class VertexBlockDescent {
   bool bounded_ = false;                 // some point has a bound
   std::vector<std::vector<Real>> gaps_;  // [stages][candidates] distances at take_bounds
   std::vector<Vec3> sweep_start_;        // [points] x at the sweep's take_bounds
-  bool sweeping_ = false;  // inside sweep(): the stages' live rows (TriangleRows::live_row)
-  std::size_t transient_pools_ = 0;  // rows_ after the model pools: this step's stage pools
+  std::size_t transient_pools_ = 0;      // rows_ after the model pools: this step's stage pools
   // A block's Newton steps before they are taken: position, velocity, and the contacts there
   // (trial_g_, trial_h_ only receive the contact terms; touching flags say who is in contact).
   std::vector<Vec3> trial_x_, trial_v_, trial_g_;     // [points]

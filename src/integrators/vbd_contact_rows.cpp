@@ -108,31 +108,6 @@ void VertexBlockDescent::take_bounds(const Model& m, const Vec3* x) {
       bound_[e.a] = std::min(bound_[e.a], b);
       bound_[e.b] = std::min(bound_[e.b], b);
     }
-  for (std::size_t t = 0; t < triangle_stages_; ++t) take_live(t);
-}
-
-// The kept candidates that may touch before the next take_bounds: in a sweep each point moves
-// once, at most its bound from where it is now, so a candidate's distance falls by at most the
-// two largest bounds of its four points (a particle and a corner, or a corner of each edge).
-// One still that far beyond the radius cannot touch in the sweep: its evaluation would give no
-// force (it is left out only when it holds no lagged friction). The same terms in the same
-// order as the kept rows give: the sweeps' results do not change, only the work. (A relative
-// slack of 1e-9 covers the distances' rounding.) On wrung_cloth most kept candidates are this
-// far: their evaluations were about a third of the run.
-void VertexBlockDescent::take_live(std::size_t stage) {
-  TriangleRows& t = triangles_[stage];
-  const auto cand = t.contacts->candidates();
-  const std::vector<Real>& gap = gaps_[stage];
-  const Real far = t.contacts->radius() * (1 + Real(1e-9));
-  t.live.assign(cand.size(), 0);
-  for (std::size_t e = 0; e < cand.size(); ++e) {
-    if (e >= t.kept.size() || !t.kept[e]) continue;  // (before the step's first compact())
-    const auto& c = cand[e];
-    std::array<Real, 4> b{bound_[c[0]], bound_[c[1]], bound_[c[2]], bound_[c[3]]};
-    std::partial_sort(b.begin(), b.begin() + 2, b.end(), std::greater<>());
-    t.live[e] = t.contacts->held(e) || !(gap[e] - (b[0] + b[1]) >= far);
-  }
-  candidate_rows(t, &t.live, t.live_row, t.live_entries);
 }
 
 // Each stage's candidates by point, every role (a corner's row holds the candidates whose

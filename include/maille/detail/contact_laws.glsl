@@ -132,6 +132,23 @@ MAILLE_SHARED vec3 stencil_contact_force(vec3 d, vec3 dv, real k, real z, real s
   return n * (k * (s - dist) - z * dot(dv, n));
 }
 
+// VBD's Chebyshev acceleration (the CPU's VertexBlockDescent::extrapolate, the GPU's
+// vbd_accelerate.glsl): omega after sweep k from the factor rho and the last omega; a point's
+// extrapolated place prev2 + omega (x - prev2), x its iterate and prev2 the one two sweeps back;
+// and whether it takes the jump: not while touching an obstacle or bounded by a contact (across
+// a stiff contact's jump it lands deep inside, or through a face), nor by more than half the
+// thinnest contact region (a thin box crossed unseen). The caller also keeps it in its drift ball.
+MAILLE_SHARED real chebyshev_omega(int k, real rho, real omega) {
+  return k == 1 ? real(1) : k == 2 ? real(2) / (real(2) - rho * rho)
+                                   : real(4) / (real(4) - rho * rho * omega);
+}
+MAILLE_SHARED vec3 chebyshev_place(vec3 x, vec3 prev2, real omega) {
+  return (x - prev2) * omega + prev2;
+}
+MAILLE_SHARED bool chebyshev_takes(bool touching, bool bounded, vec3 jump, real half_thinnest) {
+  return !touching && !bounded && dot(jump, jump) <= half_thinnest * half_thinnest;
+}
+
 // A point's conservative bound from one of its stencils at distance d (the implicit solvers'
 // bounds per update, the explicit schemes' clamp per step): `share` of the distance beyond the
 // stencil's floor, `floor_fraction` of its radius s. An update moves each point of the stencil at

@@ -8,17 +8,14 @@ void main() {
   uint i = gl_GlobalInvocationID.x;
   if (i >= u_count || vbd_state[0] == 0u || inv_mass[i] == 0.0) return;
   vec3 xi = LOAD3(x, i);
-  // x = w (x - prev2) + prev2, as the increment (w - 1) (x - prev2) (v follows it, as in the
-  // sweep).
-  vec3 dx = (xi - LOAD3(vbd_prev2, i)) * (u_omega - 1.0);
-  float half_ = 0.5 * u_thinnest;
-  // Not a point touching an obstacle or in a contact (bounded), nor out of its drift ball, as
-  // on the CPU.
-  if (u_extrapolate && vbd_touch[i] == 0u && !vc_bounded(i) && dot(dx, dx) <= half_ * half_ &&
-      vc_inside(i, xi + dx)) {
-    xi += dx;
+  // The shared rule (contact_laws.glsl): the place, and whether the point takes the jump (v
+  // follows it, as in the sweep); nor out of its drift ball, as on the CPU.
+  vec3 to = chebyshev_place(xi, LOAD3(vbd_prev2, i), u_omega);
+  if (u_extrapolate && chebyshev_takes(vbd_touch[i] != 0u, vc_bounded(i), to - xi,
+                                       0.5 * u_thinnest) && vc_inside(i, to)) {
+    STORE3(v, i, LOAD3(v, i) + (to - xi) * (1.0 / u_h));
+    xi = to;
     STORE3(x, i, xi);
-    STORE3(v, i, LOAD3(v, i) + dx * (1.0 / u_h));
   }
   STORE3(vbd_prev2, i, xi);
 }
