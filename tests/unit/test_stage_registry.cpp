@@ -74,7 +74,8 @@ StageRegistry test_registry(int* after_calls) {
   return r;
 }
 
-constexpr const char* kScene = R"(
+// A 0.5 kg point 0.1 m from the origin, no gravity: the scenes below add their tables to it.
+const std::string kBob = R"(
 [simulation]
 step = 1e-3
 [fields]
@@ -83,7 +84,9 @@ gravity = [0.0, 0.0, 0.0]
 name = "bob"
 mass = 0.5
 position = [0.1, 0.0, 0.0]
-[test_anchor]
+)";
+
+const std::string kScene = kBob + R"([test_anchor]
 point = 0
 stiffness = 50.0
 [[test_after]]
@@ -177,15 +180,7 @@ StageRegistry pull_registry() {
 }
 
 TEST(StageRegistry, AGatheredTableMakesOneStageFromAllItsElements) {
-  const std::string head = R"([simulation]
-step = 1e-3
-[fields]
-gravity = [0.0, 0.0, 0.0]
-[[mass]]
-name = "bob"
-mass = 0.5
-position = [0.1, 0.0, 0.0]
-)";
+  const std::string& head = kBob;
   auto omega = [&](const std::string& tables, std::size_t stages, std::size_t links) {
     auto scene =
         parse_scene(head + tables, "pull.toml", LinkKindRegistry::with_builtins(), pull_registry());
@@ -205,10 +200,12 @@ position = [0.1, 0.0, 0.0]
             1),
       std::sqrt(80 / 0.5), 1e-2);
   // Each element's unknown keys are refused at their line, as for any table.
-  auto bad = parse_scene(head + "[[test_pull]]\nstiffness = 20.0\n[[test_pull]]\nstifness = 1.0\n",
-                         "pull.toml", LinkKindRegistry::with_builtins(), pull_registry());
+  auto bad = parse_scene(
+      head + "[[test_pull]]\nstiffness = 20.0\n[[test_pull]]\nstiffness = 1.0\nstifnes = 2.0\n",
+      "pull.toml", LinkKindRegistry::with_builtins(), pull_registry());
   ASSERT_FALSE(bad);
-  EXPECT_NE(bad.error().to_string().find("stiffness"), std::string::npos);
+  EXPECT_EQ(bad.error().line, 14);  // kBob's 9 lines (the first empty), then the tables
+  EXPECT_NE(bad.error().key.find("stifnes"), std::string::npos) << bad.error().to_string();
 }
 
 // [[contact]] is such a table: its `between` names groups, and one that names no group is blamed
