@@ -9,7 +9,7 @@
 // The matrix is never formed for the "matrix_free" solver: each link pool stores one 3x3 block
 // C = h dv + h^2 dx per link (definite-mode Jacobians, so the system is symmetric positive
 // definite), and the product is a pass over the links like the force pass. The "eigen" solver
-// assembles the same blocks into a CSR matrix of fixed pattern (implicit_eigen.cpp) for
+// assembles the same blocks into a CSR matrix of fixed pattern (systems/eigen.cpp) for
 // comparison; both are preconditioned conjugate gradients.
 //
 // Fixed and driven points are handled by constraint filtering: their rows and columns are
@@ -49,6 +49,11 @@ class ImplicitEuler final : public Integrator {
                "' provides no Jacobian: implicit_euler cannot integrate it";
     if (!parse_name<ImplicitSolver>(to_string(settings_.solver)))  // a value off its table
       return "unknown implicit solver (" + name_list<ImplicitSolver>() + ")";
+    if (settings_.solver != ImplicitSolver::vbd &&
+        !ImplicitSystems::builtin().find(to_string(settings_.solver)))
+      return "implicit solver '" + std::string(to_string(settings_.solver)) +
+             "' has no CG system (src/integrators/systems/: " + ImplicitSystems::builtin().names() +
+             ")";
     return {};
   }
 

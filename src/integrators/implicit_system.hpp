@@ -10,6 +10,7 @@
 
 #include "maille/integrator.hpp"
 #include "maille/model.hpp"
+#include "maille/registry.hpp"
 #include "maille/stage.hpp"
 #include "maille/state.hpp"
 
@@ -42,11 +43,24 @@ class ImplicitSystem {
   virtual void set_threads(int threads) = 0;
 };
 
-// solver: matrix_free or eigen.
+// The CG systems by solver name (ImplicitSolver's name table): one file each in
+// src/integrators/systems/, whose `register_system_<file name>(ImplicitSystems&)` adds its entry
+// (cmake/RegisterFolder.cmake generates the call of every file's). A solver that is not a CG
+// system (vbd) has no entry: ImplicitEuler runs its own loop.
+struct ImplicitSystemEntry {
+  std::string_view name;  // to_string(ImplicitSolver::...)
+  std::unique_ptr<ImplicitSystem> (*make)(const Model& m, int threads);
+};
+class ImplicitSystems : public Registry<ImplicitSystemEntry, &ImplicitSystemEntry::name> {
+ public:
+  ImplicitSystems() : Registry("implicit system registry") {}
+  // Every file of src/integrators/systems/, registered once.
+  static const ImplicitSystems& builtin();
+};
+
+// The system of `solver`; null for a solver that is not a CG system.
 std::unique_ptr<ImplicitSystem> make_implicit_system(ImplicitSolver solver, const Model& m,
                                                      int threads);
-std::unique_ptr<ImplicitSystem> make_matrix_free_system(const Model& m, int threads);
-std::unique_ptr<ImplicitSystem> make_eigen_system(const Model& m, int threads);
 
 // Inverse of a symmetric positive definite 3x3 matrix (cofactors; identity if singular).
 Mat3 inverse_spd(const Mat3& a);

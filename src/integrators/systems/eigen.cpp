@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "contact_blocks.hpp"
-#include "implicit_system.hpp"
+#include "../contact_blocks.hpp"
+#include "../implicit_system.hpp"
 #include "maille/link_loops.hpp"
 
 namespace maille {
@@ -221,8 +221,10 @@ class EigenSystem final : public ImplicitSystem {
 
 }  // namespace
 
-std::unique_ptr<ImplicitSystem> make_eigen_system(const Model& m, int threads) {
-  return std::make_unique<EigenSystem>(m, threads);
+void register_system_eigen(ImplicitSystems& systems) {
+  systems.add({to_string(ImplicitSolver::eigen), [](const Model& m, int threads) {
+                 return std::unique_ptr<ImplicitSystem>(new EigenSystem(m, threads));
+               }});
 }
 
 }  // namespace maille

@@ -8,31 +8,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "contact_blocks.hpp"
-#include "implicit_system.hpp"
+#include "../contact_blocks.hpp"
+#include "../implicit_system.hpp"
 #include "maille/link_loops.hpp"
 
 namespace maille {
-
-Mat3 inverse_spd(const Mat3& a) {
-  const auto& m = a.m;
-  const Real c00 = m[1][1] * m[2][2] - m[1][2] * m[2][1];
-  const Real c01 = m[1][2] * m[2][0] - m[1][0] * m[2][2];
-  const Real c02 = m[1][0] * m[2][1] - m[1][1] * m[2][0];
-  const Real det = m[0][0] * c00 + m[0][1] * c01 + m[0][2] * c02;
-  if (!(std::abs(det) > 0)) return Mat3::identity();
-  Mat3 r;
-  r.m[0][0] = c00;
-  r.m[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
-  r.m[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
-  r.m[1][0] = c01;
-  r.m[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
-  r.m[1][2] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
-  r.m[2][0] = c02;
-  r.m[2][1] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
-  r.m[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-  return r * (Real(1) / det);
-}
 
 namespace {
 
@@ -244,14 +224,10 @@ class MatrixFreeSystem final : public ImplicitSystem {
 
 }  // namespace
 
-std::unique_ptr<ImplicitSystem> make_matrix_free_system(const Model& m, int threads) {
-  return std::make_unique<MatrixFreeSystem>(m, threads);
-}
-
-std::unique_ptr<ImplicitSystem> make_implicit_system(ImplicitSolver solver, const Model& m,
-                                                     int threads) {
-  if (solver == ImplicitSolver::eigen) return make_eigen_system(m, threads);
-  return make_matrix_free_system(m, threads);
+void register_system_matrix_free(ImplicitSystems& systems) {
+  systems.add({to_string(ImplicitSolver::matrix_free), [](const Model& m, int threads) {
+                 return std::unique_ptr<ImplicitSystem>(new MatrixFreeSystem(m, threads));
+               }});
 }
 
 }  // namespace maille
