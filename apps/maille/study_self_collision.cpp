@@ -257,7 +257,7 @@ std::vector<std::filesystem::path> self_colliding_examples(const std::filesystem
       continue;
     }
     for (const auto& st : scene->model.stages)
-      if (st.name == kSelfCollisionStage) {
+      if (st.name == kSelfCollisionStage.name) {
         out.push_back(e.path());
         break;
       }
@@ -275,7 +275,7 @@ void intersections(std::ostream& out, bool quick, const std::filesystem::path& e
       if (!scene.ok()) continue;
       Model& m = scene->model;
       if (!on)
-        std::erase_if(m.stages, [](const StageSpec& s) { return s.name == kSelfCollisionStage; });
+        std::erase_if(m.stages, [](const StageSpec& s) { return s.name == kSelfCollisionStage.name; });
       SimulationSettings st = scene->settings;
       st.threads = 1;
       st.publish_every = kNeverEvery;

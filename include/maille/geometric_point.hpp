@@ -65,8 +65,7 @@ Vec3 geometric_contact_force(const GeometricPoint& g, const shapes::Affine& plac
 // The stage "geometric_contacts" that evaluates the model's geometric contact bricks
 // (Phase::forces). Counters geometric_contacts_active, gauge geometric_contacts_depth.
 // The stage's name and phase, said once (the scene reader's StageSpec and the stage).
-inline constexpr std::string_view kGeometricContactStage = "geometric_contacts";
-inline constexpr Phase kGeometricContactPhase = Phase::forces;
+inline constexpr StageInfo kGeometricContactStage{"geometric_contacts", Phase::forces};
 std::unique_ptr<Stage> make_geometric_contact_stage(const Model& m,
                                                     std::vector<GeometricContact> contacts);
 

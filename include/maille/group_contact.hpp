@@ -35,8 +35,8 @@
 
 namespace maille {
 
-// The stage's name: its profile column ns_group_contacts, stats and messages.
-inline constexpr std::string_view kGroupContactStage = "group_contacts";
+// The stage's name (its profile column ns_group_contacts, stats and messages) and phase.
+inline constexpr StageInfo kGroupContactStage{"group_contacts", Phase::forces};
 
 // How [[contact]] finds its pairs (scene key `method`).
 enum class ContactMethod : std::uint8_t { broad_phase, links };

@@ -23,7 +23,8 @@ class SceneTable {
   virtual const std::string& path() const = 0;  // dotted path of the table, e.g. "obstacle[1]"
   virtual const std::string& file() const = 0;  // the scene file
   virtual bool has(std::string_view key) const = 0;
-  virtual bool has_text(std::string_view key) const = 0;  // present and a string
+  virtual bool has_text(std::string_view key) const = 0;     // present and a string
+  virtual bool has_integer(std::string_view key) const = 0;  // present and an integer
 
   virtual Real real(std::string_view key, Bound bound) = 0;  // required
   virtual Real real(std::string_view key, Real fallback, Bound bound) = 0;

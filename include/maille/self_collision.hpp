@@ -117,8 +117,7 @@ struct StageKey;  // stage_keys.hpp
 std::span<const StageKey<SelfCollisionSettings>> self_collision_keys();
 
 // The stage's name and phase, said once: the scene table's StageSpec and the stage report them.
-inline constexpr std::string_view kSelfCollisionStage = "self_collision";
-inline constexpr Phase kSelfCollisionPhase = Phase::forces;
+inline constexpr StageInfo kSelfCollisionStage{"self_collision", Phase::forces};
 
 // Checks the settings against the model without building anything (no grid, no exclusion rows):
 // the groups exist and hold free points, the radius can be defaulted, the cell size is not below

@@ -185,6 +185,15 @@ struct StageProblem {
   explicit operator bool() const { return !message.empty(); }
 };
 
+// What a stage is to the step, said once per stage: its name (its profile column ns_<name>,
+// options, refusals, `disabled_stages`) and the phase it runs at. The stage reports it
+// (Stage::name, Stage::phase), the scene table that makes it declares it
+// (StageTableEntry::stage) and builds its StageSpec from it.
+struct StageInfo {
+  std::string_view name;
+  Phase phase = Phase::forces;
+};
+
 // A validated stage description kept in the Model: it makes a fresh stage for each simulator
 // built from the model (benchmarks' repeats, the viewer's reload), given that simulator's own
 // copy of the model (stages may keep a reference to it: a Simulator never moves).
@@ -192,6 +201,8 @@ struct StageSpec {
   using Factory = std::function<std::unique_ptr<Stage>(const Model&)>;
   StageSpec() = default;
   StageSpec(std::string n, Phase p, Factory f) : name(std::move(n)), phase(p), make(std::move(f)) {}
+  StageSpec(StageInfo info, Factory f)
+      : StageSpec(std::string(info.name), info.phase, std::move(f)) {}
 
   std::string name;
   Phase phase = Phase::forces;

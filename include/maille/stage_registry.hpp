@@ -23,12 +23,12 @@ namespace maille {
 class LinkKindRegistry;
 
 struct StageTableEntry {
-  std::string table;        // scene key: [table] (one) or [[table]] (an array of them)
-  bool array = false;       // true for [[table]]
-  std::string description;  // one line, for docs and `maille info`
+  std::string table{};        // scene key: [table] (one) or [[table]] (an array of them)
+  bool array = false;         // true for [[table]]
+  std::string description{};  // one line, for docs and `maille info`
   // Reads the table (errors through table.fail) against the finished model and returns the
   // stage to install. Called once per table (per element for arrays).
-  std::function<StageSpec(SceneTable& table, const Model& model)> parse;
+  std::function<StageSpec(SceneTable& table, const Model& model)> parse{};
   // The table's keys (stage_keys.hpp: describe_keys), for `maille info --keys` and the docs.
   std::vector<KeyInfo> keys{};
   // Instead of `parse`, for an array whose elements make one stage together ([[contact]]: every
@@ -38,6 +38,16 @@ struct StageTableEntry {
   // others, in the order of registration, right after the model's own bricks.
   std::function<std::optional<StageSpec>(std::span<SceneTable* const> tables, Model& model)>
       gather{};
+  // The stage its tables make (stage.hpp: name and phase, said once beside the stage): `maille
+  // info` lists it, and the scene reader refuses a StageSpec named otherwise (a program's entry
+  // may leave it empty). For an array whose elements each make a stage ([[obstacle]]), `name`
+  // is the prefix of theirs ("obstacle:" + the element's name) and `phase` the default method's
+  // (an element may choose a method of another phase).
+  StageInfo stage{};
+  // The entry's elements are the [[link]] tables whose kind is `table` (a link keyword that
+  // makes a stage rather than link bricks: "geometric_contact"), gathered (`gather`) after the
+  // model's links.
+  bool of_links = false;
 };
 
 // add() throws std::logic_error for a table already registered (names.hpp: registered_twice).

@@ -166,12 +166,12 @@ class GroupContactStage final : public Stage {
       : specs_(std::move(specs)) {
     build(m);
   }
-  std::string name() const override { return std::string(kGroupContactStage); }
+  std::string name() const override { return std::string(kGroupContactStage.name); }
   std::string refusal_hint() const override {
     return " (or give its [[contact]] tables method = \"links\": one conditional link per pair, "
            "which the GPU runs)";
   }
-  Phase phase() const override { return Phase::forces; }
+  Phase phase() const override { return kGroupContactStage.phase; }
   void model_changed(const Model& m) override { build(m); }
 
   void apply(const Model&, State& s, const StageContext& ctx) override {
@@ -252,7 +252,7 @@ class GroupContactStage final : public Stage {
   void set_option(const std::string& name, const std::string& value) override {
     if (name != "draw_contacts") return Stage::set_option(name, value);
     if (value != "on" && value != "off")
-      throw std::invalid_argument(std::string(kGroupContactStage) +
+      throw std::invalid_argument(std::string(kGroupContactStage.name) +
                                   ": option draw_contacts cannot be '" + value + "'");
     draw_contacts_ = value == "on";
   }

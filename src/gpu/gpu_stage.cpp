@@ -25,7 +25,7 @@ const GpuStageEntry* GpuStageRegistry::find(std::string_view stage) const {
 const GpuStageRegistry& GpuStageRegistry::builtin() {
   static const GpuStageRegistry registry = [] {
     GpuStageRegistry r;
-    r.add({std::string(kSelfCollisionStage), GpuSelfCollision::check,
+    r.add({std::string(kSelfCollisionStage.name), GpuSelfCollision::check,
            [](const Model& m, const Stage& st, const GpuLimits& limits) {
              return std::make_unique<GpuSelfCollision>(m, st, limits.max_invocations);
            }});

@@ -65,7 +65,7 @@ void add_contact_links(SceneTable& t, Model& m, const std::array<const Group*, 2
 // One stage for every broad-phase table; its parameters are each table's declared keys
 // ("contact[0].stiffness", ...), which `maille info` shows and checkpoints' fingerprints hash.
 StageSpec group_contacts_stage(const std::vector<GroupContactSpec>& specs) {
-  StageSpec spec{std::string(kGroupContactStage), Phase::forces,
+  StageSpec spec{kGroupContactStage,
                  [specs](const Model& model) { return make_group_contact_stage(model, specs); }};
   for (std::size_t i = 0; i < specs.size(); ++i)
     visit_keys(contact_keys(), specs[i], [&](const StageKey<GroupContactSpec>& k, std::string v) {

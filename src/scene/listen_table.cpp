@@ -4,6 +4,7 @@
 #include "listen_table.hpp"
 
 #include "audio_keys.hpp"
+#include "point_ref.hpp"
 
 #include <string>
 
@@ -30,36 +31,9 @@ std::uint32_t listened_point(TomlCursor& t, const Model& m, std::string& label) 
     label = name + ":" + std::to_string(i);
     return g->first + static_cast<std::uint32_t>(i);
   }
-  const toml::node* n = t.node("point");
-  if (n->is_integer()) {
-    const std::int64_t i = *n->value<std::int64_t>();
-    if (i < 0 || i >= std::int64_t(m.points.size()))
-      t.fail("point", "point index " + std::to_string(i) + " does not exist (the scene has " +
-                          std::to_string(m.points.size()) + " points)");
-    label = std::to_string(i);
-    return static_cast<std::uint32_t>(i);
-  }
-  if (!n->is_string()) t.fail("point", "must be a point name, \"group:index\" or an index");
-  label = *n->value<std::string>();
-  const auto colon = label.find(':');
-  const Group* g = m.group(label.substr(0, colon));
-  if (!g) t.fail("point", "no point or group named '" + label.substr(0, colon) + "'");
-  if (colon == std::string::npos) {
-    if (g->count != 1)
-      t.fail("point", "'" + label + "' is a group of " + std::to_string(g->count) +
-                          " points: use '" + label + ":index' or group = \"" + label +
-                          "\" with index");
-    return g->first;
-  }
-  std::size_t used = 0;
-  long long i = -1;
-  try {
-    i = std::stoll(label.substr(colon + 1), &used);
-  } catch (const std::exception&) {
-  }
-  if (i < 0 || used != label.size() - colon - 1 || i >= g->count)
-    t.fail("point", "'" + label + "': index must be in [0, " + std::to_string(g->count - 1) + "]");
-  return g->first + static_cast<std::uint32_t>(i);
+  return point_ref(t, "point", m, &label, [](const std::string& name) {
+    return "use '" + name + ":index' or group = \"" + name + "\" with index";
+  });
 }
 
 namespace {

@@ -14,6 +14,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "builder_tables.hpp"
 #include "listen_table.hpp"
@@ -24,6 +25,7 @@
 #include "maille/scene.hpp"
 #include "maille/stage_keys.hpp"
 #include "overrides.hpp"
+#include "point_ref.hpp"
 #include "scene_digest.hpp"
 #include "scene_keys.hpp"
 #include "toml_cursor.hpp"
@@ -57,9 +59,9 @@ class SceneReader {
     for (const auto& b : builder_tables())
       for (auto& t : top.tables(b.keyword)) builder(t, scene.model, b);
     for (auto& t : top.tables("geometric_point")) geometric_point(t, scene.model);
-    for (auto& t : top.tables("link")) link(t, scene.model);
-    if (!geometric_contacts_.empty()) install_geometric_contacts(scene.model);
-    gathered_tables(top, scene.model);  // [[contact]]
+    std::vector<TomlCursor> links = top.tables("link");
+    for (auto& t : links) link(t, scene.model);
+    gathered_tables(top, scene.model);  // [[link]] kind = "geometric_contact", [[contact]]
     stage_tables(top, scene.model);
     scene.audio = read_audio_tables(top, scene.model);  // [[listen]], [audio]
     top.finish();
@@ -75,7 +77,7 @@ class SceneReader {
     auto install = [&](TomlCursor& t, const StageRegistry::Entry& e) {
       StageSpec spec = e.parse(t, model);
       t.finish();
-      model.stages.push_back(std::move(spec));
+      model.stages.push_back(declared_stage(e, std::move(spec)));
     };
     for (const auto& e : stages_.entries()) {
       if (e.gather) continue;  // gathered_tables()
@@ -92,14 +94,24 @@ class SceneReader {
   void gathered_tables(TomlCursor& top, Model& model) {
     for (const auto& e : stages_.entries()) {
       if (!e.gather) continue;
-      std::vector<TomlCursor> tables = top.tables(e.table);
-      if (tables.empty()) continue;
-      std::vector<SceneTable*> views;
+      std::vector<TomlCursor> tables = e.of_links ? std::vector<TomlCursor>{} : top.tables(e.table);
+      std::vector<SceneTable*> views =
+          e.of_links ? claimed_links_[e.table] : std::vector<SceneTable*>{};
       for (TomlCursor& t : tables) views.push_back(&t);
+      if (views.empty()) continue;
       std::optional<StageSpec> spec = e.gather(views, model);
-      for (const TomlCursor& t : tables) t.finish();
-      if (spec) model.stages.push_back(std::move(*spec));
+      for (const SceneTable* t : views) t->finish();
+      if (spec) model.stages.push_back(declared_stage(e, std::move(*spec)));
     }
+  }
+
+  // A registered table makes the stage its entry declares (StageTableEntry::stage): a spec
+  // named otherwise is the entry's mistake, not the scene's.
+  static StageSpec declared_stage(const StageRegistry::Entry& e, StageSpec spec) {
+    if (!spec.name.starts_with(e.stage.name))
+      throw std::logic_error("the table [" + e.table + "] made a stage named '" + spec.name +
+                             "', not the '" + std::string(e.stage.name) + "' it declares");
+    return spec;
   }
 
   SimulationSettings simulation(TomlCursor& t) {
@@ -210,36 +222,6 @@ class SceneReader {
     t.finish();
   }
 
-  std::uint32_t point_ref(TomlCursor& t, std::string_view key, const Model& m) {
-    const toml::node* n = t.node(key);
-    if (!n) t.fail(key, "is required but missing");
-    if (n->is_integer()) {
-      const std::int64_t i = *n->value<std::int64_t>();
-      if (i < 0 || i >= m.points.size())
-        t.fail(key, "point index " + std::to_string(i) + " does not exist (the scene has " +
-                        std::to_string(m.points.size()) + " points)");
-      return static_cast<std::uint32_t>(i);
-    }
-    if (!n->is_string()) t.fail(key, "must be a point name, \"group:index\" or an index");
-    const std::string ref = *n->value<std::string>();
-    const auto colon = ref.find(':');
-    const Group* g = m.group(ref.substr(0, colon));
-    if (!g) t.fail(key, "no point or group named '" + ref.substr(0, colon) + "'");
-    if (colon == std::string::npos) {
-      if (g->count != 1) t.fail(key, "'" + ref + "' is a group: use '" + ref + ":index'");
-      return g->first;
-    }
-    std::size_t used = 0;
-    long long i = -1;
-    try {
-      i = std::stoll(ref.substr(colon + 1), &used);
-    } catch (const std::exception&) {
-    }
-    if (i < 0 || used != ref.size() - colon - 1 || i >= g->count)
-      t.fail(key, "'" + ref + "': index must be in [0, " + std::to_string(g->count - 1) + "]");
-    return g->first + static_cast<std::uint32_t>(i);
-  }
-
   // [[geometric_point]]: a shape placed by an affine map (docs/scene-format.md).
   void geometric_point(TomlCursor& t, Model& m) {
     GeometricPointTable table;  // geometric_point_keys()
@@ -253,53 +235,12 @@ class SceneReader {
     t.finish();
   }
 
-  // [[link]] kind = "geometric_contact": a = a geometric point, b = a free mass (or a group:
-  // one contact per free point of it).
-  void geometric_contact(TomlCursor& t, const Model& m) {
-    GeometricContactTable table;  // geometric_contact_keys()
-    read_key(t, table, geometric_contact_keys(), "a");
-    const std::string& a = table.a;
-    std::uint32_t g = 0;
-    while (g < m.geometric_points.size() && m.geometric_points[g].name != a) ++g;
-    if (g == m.geometric_points.size())
-      t.fail("a", "no geometric point named '" + a +
-                      "': a geometric contact links a [[geometric_point]] (a) to a free mass (b)");
-    for (const char* key : {"stiffness", "damping", "normal"})
-      read_key(t, table, geometric_contact_keys(), key);
-    GeometricContact& c = table.contact;
-    c.geometric = g;
-    c.world_normal = table.normal == ContactNormal::world;
-    const toml::node* b = t.node("b");
-    const Group* group = b && b->is_string() ? m.group(*b->value<std::string>()) : nullptr;
-    std::vector<std::uint32_t> points;
-    if (group && group->count > 1) {
-      for (std::uint32_t p = group->first; p < group->first + group->count; ++p)
-        if (m.points.inv_mass[p] > 0) points.push_back(p);
-      if (points.empty()) t.fail("b", "the group has no free point");
-    } else {
-      points.push_back(point_ref(t, "b", m));
-      if (!(m.points.inv_mass[points[0]] > 0))
-        t.fail("b", "must be a free mass: a geometric contact acts on a free mass only");
-    }
-    for (std::uint32_t p : points) {
-      c.point = p;
-      geometric_contacts_.push_back(c);
-    }
-    t.finish();
-  }
-
-  void install_geometric_contacts(Model& m) {
-    m.stages.push_back({std::string(kGeometricContactStage), kGeometricContactPhase,
-                        [contacts = geometric_contacts_](const Model& model) {
-                          return make_geometric_contact_stage(model, contacts);
-                        }});
-  }
-
   void link(TomlCursor& t, Model& m) {
     LinkTable table;  // link_keys(); the kind's own keys are its fields
     read_key(t, table, link_keys(), "kind");
     const std::string& kind = table.kind;
-    if (kind == "geometric_contact") return geometric_contact(t, m);
+    if (const StageRegistry::Entry* e = stages_.find(kind); e && e->of_links)
+      return claimed_links_[kind].push_back(&t);  // a stage's, gathered with the others
     const LinkKindRegistry::Entry* entry = kinds_.find(kind);
     if (!entry) t.fail("kind", "unknown link kind '" + kind + "' (known: " + kinds_.names() + ")");
     const std::uint32_t a = point_ref(t, "a", m), b = point_ref(t, "b", m);
@@ -331,7 +272,8 @@ class SceneReader {
 
   const LinkKindRegistry& kinds_;
   const StageRegistry& stages_;
-  std::vector<GeometricContact> geometric_contacts_;
+  // [[link]] tables whose kind is a registered stage's (StageTableEntry::of_links), by kind.
+  std::map<std::string, std::vector<SceneTable*>, std::less<>> claimed_links_;
   std::string file_;
   std::set<std::string> names_;
 };

@@ -7,6 +7,7 @@
 #include "audio_keys.hpp"
 #include "builder_keys.hpp"
 #include "maille/fields.hpp"
+#include "maille/geometric_point.hpp"
 #include "maille/group_contact.hpp"
 #include "maille/integrator.hpp"
 #include "maille/limits.hpp"
@@ -57,7 +58,7 @@ StageSpec self_collision_table(SceneTable& t, const Model& m) {
   read_keys(t, s, self_collision_keys());
   exclusion_fits(t, m, s);
   if (const StageProblem p = resolve_self_collision(m, s)) t.fail(p.key, p.message);
-  StageSpec spec{std::string(kSelfCollisionStage), kSelfCollisionPhase,
+  StageSpec spec{kSelfCollisionStage,
                  [s](const Model& model) { return make_self_collision_stage(model, s); }};
   visit_keys(self_collision_keys(), s,
              [&](const StageKey<SelfCollisionSettings>& k, std::string v) {
@@ -140,14 +141,23 @@ std::vector<DeclaredTable> declared_tables(const StageRegistry& stages,
   out.push_back(declared("[[control]]", "a MIDI or OSC source mapped onto a scene key or a strike",
                          control_keys()));
   out.push_back(declared("[[control]] excite", "a control's strike or pluck", excite_keys()));
-  for (const auto& e : stages.entries())
-    out.push_back({e.array ? "[[" + e.table + "]]" : "[" + e.table + "]", e.description, e.keys});
+  for (const auto& e : stages.entries()) {
+    std::string description = e.description;
+    if (!e.stage.name.empty())  // the stage it makes (StageTableEntry::stage)
+      description.append("; its stage: `")
+          .append(e.stage.name)
+          .append(e.array && e.stage.name.ends_with(':') ? "<name>" : "")
+          .append("`, phase ")
+          .append(to_string(e.stage.phase));
+    const std::string table = e.of_links ? e.table
+                              : e.array  ? "[[" + e.table + "]]"
+                                         : "[" + e.table + "]";
+    out.push_back({table, description, e.keys});
+  }
   out.push_back(
       declared("[[obstacle]] motion", "an obstacle's motion (methods: the paths)", motion_keys()));
   out.push_back(
       declared("[[geometric_point]]", "a shape placed by an affine map", geometric_point_keys()));
-  out.push_back(declared("geometric_contact", "[[link]] kind = \"geometric_contact\"",
-                         geometric_contact_keys()));
   out.push_back(declared("[[flag]]", "cloth on a pole", flag_keys()));
   out.push_back(declared("[[rope]]", "rope or chain", rope_keys()));
   out.push_back(declared("[[net]]", "net of cords", net_keys()));
@@ -215,24 +225,45 @@ std::string with_declared_tables(std::string_view doc, std::span<const DeclaredT
   return out;
 }
 
-// Built-in stage tables register here, one line each.
+void register_stage_files(StageRegistry& r);  // generated: every file of src/stages/
+
+// Built-in stage tables register here, one line each, then every file of src/stages/ (in the
+// order of their names): the order in which a scene's tables are read, and so the order of its
+// stages within a phase (the golden hashes').
 StageRegistry StageRegistry::with_builtins() {
   StageRegistry r;
-  // First: its links join the model's pools right after the [[link]] tables' (gathered tables
-  // are read before the others; the order is the golden hashes').
-  StageTableEntry contact{"contact", true,
-                          "conditional spring-dampers between the points of two groups (CORDIS "
-                          "contacts)",
-                          nullptr, describe_keys(contact_keys(), GroupContactSpec{})};
-  contact.gather = contact_tables;
-  r.add(std::move(contact));
-  r.add({std::string(kSelfCollisionStage), false,
-         "self-collision of cloth and ropes: grids, topological exclusion, conditional response",
-         self_collision_table, describe_keys(self_collision_keys(), SelfCollisionSettings{})});
-  r.add({"obstacle", true,
-         "fixed or moving geometry (a canonical shape or a mesh file) by one of three methods: "
-         "geometric, facets, conditional",
-         obstacle_table, describe_keys(obstacle_keys(), Obstacle{})});
+  // Gathered tables first, right after the [[link]] tables (the order is the golden hashes'):
+  // the geometric contacts' stage, then [[contact]], whose links join the model's pools there.
+  r.add({.table = "geometric_contact",
+         .array = true,
+         .description = "[[link]] kind = \"geometric_contact\": a geometric point (a) holding a "
+                        "free mass or a group's free points (b) out of its shape",
+         .keys = describe_keys(geometric_contact_keys(), GeometricContactTable{}),
+         .gather = geometric_contact_links,
+         .stage = kGeometricContactStage,
+         .of_links = true});
+  r.add({.table = "contact",
+         .array = true,
+         .description = "conditional spring-dampers between the points of two groups (CORDIS "
+                        "contacts)",
+         .keys = describe_keys(contact_keys(), GroupContactSpec{}),
+         .gather = contact_tables,
+         .stage = kGroupContactStage});
+  r.add(
+      {.table = std::string(kSelfCollisionStage.name),
+       .description =
+           "self-collision of cloth and ropes: grids, topological exclusion, conditional response",
+       .parse = self_collision_table,
+       .keys = describe_keys(self_collision_keys(), SelfCollisionSettings{}),
+       .stage = kSelfCollisionStage});
+  r.add({.table = "obstacle",
+         .array = true,
+         .description = "fixed or moving geometry (a canonical shape or a mesh file) by one of "
+                        "three methods: geometric, facets, conditional",
+         .parse = obstacle_table,
+         .keys = describe_keys(obstacle_keys(), Obstacle{}),
+         .stage = {kObstacleStagePrefix, obstacle_phase(Obstacle{}.method)}});
+  register_stage_files(r);
   return r;
 }
 

@@ -14,5 +14,7 @@ StageSpec obstacle_table(SceneTable& t, const Model& m);  // [[obstacle]]: obsta
 // [[contact]], every table at once (contact_table.cpp): links added to `m`, and the broad-phase
 // tables' one stage.
 std::optional<StageSpec> contact_tables(std::span<SceneTable* const> tables, Model& m);
+// [[link]] kind = "geometric_contact", every such table at once (geometric_contact_table.cpp).
+std::optional<StageSpec> geometric_contact_links(std::span<SceneTable* const> tables, Model& m);
 
 }  // namespace maille

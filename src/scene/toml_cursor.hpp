@@ -37,6 +37,10 @@ class TomlCursor final : public SceneTable {
     const toml::node* n = table_.get(key);
     return n && n->is_string();
   }
+  bool has_integer(std::string_view key) const override {
+    const toml::node* n = table_.get(key);
+    return n && n->is_integer();
+  }
 
   Real real(std::string_view key, Bound bound) override;  // required
   Real real(std::string_view key, Real fallback, Bound bound) override;

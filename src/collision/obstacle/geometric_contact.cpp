@@ -37,8 +37,8 @@ class GeometricContactStage final : public Stage {
     }
   }
 
-  std::string name() const override { return std::string(kGeometricContactStage); }
-  Phase phase() const override { return kGeometricContactPhase; }
+  std::string name() const override { return std::string(kGeometricContactStage.name); }
+  Phase phase() const override { return kGeometricContactStage.phase; }
 
   void apply(const Model& m, State& s, const StageContext& ctx) override {
     const Vec3* x = s.x().data();

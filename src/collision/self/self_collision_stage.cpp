@@ -52,9 +52,9 @@ class SelfCollisionStage final : public Stage, public MotionBound {
     faces_ = group_faces(m, settings_.groups);
     take_members(m);
   }
-  std::string name() const override { return std::string(kSelfCollisionStage); }
+  std::string name() const override { return std::string(kSelfCollisionStage.name); }
   std::string refusal_hint() const override { return " (or without it: --no-self-collision)"; }
-  Phase phase() const override { return kSelfCollisionPhase; }
+  Phase phase() const override { return kSelfCollisionStage.phase; }
   void model_changed(const Model& m) override {
     engine_.release_exclusion();
     wide_.reset();
