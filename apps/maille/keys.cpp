@@ -70,7 +70,7 @@ int describe_keys(const std::string& docs) {
   choice_line<Exclusion>(std::cout);
   choice_line<Primitive>(std::cout);
   choice_line<ObstacleMethod>(std::cout);
-  choice_line<ShapeKind>(std::cout);
+  std::cout << "- shape: " << shape_name_list() << '\n';  // the shape table's rows
   choice_line<FlagFixed>(std::cout);
   choice_line<RopeFixed>(std::cout);
   choice_line<NetFixed>(std::cout);

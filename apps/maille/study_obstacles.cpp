@@ -97,14 +97,14 @@ void cloth_table(std::ostream& f, bool quick) {
       Scene scene = read(cloth_on(s, method));
       const shapes::Affine place =
           shapes::Affine::from({0, Real(0.3), 0}, s.rotation, {Real(0.25), Real(0.25), Real(0.25)});
-      const ShapeKind kind = parse_name<ShapeKind>(s.shape).value();
+      const ShapeKind kind = shape_kind(s.shape);
       Simulator sim(std::move(scene.model), scene.settings);
       double deepest = 0;
       for (std::uint64_t i = 0; i < steps; ++i) {
         if (!sim.step()) throw std::runtime_error("study: " + sim.blow_up()->message);
         if (i % 10) continue;
         for (const Vec3& x : sim.state().x()) {
-          const Real d = shapes::canonical(kind, place.to_canonical(x), 0, 0).signed_distance;
+          const Real d = shapes::canonical(kind, place.to_canonical(x)).signed_distance;
           deepest = std::max(deepest, -double(d) * 0.25);  // canonical -> world (scale 0.25)
         }
       }

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,9 +40,8 @@ struct Model;
 
 struct GeometricPoint {
   std::string name;
-  ShapeKind shape = ShapeKind::sphere;
-  Real top = Real(0.5);   // cone
-  Real tube = Real(0.3);  // torus
+  ShapeKind shape{};                    // a row of the shape table (shapes.hpp): the sphere
+  std::optional<Real> shape_parameter;  // as Obstacle's: unset, the shape's default
   shapes::Affine place;
 };
 

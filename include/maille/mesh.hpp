@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -65,12 +66,13 @@ TriMesh parse_stl(std::string_view bytes, const std::string& name);
 std::string to_obj(const TriMesh& mesh);
 
 // A canonical shape as a closed mesh (the plane: the open square [-1, 1] x {0} x [-1, 1], normal
-// +y), with about `resolution` segments around (and proportionally along) curved directions.
-// top: cone's top radius ratio in [0, 1]; tube: torus's tube radius ratio in (0, 1]. Vertices
-// lie on the canonical surface. resolution: [3, 1024] (the plane's squares per side: [1, 1024];
-// the cube's squares per edge are resolution / 4, at least 1). Arguments out of range throw
-// std::invalid_argument (a caller's error: scene values are checked where they are read).
-TriMesh tessellate(ShapeKind shape, int resolution, Real top = Real(0.5), Real tube = Real(0.3));
+// +y), with about `resolution` segments around (and proportionally along) curved directions;
+// `parameter`: the shape's parameter (shapes.hpp's ShapeParameter: a cone's top, a torus's
+// tube), its default when not given. Vertices lie on the canonical surface. resolution:
+// [3, 1024] (the plane's squares per side: [1, 1024]; the cube's squares per edge are
+// resolution / 4, at least 1). Arguments out of range throw std::invalid_argument (a caller's
+// error: scene values are checked where they are read).
+TriMesh tessellate(ShapeKind shape, int resolution, std::optional<Real> parameter = {});
 // A sphere by subdividing an icosahedron `levels` times (20 * 4^levels faces), vertices on the
 // unit sphere. levels: [0, 8], else std::invalid_argument.
 TriMesh icosphere(int levels);

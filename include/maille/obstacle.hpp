@@ -22,6 +22,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -91,9 +92,10 @@ struct NameTable<ObstacleMotion::Kind> {
 struct Obstacle {
   std::string name = "obstacle";
   ObstacleMethod method = ObstacleMethod::geometric;
-  ShapeKind shape = ShapeKind::sphere;
-  Real top = Real(0.5);   // cone: top radius / bottom radius, in [0, 1]
-  Real tube = Real(0.3);  // torus: tube radius / major radius, in (0, 1]
+  ShapeKind shape{};  // a row of the shape table (shapes.hpp): the first, the sphere
+  // The shape's parameter if it has one (a cone's `top`, a torus's `tube`: its ShapeParameter
+  // gives the range); unset, the shape's default.
+  std::optional<Real> shape_parameter;
   // A mesh file instead of a canonical shape (facets, conditional): the mesh in its own frame,
   // placed by `place` like a shape. Null: the canonical shape (tessellated where needed).
   std::shared_ptr<const TriMesh> mesh;

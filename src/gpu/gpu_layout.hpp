@@ -151,8 +151,7 @@ static_assert(unsigned(Buf::health) == kBufferCount - 1 &&
 // the cull.
 #define MAILLE_GPU_OBSTACLE(F)                                                                    \
   F(uint, shape)                                                                                  \
-  F(float, top)                                                                                   \
-  F(float, tube)                                                                                  \
+  F(float, shape_parameter)                                                                       \
   F(float, stiffness) F(float, damping) F(float, friction) F(float, slip) F(uint, world_normal)   \
       F(uint, moves) F(float, reach2) F(float, d00) F(float, d01) F(float, d02) F(float, d10)     \
           F(float, d11) F(float, d12) F(float, d20) F(float, d21) F(float, d22) F(float, i00)     \

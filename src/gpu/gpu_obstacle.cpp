@@ -41,8 +41,7 @@ GpuGeometricObstacle::GpuGeometricObstacle(const Stage& st)
          GL_STATIC_DRAW);
   const Obstacle& o = *obstacle_;
   contacts_.set("u_shape", unsigned(o.shape));
-  contacts_.set("u_top", float(o.top));
-  contacts_.set("u_tube", float(o.tube));
+  contacts_.set("u_shape_parameter", float(shape_parameter(o.shape, o.shape_parameter)));
   contacts_.set("u_stiffness", float(o.stiffness));
   contacts_.set("u_damping", float(o.damping));
   contacts_.set_flag("u_world_normal", o.world_normal);

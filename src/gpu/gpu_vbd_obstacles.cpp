@@ -21,8 +21,7 @@ constexpr double kReachMargin = 1.0 + 1.0 / 1024;
 ObstacleRecord record(const Obstacle& o, double t, Real reach) {
   ObstacleRecord r{};
   r.shape = std::uint32_t(o.shape);
-  r.top = float(o.top);
-  r.tube = float(o.tube);
+  r.shape_parameter = float(shape_parameter(o.shape, o.shape_parameter));
   r.stiffness = float(o.stiffness);
   r.damping = float(o.damping);
   r.friction = float(o.friction);

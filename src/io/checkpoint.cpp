@@ -171,8 +171,12 @@ std::uint64_t model_fingerprint(const Model& m) {
   for (const GeometricPoint& g : m.geometric_points) {
     h.text(g.name);
     h.value(g.shape);
-    h.value(g.top);
-    h.value(g.tube);
+    // Every shape parameter in table order: the point's own for its shape, else the default.
+    const auto table = shape_table();
+    for (std::size_t i = 0; i < table.size(); ++i)
+      if (table[i].parameter)
+        h.value(ShapeKind(i) == g.shape ? shape_parameter(g.shape, g.shape_parameter)
+                                        : table[i].parameter->fallback);
     h.value(g.place);
   }
   for (const auto& s : m.stages) {

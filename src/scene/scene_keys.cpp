@@ -3,11 +3,14 @@
 
 #include <array>
 #include <cctype>
+#include <iterator>
 #include <sstream>
+#include <vector>
 
 #include "maille/backend.hpp"
 #include "maille/integrator.hpp"
 #include "maille/limits.hpp"
+#include "maille/shape_keys.hpp"
 
 namespace maille {
 
@@ -230,42 +233,39 @@ std::span<const StageKey<LinkTable>> link_keys() {
   return keys;
 }
 
+namespace {
+// Where a geometric point's table holds its shape (shape_keys.hpp).
+struct GeometricPointShape {
+  static auto& kind(auto& g) { return g.point.shape; }
+  static auto& parameter(auto& g) { return g.point.shape_parameter; }
+  static bool canonical(const GeometricPointTable&) { return true; }
+};
+}  // namespace
+
 std::span<const StageKey<GeometricPointTable>> geometric_point_keys() {
   using G = GeometricPointTable;
-  static const std::array<StageKey<G>, 7> keys{
-      // Read first: the reader checks it is unique before the others are read.
-      read_first(text<&G::point, &GeometricPoint::name>(
-          "name", {.doc = "unique among geometric points; links refer to it", .required = true})),
-      choice<&G::point, &GeometricPoint::shape>("shape", {.doc = "as `[[obstacle]]`"}),
-      only_if(
-          checked(number<&G::point, &GeometricPoint::tube>(
-                      "tube", Bound::positive, 0, 0,
-                      {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
-                  [](SceneTable& t, const G& g) {
-                    if (g.point.tube > 1)
-                      t.fail("tube", "must be in (0, 1] (tube radius / major radius)");
-                  }),
-          [](const G& g) { return g.point.shape == ShapeKind::torus; }, "only a torus has a tube"),
-      only_if(
-          checked(number<&G::point, &GeometricPoint::top>(
-                      "top", Bound::non_negative, 0, 0,
-                      {.doc = "cone only: top radius / bottom radius", .range_doc = "[0, 1]"}),
-                  [](SceneTable& t, const G& g) {
-                    if (g.point.top > 1)
-                      t.fail("top", "must be in [0, 1] (top radius / bottom radius)");
-                  }),
-          [](const G& g) { return g.point.shape == ShapeKind::cone; },
-          "only a cone has a top radius"),
-      vector<&G::position>("position", {.unit = "m", .doc = "translation t"}),
-      vector<&G::rotation>("rotation",
-                           {.unit = "degrees", .doc = "about x, then y, then z (R = Rz Ry Rx)"}),
-      checked(vector<&G::scale>("scale", {.doc = "scale factors S along the shape's axes",
-                                          .range_doc = "> 1e-9 each"}),
-              [](SceneTable& t, const G& g) {
-                if (!(g.scale.x > 1e-9 && g.scale.y > 1e-9 && g.scale.z > 1e-9))
-                  t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
-              }),
-  };
+  static const std::vector<StageKey<G>> keys = [] {
+    std::vector<StageKey<G>> out{
+        // Read first: the reader checks it is unique before the others are read.
+        read_first(text<&G::point, &GeometricPoint::name>(
+            "name", {.doc = "unique among geometric points; links refer to it", .required = true})),
+        shape_key<G, GeometricPointShape>({.doc = "as `[[obstacle]]`"}),
+    };
+    for (auto& k : shape_parameter_keys<G, GeometricPointShape>()) out.push_back(k);
+    const StageKey<G> placement[] = {
+        vector<&G::position>("position", {.unit = "m", .doc = "translation t"}),
+        vector<&G::rotation>("rotation",
+                             {.unit = "degrees", .doc = "about x, then y, then z (R = Rz Ry Rx)"}),
+        checked(vector<&G::scale>("scale", {.doc = "scale factors S along the shape's axes",
+                                            .range_doc = "> 1e-9 each"}),
+                [](SceneTable& t, const G& g) {
+                  if (!(g.scale.x > 1e-9 && g.scale.y > 1e-9 && g.scale.z > 1e-9))
+                    t.fail("scale", "every component must be > 1e-9 (M_i divides by it)");
+                }),
+    };
+    out.insert(out.end(), std::begin(placement), std::end(placement));
+    return out;
+  }();
   return keys;
 }
 

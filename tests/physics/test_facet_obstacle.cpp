@@ -66,8 +66,8 @@ TEST(FacetObstacle, NothingEndsBelowAPlaneAtAnySpeed) {
       const Vec3 v{Real(0.3) * speed * Real(i % 3 - 1), -speed, Real(0.2) * speed};
       ids.push_back(m.points.add(PointKind::free, 0.01, {Real(-0.9 + 0.045 * i), 0.3, 0}, v));
     }
-    install(
-        m, facet_obstacle(ShapeKind::plane, shapes::Affine::from({}, {}, {2, 1, 2}), 0.5, 0.3, 32));
+    install(m, facet_obstacle(shape_kind("plane"), shapes::Affine::from({}, {}, {2, 1, 2}), 0.5,
+                              0.3, 32));
     Simulator sim(std::move(m), test::settings(1e-3, scheme));
     for (int step = 0; step < 400; ++step) {
       ASSERT_TRUE(sim.step());
@@ -94,8 +94,8 @@ double slide_distance(Real theta_deg, Real alpha, Real beta, double seconds) {
   const Vec3 start = normal * Real(1e-7);
   const auto p = m.points.add(PointKind::free, 0.01, start);
   install(m,
-          facet_obstacle(ShapeKind::plane, shapes::Affine::from({}, {0, 0, theta_deg}, {50, 1, 50}),
-                         alpha, beta, 8));
+          facet_obstacle(shape_kind("plane"),
+                         shapes::Affine::from({}, {0, 0, theta_deg}, {50, 1, 50}), alpha, beta, 8));
   Simulator sim(std::move(m), test::settings(1e-3));
   EXPECT_TRUE(sim.run_steps(std::uint64_t(seconds / 1e-3)));
   const Vec3 x = sim.state().x()[p];
@@ -133,7 +133,7 @@ TEST(FacetObstacle, ReboundFollowsTheAlphaLaw) {
   for (Real alpha : {Real(0.3), Real(0.6), Real(0.9)}) {
     Model m;
     const auto p = m.points.add(PointKind::free, 0.01, {0, Real(H), 0});
-    install(m, facet_obstacle(ShapeKind::plane, {}, alpha, 0.3, 4));
+    install(m, facet_obstacle(shape_kind("plane"), {}, alpha, 0.3, 4));
     Simulator sim(std::move(m), test::settings(1e-4));
     bool bounced = false;
     double apex = 0, last_y = H;
@@ -191,20 +191,20 @@ void throw_at(const TriMesh& mesh, const Obstacle& o, int count, std::uint64_t s
 
 TEST(FacetObstacle, ThrownParticlesNeverEndInsideACube) {
   const Obstacle o = facet_obstacle(
-      ShapeKind::cube, shapes::Affine::from({0.1, 0.2, 0}, {20, 30, 40}, {0.3, 0.2, 0.25}), 0.5,
+      shape_kind("cube"), shapes::Affine::from({0.1, 0.2, 0}, {20, 30, 40}, {0.3, 0.2, 0.25}), 0.5,
       0.3, 4);
   throw_at(obstacle_mesh(o), o, 100000, 1);
 }
 
 TEST(FacetObstacle, ThrownParticlesNeverEndInsideAnIcosphere) {
   Obstacle o =
-      facet_obstacle(ShapeKind::sphere, shapes::Affine::from({}, {}, {0.3, 0.3, 0.3}), 0.5, 0.3);
+      facet_obstacle(shape_kind("sphere"), shapes::Affine::from({}, {}, {0.3, 0.3, 0.3}), 0.5, 0.3);
   o.mesh = std::make_shared<const TriMesh>(icosphere(2));
   throw_at(*o.mesh, o, 100000, 2);
 }
 
 TEST(FacetObstacle, ThrownParticlesNeverEndInsideTheExampleRock) {
-  Obstacle o = facet_obstacle(ShapeKind::sphere,
+  Obstacle o = facet_obstacle(shape_kind("sphere"),
                               shapes::Affine::from({}, {0, 45, 0}, {0.4, 0.4, 0.4}), 0.2, 0.5);
   o.mesh =
       std::make_shared<const TriMesh>(read_mesh(MAILLE_SOURCE_DIR "/examples/models/rock.obj"));
@@ -214,8 +214,8 @@ TEST(FacetObstacle, ThrownParticlesNeverEndInsideTheExampleRock) {
 // Every tessellated canonical shape (under a non-uniform scale and a rotation), particles
 // thrown from all sides at up to several facets per step: none ends inside.
 TEST(FacetObstacle, ThrownParticlesNeverEndInsideAnyTessellatedShape) {
-  for (ShapeKind shape : {ShapeKind::sphere, ShapeKind::cube, ShapeKind::cylinder, ShapeKind::cone,
-                          ShapeKind::torus, ShapeKind::capsule}) {
+  for (ShapeKind shape : {shape_kind("sphere"), shape_kind("cube"), shape_kind("cylinder"),
+                          shape_kind("cone"), shape_kind("torus"), shape_kind("capsule")}) {
     const Obstacle o = facet_obstacle(
         shape, shapes::Affine::from({0, 0.1, 0}, {10, 20, 30}, {0.3, 0.2, 0.25}), 0.5, 0.3, 24);
     SCOPED_TRACE(std::string(to_string(shape)));
@@ -226,8 +226,8 @@ TEST(FacetObstacle, ThrownParticlesNeverEndInsideAnyTessellatedShape) {
 // A cube turning at 2 turns per second sweeps through particles at rest around it: met by the
 // relative motion, none ends inside.
 TEST(FacetObstacle, ARotatingCubeSweepsParticlesOut) {
-  Obstacle o =
-      facet_obstacle(ShapeKind::cube, shapes::Affine::from({}, {}, {0.3, 0.1, 0.1}), 0.5, 0.3, 4);
+  Obstacle o = facet_obstacle(shape_kind("cube"), shapes::Affine::from({}, {}, {0.3, 0.1, 0.1}),
+                              0.5, 0.3, 4);
   o.motion.kind = ObstacleMotion::Kind::rotate;
   o.motion.frequency = 2;
   Model m;
@@ -253,7 +253,7 @@ TEST(FacetObstacle, ARotatingCubeSweepsParticlesOut) {
 // the first step finds each by its nearest facet, puts it on the surface and counts it.
 TEST(FacetObstacle, ParticlesStartingInsideArePutOutOnTheFirstStep) {
   const Obstacle o =
-      facet_obstacle(ShapeKind::cube,
+      facet_obstacle(shape_kind("cube"),
                      shapes::Affine::from({0, 0.3, 0}, {30, 20, 10}, {0.25, 0.25, 0.25}), 0, 0, 4);
   Model m;
   m.fields.gravity = {0, 0, 0};
@@ -273,7 +273,7 @@ TEST(FacetObstacle, ParticlesStartingInsideArePutOutOnTheFirstStep) {
 TEST(FacetObstacle, SchemesThatEvaluateForcesTwiceRefuseIt) {
   Model m;
   m.points.add(PointKind::free, 0.01, {0, 1, 0});
-  install(m, facet_obstacle(ShapeKind::plane, {}, 0.5, 0.3, 4));
+  install(m, facet_obstacle(shape_kind("plane"), {}, 0.5, 0.3, 4));
   try {
     Simulator sim(std::move(m), test::settings(1e-3, "rk4"));
     FAIL() << "rk4 accepted a response stage";

@@ -38,10 +38,10 @@ TEST(GeometricObstacle, ARestingParticleSinksMgOverK) {
     double top;  // world height of the surface under it
   };
   const Case cases[] = {
-      {ShapeKind::sphere, {0, 1.35, 0}, 1.3},  // on the axis: at the pole
-      {ShapeKind::cube, {0.1, 1.35, -0.1}, 1.3}, {ShapeKind::cylinder, {0.1, 1.35, 0.1}, 1.3},
-      {ShapeKind::cone, {0.02, 1.35, 0}, 1.3},   {ShapeKind::torus, {0.3, 1.15, 0}, 1.09},
-      {ShapeKind::capsule, {0, 1.65, 0}, 1.6},   {ShapeKind::plane, {0.4, 1.05, 0.4}, 1.0}};
+      {shape_kind("sphere"), {0, 1.35, 0}, 1.3},  // on the axis: at the pole
+      {shape_kind("cube"), {0.1, 1.35, -0.1}, 1.3}, {shape_kind("cylinder"), {0.1, 1.35, 0.1}, 1.3},
+      {shape_kind("cone"), {0.02, 1.35, 0}, 1.3},   {shape_kind("torus"), {0.3, 1.15, 0}, 1.09},
+      {shape_kind("capsule"), {0, 1.65, 0}, 1.6},   {shape_kind("plane"), {0.4, 1.05, 0.4}, 1.0}};
   for (const Case& c : cases) {
     const double y = resting_height(c.shape, c.above, s);
     EXPECT_NEAR(y, c.top - sink, 1e-6) << to_string(c.shape);

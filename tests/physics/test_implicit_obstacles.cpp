@@ -76,7 +76,7 @@ double slide(Real theta_deg, Real beta, double h, int steps, const char* solver)
   Model m;
   const auto p = m.points.add(PointKind::free, 0.01, start);
   install(m,
-          facet_obstacle(ShapeKind::plane,
+          facet_obstacle(shape_kind("plane"),
                          shapes::Affine::from({}, {0, 0, theta_deg}, {200, 1, 200}), 0.5, beta, 8));
   Simulator sim(std::move(m), implicit(h, solver));
   EXPECT_TRUE(sim.run_steps(std::uint64_t(steps)));
@@ -113,7 +113,7 @@ TEST(ImplicitFacets, NothingEndsBelowAPlaneAtAnySpeed) {
       const Vec3 v{Real(0.3) * speed * Real(i % 3 - 1), -speed, Real(0.2) * speed};
       m.points.add(PointKind::free, 0.01, {Real(-0.9 + 0.045 * i), 0.3, 0}, v);
     }
-    install(m, facet_obstacle(ShapeKind::plane, shapes::Affine::from({}, {}, {400, 1, 400}), 0.5,
+    install(m, facet_obstacle(shape_kind("plane"), shapes::Affine::from({}, {}, {400, 1, 400}), 0.5,
                               0.3, 32));
     Simulator sim(std::move(m), implicit(1.0 / 60, solver));
     for (int step = 0; step < 60; ++step) {
@@ -132,7 +132,7 @@ TEST(ImplicitFacets, ClothThrownAtAThinBoxAtLargeStepsStaysOnIt) {
     Model m = flat_cloth(16, 0.6, 0.1, {-0.3, 0.3, -0.3}, {0, -10, 0});
     // The unit cube [-1, 1]^3 scaled to 2 m x 1 cm x 2 m, its top at y = 0.005.
     const shapes::Affine box = shapes::Affine::from({}, {}, {1, 0.005, 1});
-    install(m, facet_obstacle(ShapeKind::cube, box, 0, 0.3, 8));
+    install(m, facet_obstacle(shape_kind("cube"), box, 0, 0.3, 8));
     Simulator sim(std::move(m), implicit(1.0 / 60, solver));
     for (int step = 0; step < 60; ++step) {
       ASSERT_TRUE(sim.step()) << solver;
@@ -158,7 +158,7 @@ TEST(ImplicitConditionalObstacle, SolveTermsAreTheStageForceAndDominateItsDeriva
   Obstacle o;
   o.name = "ball";
   o.method = ObstacleMethod::conditional;
-  o.shape = ShapeKind::sphere;
+  o.shape = shape_kind("sphere");
   o.place = shapes::Affine::from({0, 0, 0}, {}, {0.3, 0.3, 0.3});
   o.threshold = 0.02;
   o.stiffness = 500;
@@ -231,7 +231,7 @@ TEST(ImplicitConditionalObstacle, HoldsAClothAtLargeSteps) {
     Obstacle o;
     o.name = "ground";
     o.method = ObstacleMethod::conditional;
-    o.shape = ShapeKind::plane;
+    o.shape = shape_kind("plane");
     o.place = shapes::Affine::from({}, {}, {0.5, 1, 0.5});
     o.threshold = 0.02;
     o.stiffness = 500;
@@ -262,7 +262,7 @@ TEST(ImplicitObstacles, ClothThrownAtAThinBoxOrAPlaneNeverTunnelsAtLargeSteps) {
   for (const char* solver : {"vbd", "matrix_free"})
     for (const ObstacleMethod method :
          {ObstacleMethod::geometric, ObstacleMethod::conditional, ObstacleMethod::facets})
-      for (const ShapeKind shape : {ShapeKind::cube, ShapeKind::plane}) {
+      for (const ShapeKind shape : {shape_kind("cube"), shape_kind("plane")}) {
         const std::string what = std::string(solver) + " " + std::string(to_string(method)) + " " +
                                  std::string(to_string(shape));
         Model m = flat_cloth(16, 0.6, 0.1, {-0.3, 0.3, -0.3}, {0, -10, 0});
@@ -271,7 +271,7 @@ TEST(ImplicitObstacles, ClothThrownAtAThinBoxOrAPlaneNeverTunnelsAtLargeSteps) {
         o.method = method;
         o.shape = shape;
         o.place = shapes::Affine::from(
-            {}, {}, shape == ShapeKind::cube ? Vec3{0.4, 0.005, 0.4} : Vec3{0.5, 1, 0.5});
+            {}, {}, shape == shape_kind("cube") ? Vec3{0.4, 0.005, 0.4} : Vec3{0.5, 1, 0.5});
         o.stiffness = 2000;
         o.damping = 1;
         o.threshold = 0.02;
@@ -283,7 +283,7 @@ TEST(ImplicitObstacles, ClothThrownAtAThinBoxOrAPlaneNeverTunnelsAtLargeSteps) {
             {"obstacle:o", phase, [o](const Model& mm) { return make_obstacle_stage(mm, o); }});
         Simulator sim(std::move(m), implicit(1.0 / 60, solver));
         auto through = [&](const Vec3& x) {
-          if (shape == ShapeKind::plane) return x.y < -0.02;
+          if (shape == shape_kind("plane")) return x.y < -0.02;
           const Vec3 c = o.place.to_canonical(x);
           return std::abs(c.x) < 1 && std::abs(c.z) < 1 && c.y < -1;
         };
@@ -293,7 +293,7 @@ TEST(ImplicitObstacles, ClothThrownAtAThinBoxOrAPlaneNeverTunnelsAtLargeSteps) {
             ASSERT_FALSE(through(sim.state().x()[q]))
                 << what << ": point " << q << " step " << step;
         }
-        const Real top = shape == ShapeKind::cube ? Real(0.005) : Real(0);
+        const Real top = shape == shape_kind("cube") ? Real(0.005) : Real(0);
         for (const Vec3& x : sim.state().x()) EXPECT_GT(x.y, top - 0.021) << what;
       }
 }

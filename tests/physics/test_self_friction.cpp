@@ -56,7 +56,7 @@ double slid_on_a_tilted_cloth(double theta_deg, Real mu, const char* integrator,
   Obstacle plane;
   plane.name = "plane";
   plane.method = ObstacleMethod::geometric;
-  plane.shape = ShapeKind::plane;
+  plane.shape = shape_kind("plane");
   plane.stiffness = 5000;
   plane.damping = 1;
   plane.friction = 2;

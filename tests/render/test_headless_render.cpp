@@ -386,7 +386,7 @@ TEST_F(HeadlessRender, SolidMeshesAreUploadedOncePerPointer) {
   Renderer renderer;
   renderer.set_model(model);
   const auto ball = std::make_shared<const TriMesh>(icosphere(2));
-  const auto box = std::make_shared<const TriMesh>(tessellate(ShapeKind::cube, 4));
+  const auto box = std::make_shared<const TriMesh>(tessellate(shape_kind("cube"), 4));
   Snapshot s = sphere_snapshot(model, ball, 0.5f);
   s.surfaces.push_back(s.surfaces[0]);  // a second instance of the same mesh
   s.surfaces[1].translation = {-0.5, 0, 0};
@@ -517,7 +517,7 @@ TEST(RenderTopology, SolidNormalsAreSmoothOnSpheresAndSharpOnCubes) {
   }
   EXPECT_GT(worst, 0.999);
   // A cube: every corner's normal is its face's (the edges stay sharp), pointing out.
-  const TriMesh cube = tessellate(ShapeKind::cube, 8);
+  const TriMesh cube = tessellate(shape_kind("cube"), 8);
   const std::vector<float> w = solid_vertices(cube);
   for (std::size_t f = 0; f < cube.triangles.size(); ++f) {
     const auto& t = cube.triangles[f];

@@ -85,7 +85,18 @@ TEST(Names, EveryTableRoundTripsAndCoversItsEnum) {
   expect_round_trip<Exclusion>();
   expect_round_trip<Primitive>();
   expect_round_trip<ObstacleMethod>();
-  expect_round_trip<ShapeKind>();
+  // The shapes are a table of their own (shapes.hpp): each row's value is its index.
+  {
+    std::set<std::string_view> seen;
+    for (std::size_t i = 0; i < shape_table().size(); ++i) {
+      const ShapeKind shape = static_cast<ShapeKind>(i);
+      EXPECT_EQ(parse_shape(to_string(shape)), shape);
+      EXPECT_TRUE(seen.insert(to_string(shape)).second) << "duplicate name " << to_string(shape);
+      EXPECT_FALSE(shape_row(shape).doc.empty()) << to_string(shape);
+    }
+    EXPECT_FALSE(parse_shape("no_such_name"));
+    EXPECT_THROW(shape_kind("no_such_name"), std::invalid_argument);
+  }
   expect_round_trip<FlagFixed>();
   expect_round_trip<RopeFixed>();
   expect_round_trip<NetFixed>();
@@ -114,7 +125,14 @@ TEST(Names, TheDocsListEveryTablesNames) {
   expect_documented<Primitive>("## Self-collision", "primitive");
   expect_documented<IntersectionCheck>("## Self-collision", "check");
   expect_documented<ObstacleMethod>("## Obstacles", "method");
-  expect_documented<ShapeKind>("## Obstacles", "shape");
+  {  // the shape table's names, in its order
+    static const auto doc = doc_lines("docs/scene-format.md");
+    std::string listed;
+    for (const std::string_view name : shape_names())
+      listed += (listed.empty() ? "`" : ", `") + std::string(name) + "`";
+    EXPECT_NE(doc_row(doc, "## Obstacles", "shape").find("| " + listed + " |"), std::string::npos)
+        << listed;
+  }
   expect_documented<ContactNormal>("## Obstacles", "normal");
   expect_documented<ContactMethod>("## Contacts", "method");
   expect_documented<FlagFixed>("### `[[flag]]`", "fixed");

@@ -97,7 +97,7 @@ double check_candidates(const TriMesh& mesh, std::mt19937& rng) {
 
 TEST(FacetGrid, EveryFacetMeetingABoxIsACandidateOnASphere) {
   std::mt19937 rng(7);
-  TriMesh sphere = tessellate(ShapeKind::sphere, 40);
+  TriMesh sphere = tessellate(shape_kind("sphere"), 40);
   for (Vec3& v : sphere.vertices) v = Vec3{v.x * 0.4, v.y * 0.4 + 0.3, v.z * 0.4};
   const double mean = check_candidates(sphere, rng);
   // What the separating-axis test buys: a particle's box on this sphere gets 2.14 candidates
@@ -109,8 +109,8 @@ TEST(FacetGrid, EveryFacetMeetingABoxIsACandidateOnASphere) {
 
 TEST(FacetGrid, EveryFacetMeetingABoxIsACandidateOnATorusAndACube) {
   std::mt19937 rng(11);
-  check_candidates(tessellate(ShapeKind::torus, 24, Real(0.5), Real(0.3)), rng);
-  check_candidates(tessellate(ShapeKind::cube, 16), rng);
+  check_candidates(tessellate(shape_kind("torus"), 24, Real(0.3)), rng);
+  check_candidates(tessellate(shape_kind("cube"), 16), rng);
 }
 
 TEST(FacetGrid, EveryFacetMeetingABoxIsACandidateInATriangleSoup) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,14 +21,14 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 // One shape with its exact measures and the number of profile segments a full turn would have
-// (0 where the profile is straight), mirroring the sweep's choice in tessellate.cpp: segments
-// about 2 pi / n long.
+// (0 where the profile is straight), mirroring the sweep's choice in the shape table's meshes
+// (shape_table.cpp): segments about 2 pi / n long.
 struct Case {
   ShapeKind kind;
-  Real top = 0.5, tube = 0.3;
+  std::optional<Real> parameter;  // the cone's top, the torus's tube; none: the default
   double volume, area;
   bool swept = true;  // a solid of revolution: the around-the-axis term applies
-  int (*profile_turn)(int n, double tube) = nullptr;
+  int (*profile_turn)(int n, double parameter) = nullptr;
   std::string label;
 };
 
@@ -37,22 +38,21 @@ int ceil_div(double x) {
 
 std::vector<Case> cases() {
   std::vector<Case> c;
-  c.push_back({ShapeKind::sphere, 0.5, 0.3, 4 * kPi / 3, 4 * kPi, true,
+  c.push_back({shape_kind("sphere"), std::nullopt, 4 * kPi / 3, 4 * kPi, true,
                [](int n, double) { return 2 * ceil_div(n / 2.0); }, "sphere"});
-  c.push_back({ShapeKind::cube, 0.5, 0.3, 8, 24, false, nullptr, "cube"});
-  c.push_back({ShapeKind::cylinder, 0.5, 0.3, 2 * kPi, 6 * kPi, true, nullptr, "cylinder"});
+  c.push_back({shape_kind("cube"), std::nullopt, 8, 24, false, nullptr, "cube"});
+  c.push_back({shape_kind("cylinder"), std::nullopt, 2 * kPi, 6 * kPi, true, nullptr, "cylinder"});
   for (const double top : {0.0, 0.25, 0.5, 1.0}) {
     const double slant = std::hypot(2.0, 1 - top);
-    c.push_back({ShapeKind::cone, Real(top), 0.3, 2 * kPi / 3 * (1 + top + top * top),
+    c.push_back({shape_kind("cone"), Real(top), 2 * kPi / 3 * (1 + top + top * top),
                  kPi * (1 + top) * slant + kPi + kPi * top * top, true, nullptr,
                  "cone top " + std::to_string(top)});
   }
   for (const double tube : {0.1, 0.25, 0.3, 1.0})
-    c.push_back({ShapeKind::torus, 0.5, Real(tube), 2 * kPi * kPi * tube * tube,
-                 4 * kPi * kPi * tube, true,
-                 [](int n, double t) { return std::max(3, ceil_div(n * t)); },
+    c.push_back({shape_kind("torus"), Real(tube), 2 * kPi * kPi * tube * tube, 4 * kPi * kPi * tube,
+                 true, [](int n, double t) { return std::max(3, ceil_div(n * t)); },
                  "torus tube " + std::to_string(tube)});
-  c.push_back({ShapeKind::capsule, 0.5, 0.3, 2 * kPi + 4 * kPi / 3, 8 * kPi, true,
+  c.push_back({shape_kind("capsule"), std::nullopt, 2 * kPi + 4 * kPi / 3, 8 * kPi, true,
                [](int n, double) { return 4 * ceil_div(n / 4.0); }, "capsule"});
   return c;
 }
@@ -69,7 +69,7 @@ std::vector<Case> cases() {
 double bound(const Case& c, int n) {
   auto term = [](int k) { return 3 * std::pow(2 * kPi / k, 2) / 8; };
   double b = c.swept ? term(n) : 0;
-  if (c.profile_turn) b += term(c.profile_turn(n, double(c.tube)));
+  if (c.profile_turn) b += term(c.profile_turn(n, double(c.parameter.value_or(0))));
   return std::max(b, 1e-12);
 }
 
@@ -82,7 +82,7 @@ TEST(mesh_shapes, ClosedOutwardAndConverging) {
     double previous_error = 0;
     for (const int n : {8, 16, 32, 64}) {
       SCOPED_TRACE(c.label + ", resolution " + std::to_string(n));
-      const TriMesh m = tessellate(c.kind, n, c.top, c.tube);
+      const TriMesh m = tessellate(c.kind, n, c.parameter);
       EXPECT_TRUE(m.closed());
       const double v = double(m.volume()), a = double(m.area());
       EXPECT_GT(v, 0);
@@ -91,8 +91,9 @@ TEST(mesh_shapes, ClosedOutwardAndConverging) {
       // Second order: doubling the segments in every curved direction divides the error by
       // about 4 (by 3 at least). The torus's tube segments, ceil(n tube), do not always double.
       const double error = relative(v, c.volume);
-      const bool doubled = !c.profile_turn || c.profile_turn(n, double(c.tube)) ==
-                                                  2 * c.profile_turn(n / 2, double(c.tube));
+      const bool doubled =
+          !c.profile_turn || c.profile_turn(n, double(c.parameter.value_or(0))) ==
+                                 2 * c.profile_turn(n / 2, double(c.parameter.value_or(0)));
       if (c.swept && previous_error > 0 && doubled) {
         EXPECT_LT(error, previous_error / 3);
       }
@@ -103,15 +104,17 @@ TEST(mesh_shapes, ClosedOutwardAndConverging) {
 
 TEST(mesh_shapes, VerticesOnTheCanonicalSurface) {
   std::vector<Case> all = cases();
-  all.push_back({ShapeKind::plane, 0.5, 0.3, 0, 4, false, nullptr, "plane"});
+  all.push_back({shape_kind("plane"), std::nullopt, 0, 4, false, nullptr, "plane"});
   for (const Case& c : all)
     for (const int n : {3, 5, 12, 33}) {
       SCOPED_TRACE(c.label + ", resolution " + std::to_string(n));
-      const TriMesh m = tessellate(c.kind, n, c.top, c.tube);
+      const TriMesh m = tessellate(c.kind, n, c.parameter);
       double worst = 0;
       for (const Vec3& p : m.vertices)
         worst = std::max(
-            worst, std::abs(double(shapes::canonical(c.kind, p, c.top, c.tube).signed_distance)));
+            worst,
+            std::abs(double(shapes::canonical(c.kind, p, shape_parameter(c.kind, c.parameter))
+                                .signed_distance)));
       EXPECT_LT(worst, 1e-12);
     }
 }
@@ -120,10 +123,10 @@ TEST(mesh_shapes, VerticesOnTheCanonicalSurface) {
 // no triangle of zero area.
 TEST(mesh_shapes, WeldedWithoutDegenerateTriangles) {
   std::vector<Case> all = cases();
-  all.push_back({ShapeKind::plane, 0.5, 0.3, 0, 4, false, nullptr, "plane"});
+  all.push_back({shape_kind("plane"), std::nullopt, 0, 4, false, nullptr, "plane"});
   for (const Case& c : all) {
     SCOPED_TRACE(c.label);
-    const TriMesh m = tessellate(c.kind, 16, c.top, c.tube);
+    const TriMesh m = tessellate(c.kind, 16, c.parameter);
     std::vector<Vec3> sorted = m.vertices;
     auto less = [](const Vec3& a, const Vec3& b) {
       return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
@@ -141,7 +144,7 @@ TEST(mesh_shapes, WeldedWithoutDegenerateTriangles) {
 }
 
 TEST(mesh_shapes, PlaneIsAnOpenSquareFacingUp) {
-  const TriMesh m = tessellate(ShapeKind::plane, 5);
+  const TriMesh m = tessellate(shape_kind("plane"), 5);
   EXPECT_EQ(m.triangles.size(), 2u * 5 * 5);
   EXPECT_EQ(m.vertices.size(), 6u * 6);
   EXPECT_FALSE(m.closed());
@@ -152,11 +155,11 @@ TEST(mesh_shapes, PlaneIsAnOpenSquareFacingUp) {
     EXPECT_EQ(n.x, 0);
     EXPECT_EQ(n.z, 0);
   }
-  EXPECT_EQ(tessellate(ShapeKind::plane, 1).triangles.size(), 2u);
+  EXPECT_EQ(tessellate(shape_kind("plane"), 1).triangles.size(), 2u);
 }
 
 TEST(mesh_shapes, PointedConeHasAnApex) {
-  const TriMesh m = tessellate(ShapeKind::cone, 12, 0);
+  const TriMesh m = tessellate(shape_kind("cone"), 12, 0);
   EXPECT_TRUE(m.closed());
   EXPECT_EQ(std::count(m.vertices.begin(), m.vertices.end(), Vec3{0, 1, 0}), 1);
 }
@@ -176,12 +179,12 @@ TEST(mesh_shapes, IcosphereFacesAndRadius) {
 }
 
 TEST(mesh_shapes, ArgumentsOutOfRangeAreRefused) {
-  EXPECT_THROW(tessellate(ShapeKind::sphere, 2), std::invalid_argument);
-  EXPECT_THROW(tessellate(ShapeKind::sphere, 1025), std::invalid_argument);
-  EXPECT_THROW(tessellate(ShapeKind::plane, 0), std::invalid_argument);
-  EXPECT_THROW(tessellate(ShapeKind::cone, 8, Real(1.5)), std::invalid_argument);
-  EXPECT_THROW(tessellate(ShapeKind::cone, 8, Real(NAN)), std::invalid_argument);
-  EXPECT_THROW(tessellate(ShapeKind::torus, 8, 0.5, 0), std::invalid_argument);
+  EXPECT_THROW(tessellate(shape_kind("sphere"), 2), std::invalid_argument);
+  EXPECT_THROW(tessellate(shape_kind("sphere"), 1025), std::invalid_argument);
+  EXPECT_THROW(tessellate(shape_kind("plane"), 0), std::invalid_argument);
+  EXPECT_THROW(tessellate(shape_kind("cone"), 8, Real(1.5)), std::invalid_argument);
+  EXPECT_THROW(tessellate(shape_kind("cone"), 8, Real(NAN)), std::invalid_argument);
+  EXPECT_THROW(tessellate(shape_kind("torus"), 8, 0), std::invalid_argument);
   EXPECT_THROW(icosphere(-1), std::invalid_argument);
   EXPECT_THROW(icosphere(9), std::invalid_argument);
 }

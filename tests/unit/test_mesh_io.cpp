@@ -74,7 +74,7 @@ void expect_same_triangles(const TriMesh& a, const TriMesh& b, double tol) {
 }
 
 TEST(mesh_io, ObjRoundTripIsExact) {
-  const TriMesh m = tessellate(ShapeKind::torus, 24, 0.5, Real(0.35));
+  const TriMesh m = tessellate(shape_kind("torus"), 24, Real(0.35));
   const TriMesh back = parse_obj(to_obj(m), "torus.obj");
   EXPECT_EQ(back.vertices, m.vertices);  // shortest round-trip decimals, read exactly
   EXPECT_EQ(back.triangles, m.triangles);
@@ -82,7 +82,7 @@ TEST(mesh_io, ObjRoundTripIsExact) {
 }
 
 TEST(mesh_io, StlRoundTripsWeldIntoTheSameSurface) {
-  const TriMesh m = tessellate(ShapeKind::capsule, 16);
+  const TriMesh m = tessellate(shape_kind("capsule"), 16);
   const TriMesh a = parse_stl(ascii_stl(m), "capsule.stl");
   expect_same_triangles(m, a, 0);
   EXPECT_EQ(a.vertices.size(), m.vertices.size());  // welded back to shared corners

@@ -12,6 +12,29 @@
 namespace maille::shapes {
 namespace {
 
+// Each shape's distance function, through the table's number (canonical_distance).
+Distance sphere(const Vec3& p) {
+  return canonical(shape_kind("sphere"), p);
+}
+Distance cube(const Vec3& p) {
+  return canonical(shape_kind("cube"), p);
+}
+Distance cylinder(const Vec3& p) {
+  return canonical(shape_kind("cylinder"), p);
+}
+Distance cone(const Vec3& p, Real top) {
+  return canonical(shape_kind("cone"), p, top);
+}
+Distance torus(const Vec3& p, Real tube) {
+  return canonical(shape_kind("torus"), p, tube);
+}
+Distance capsule(const Vec3& p) {
+  return canonical(shape_kind("capsule"), p);
+}
+Distance half_space(const Vec3& p) {
+  return canonical(shape_kind("plane"), p);
+}
+
 void expect_vec(const Vec3& a, const Vec3& b, double tol = 1e-12) {
   EXPECT_NEAR(a.x, b.x, tol);
   EXPECT_NEAR(a.y, b.y, tol);

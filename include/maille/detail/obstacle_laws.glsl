@@ -11,11 +11,12 @@
 // (Mat3's row-major product in C++, GLSL's own there: the GPU uploads the same matrix) and
 // transpose(M) * v; largest_real() is the scalar type's largest finite value.
 //
-// A shape's distance function takes a point p of its canonical frame and returns the signed
-// distance (negative inside), with the outward unit normal of the closest surface point in
-// `normal` (include/maille/shapes.hpp lists the shapes and each one's rule for ties).
-
-// ShapeKind's values (include/maille/shapes.hpp; shapes.cpp checks them).
+// A shape's distance function takes a point p of its canonical frame (and the shape's parameter
+// if it has one) and returns the signed distance (negative inside), with the outward unit normal
+// of the closest surface point in `normal`; each one's rule for ties is written beside it.
+//
+// The shapes' numbers (ShapeKind's values): each is the index of its row in the shape table,
+// src/collision/shapes/shape_table.cpp, which checks it.
 const int kShapeSphere = 0;
 const int kShapeCube = 1;
 const int kShapeCylinder = 2;
@@ -173,14 +174,14 @@ MAILLE_SHARED real half_space_distance(vec3 p, MAILLE_OUT(vec3) normal) {
   return p.y;
 }
 
-// The distance function of a shape (its kShape* value; top: cone, tube: torus).
-MAILLE_SHARED real canonical_distance(int shape, vec3 p, real top, real tube,
-                                      MAILLE_OUT(vec3) normal) {
+// The distance function of a shape (its kShape* value), with its parameter (the shape table's:
+// ignored by a shape without one).
+MAILLE_SHARED real canonical_distance(int shape, vec3 p, real parameter, MAILLE_OUT(vec3) normal) {
   if (shape == kShapeSphere) return sphere_distance(p, normal);
   if (shape == kShapeCube) return cube_distance(p, normal);
   if (shape == kShapeCylinder) return cylinder_distance(p, normal);
-  if (shape == kShapeCone) return cone_distance(p, top, normal);
-  if (shape == kShapeTorus) return torus_distance(p, tube, normal);
+  if (shape == kShapeCone) return cone_distance(p, parameter, normal);
+  if (shape == kShapeTorus) return torus_distance(p, parameter, normal);
   if (shape == kShapeCapsule) return capsule_distance(p, normal);
   return half_space_distance(p, normal);
 }
@@ -192,21 +193,22 @@ MAILLE_SHARED vec3 normal_to_world(mat3 inverse, vec3 n) {
   return l > real(0) ? w / l : vec3(real(0), real(1), real(0));
 }
 
-// The geometric contact (the canonical-frame algorithm): x into the canonical frame through M_i
+// The geometric contact (the canonical-frame algorithm) with shape `shape` (its parameter:
+// `parameter`): x into the canonical frame through M_i
 // (`inverse`, `translation`), the shape's penetration vector there, the spring-damper k d -
 // z (v_c . n) n on it, back through M_d (`direct`). With `world_normal`, along the world normal
 // with the world depth of the canonical penetration. `v` is the velocity relative to the
 // shape's surface. Returns the force (zero outside); `depth` the world penetration (0 outside)
 // and `normal` the unit world normal (zero outside).
-MAILLE_SHARED vec3 geometric_contact_law(int shape, real top, real tube, mat3 direct,
-                                         mat3 inverse, vec3 translation, vec3 x, vec3 v, real k,
-                                         real z, bool world_normal, MAILLE_OUT(real) depth,
+MAILLE_SHARED vec3 geometric_contact_law(int shape, real parameter, mat3 direct, mat3 inverse,
+                                         vec3 translation, vec3 x, vec3 v, real k, real z,
+                                         bool world_normal, MAILLE_OUT(real) depth,
                                          MAILLE_OUT(vec3) normal) {
   depth = real(0);
   normal = zero3();
   vec3 c = inverse * (x - translation);
   vec3 cn = zero3();
-  real sd = canonical_distance(shape, c, top, tube, cn);
+  real sd = canonical_distance(shape, c, parameter, cn);
   if (!(sd < real(0))) return zero3();
   vec3 pen_c = cn * (-sd);
   vec3 n = normal_to_world(inverse, cn);
@@ -231,7 +233,7 @@ MAILLE_SHARED vec3 geometric_contact_law(int shape, real top, real tube, mat3 di
 // -df/dx - (1/h) df/dv implicit solvers take: (k + z/h) n n^T in contact, plus
 // (mu F_n / max(|v_t|, slip)) / h (I - n n^T) for friction (its scale held: IPC's lagged form),
 // and `rubbing` (friction acts). Returns the force.
-MAILLE_SHARED vec3 obstacle_contact_law(int shape, real top, real tube, mat3 direct, mat3 inverse,
+MAILLE_SHARED vec3 obstacle_contact_law(int shape, real parameter, mat3 direct, mat3 inverse,
                                         vec3 translation, vec3 x, vec3 vr, real k, real z,
                                         bool world_normal, real mu, real slip, real inv_h,
                                         bool lagged, real lag_force, vec3 lag_normal,
@@ -241,7 +243,7 @@ MAILLE_SHARED vec3 obstacle_contact_law(int shape, real top, real tube, mat3 dir
   normal_force = real(0);
   stiffness = identity3() * real(0);
   rubbing = false;
-  vec3 force = geometric_contact_law(shape, top, tube, direct, inverse, translation, x, vr, k, z,
+  vec3 force = geometric_contact_law(shape, parameter, direct, inverse, translation, x, vr, k, z,
                                      world_normal, depth, normal);
   if (depth > real(0)) {
     stiffness = outer3(normal, normal) * (k + z * inv_h);

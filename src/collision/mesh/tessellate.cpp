@@ -1,4 +1,5 @@
-// The canonical shapes as closed triangle meshes, and the icosphere.
+// The canonical shapes as closed triangle meshes (tessellate: each shape's mesh is its row of the
+// shape table, built from the pieces here: tessellation.hpp), and the icosphere.
 //
 // The solids of revolution (sphere, cylinder, cone, capsule, torus) are one algorithm: a
 // profile polyline in the (r, y) half-plane, run counter-clockwise (r to the right, y up: the
@@ -25,51 +26,17 @@
 #include <vector>
 
 #include "maille/mesh.hpp"
+#include "tessellation.hpp"
 
 namespace maille {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 constexpr int kMaxResolution = 1024;
+}  // namespace
 
-struct P2 {
-  double r, y;
-};
+namespace tessellation {
 
-class Profile {
- public:
-  explicit Profile(P2 start) : points_{start} {}
-  // Straight to `end` in `count` equal steps (end exact).
-  void line_to(P2 end, int count) {
-    const P2 a = points_.back();
-    for (int i = 1; i < count; ++i) {
-      const double t = double(i) / count;
-      points_.push_back({a.r + (end.r - a.r) * t, a.y + (end.y - a.y) * t});
-    }
-    points_.push_back(end);
-  }
-  // Along the circle (centre, radius) from the current angle to `to` (radians, increasing:
-  // counter-clockwise) in `count` steps, ending exactly at `end`.
-  void arc_to(P2 centre, double radius, double from, double to, P2 end, int count) {
-    for (int i = 1; i < count; ++i) {
-      const double a = from + (to - from) * i / count;
-      points_.push_back({centre.r + radius * std::cos(a), centre.y + radius * std::sin(a)});
-    }
-    points_.push_back(end);
-  }
-  std::vector<P2>& points() { return points_; }
-
- private:
-  std::vector<P2> points_;
-};
-
-// Segments for a length at the target spacing 2 pi / n: at least one.
-int steps(double length, int n) {
-  return std::max(1, static_cast<int>(std::ceil(length * n / (2 * kPi) - 1e-9)));
-}
-
-// The sweep described above. `loop`: the profile closes on itself (the torus).
+// The sweep described above.
 TriMesh revolve(const std::vector<P2>& profile, int n, bool loop) {
   TriMesh mesh;
   std::vector<std::uint32_t> first(profile.size());  // each point's first vertex
@@ -105,57 +72,11 @@ TriMesh revolve(const std::vector<P2>& profile, int n, bool loop) {
   return mesh;
 }
 
-TriMesh sphere(int n) {
-  Profile p({0, -1});
-  p.arc_to({0, 0}, 1, -kPi / 2, kPi / 2, {0, 1}, steps(kPi, n));
-  return revolve(p.points(), n, false);
-}
-
-TriMesh cylinder(int n) {
-  Profile p({0, -1});
-  p.line_to({1, -1}, steps(1, n));
-  p.line_to({1, 1}, steps(2, n));
-  p.line_to({0, 1}, steps(1, n));
-  return revolve(p.points(), n, false);
-}
-
-// A frustum; top == 0 ends at the apex (0, 1), which is a pole: still closed.
-TriMesh cone(int n, double top) {
-  Profile p({0, -1});
-  p.line_to({1, -1}, steps(1, n));
-  p.line_to({top, 1}, steps(std::hypot(2.0, 1 - top), n));
-  if (top > 0) p.line_to({0, 1}, steps(top, n));
-  return revolve(p.points(), n, false);
-}
-
-// A cylinder of radius 1 from y = -1 to 1 between two hemispheres (centres y = -1 and 1).
-TriMesh capsule(int n) {
-  Profile p({0, -2});
-  p.arc_to({0, -1}, 1, -kPi / 2, 0, {1, -1}, steps(kPi / 2, n));
-  p.line_to({1, 1}, steps(2, n));
-  p.arc_to({0, 1}, 1, 0, kPi / 2, {0, 2}, steps(kPi / 2, n));
-  return revolve(p.points(), n, false);
-}
-
-// The tube's circle about (1, 0), counter-clockwise from its outer point, as a closed loop;
-// about as many segments around the tube as its circumference asks for, at least 3.
-TriMesh torus(int n, double tube) {
-  const int m = std::max(3, steps(2 * kPi * tube, n));
-  std::vector<P2> loop;
-  for (int i = 0; i < m; ++i) {
-    const double a = 2 * kPi * i / m;
-    // tube = 1 touches the axis (a horn torus): that point is a pole, exactly r = 0.
-    const double r = 1 + tube * std::cos(a);
-    loop.push_back({r < 1e-12 ? 0.0 : r, tube * std::sin(a)});
-  }
-  return revolve(loop, n, true);
-}
-
 // Six faces of k x k squares on [-1, 1]^3; grid points are keyed by their integer lattice
 // coordinates, so edges and corners shared by faces are shared vertices. A face on axis a at
 // side s spans axes u = a+1, v = a+2 (cyclic): e_u x e_v = e_a, so (00, 10, 11) faces +a and
 // the order is reversed on the negative side.
-TriMesh cube(int k) {
+TriMesh box_grid(int k) {
   TriMesh mesh;
   std::unordered_map<int, std::uint32_t> index;
   auto coord = [k](int i) { return i == k ? Real(1) : Real(-1 + 2.0 * i / k); };
@@ -194,7 +115,7 @@ TriMesh cube(int k) {
 
 // k x k squares over [-1, 1]^2 at y = 0: rows along z (i), columns along x (j); e_z x e_x = +y,
 // so (i j, i+1 j, i+1 j+1) faces up.
-TriMesh plane(int k) {
+TriMesh square_grid(int k) {
   TriMesh mesh;
   auto coord = [k](int i) { return i == k ? Real(1) : Real(-1 + 2.0 * i / k); };
   for (int i = 0; i <= k; ++i)
@@ -208,35 +129,22 @@ TriMesh plane(int k) {
   return mesh;
 }
 
-}  // namespace
+}  // namespace tessellation
 
-TriMesh tessellate(ShapeKind shape, int resolution, Real top, Real tube) {
-  const int min_resolution = shape == ShapeKind::plane ? 1 : 3;
-  if (resolution < min_resolution || resolution > kMaxResolution)
+TriMesh tessellate(ShapeKind shape, int resolution, std::optional<Real> parameter) {
+  const ShapeRow& row = shape_row(shape);
+  if (resolution < row.min_resolution || resolution > kMaxResolution)
     throw std::invalid_argument("tessellate: resolution " + std::to_string(resolution) + " for a " +
-                                std::string(to_string(shape)) + " is outside [" +
-                                std::to_string(min_resolution) + ", 1024]");
-  if (shape == ShapeKind::cone && !(top >= 0 && top <= 1))
-    throw std::invalid_argument("tessellate: a cone's top radius must be in [0, 1]");
-  if (shape == ShapeKind::torus && !(tube > 0 && tube <= 1))
-    throw std::invalid_argument("tessellate: a torus's tube radius must be in (0, 1]");
-  switch (shape) {
-    case ShapeKind::sphere:
-      return sphere(resolution);
-    case ShapeKind::cube:
-      return cube(std::max(1, resolution / 4));
-    case ShapeKind::cylinder:
-      return cylinder(resolution);
-    case ShapeKind::cone:
-      return cone(resolution, double(top));
-    case ShapeKind::torus:
-      return torus(resolution, double(tube));
-    case ShapeKind::capsule:
-      return capsule(resolution);
-    case ShapeKind::plane:
-      return plane(resolution);
+                                std::string(row.name) + " is outside [" +
+                                std::to_string(row.min_resolution) + ", 1024]");
+  const Real p = shape_parameter(shape, parameter);
+  if (const auto& q = row.parameter) {
+    const bool above = q->bound == Bound::positive ? p > q->lo : p >= q->lo;
+    if (!(above && p <= q->hi))
+      throw std::invalid_argument("tessellate: a " + std::string(row.name) + "'s " +
+                                  std::string(q->key) + " must be in " + std::string(q->range_doc));
   }
-  throw std::invalid_argument("tessellate: unknown shape");
+  return row.mesh(resolution, p);
 }
 
 // Subdivision splits each triangle in four at its edge midpoints (one vertex per edge, found

@@ -16,9 +16,9 @@ Vec3 geometric_contact_force(const GeometricPoint& g, const shapes::Affine& plac
                              const Vec3& v, Real stiffness, Real damping, bool world_normal,
                              Real& depth, Vec3* normal) {
   Vec3 n;
-  const Vec3 f = law::geometric_contact_law(int(g.shape), g.top, g.tube, place.direct,
-                                            place.inverse, place.translation, x, v, stiffness,
-                                            damping, world_normal, depth, n);
+  const Vec3 f = law::geometric_contact_law(
+      int(g.shape), shape_parameter(g.shape, g.shape_parameter), place.direct, place.inverse,
+      place.translation, x, v, stiffness, damping, world_normal, depth, n);
   if (normal && !(n == Vec3{})) *normal = n;  // inside (the law's normal is zero outside)
   return f;
 }

@@ -20,30 +20,11 @@ namespace maille {
 
 namespace {
 
-// Radius of a canonical sphere about the origin holding the shape (infinite for the plane).
-Real canonical_reach(const Obstacle& o) {
-  switch (o.shape) {
-    case ShapeKind::sphere:
-      return 1;
-    case ShapeKind::cube:
-      return std::sqrt(Real(3));
-    case ShapeKind::cylinder:
-    case ShapeKind::cone:
-      return std::sqrt(Real(2));
-    case ShapeKind::torus:
-      return 1 + o.tube;
-    case ShapeKind::capsule:
-      return 2;
-    case ShapeKind::plane:
-      return std::numeric_limits<Real>::infinity();
-  }
-  return std::numeric_limits<Real>::infinity();
-}
-
 class GeometricObstacleStage final : public PointContactStage {
  public:
   GeometricObstacleStage(const Model& m, Obstacle o)
       : o_(std::move(o)),
+        parameter_(shape_parameter(o_.shape, o_.shape_parameter)),
         set_(colliding_points(m, o_)),
         surface_(o_, o_.mesh ? o_.mesh : std::make_shared<const TriMesh>(obstacle_mesh(o_))) {
     if (o_.mesh)
@@ -55,7 +36,7 @@ class GeometricObstacleStage final : public PointContactStage {
     Real stretch = 0;
     for (const Vec3& e : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
       stretch = std::max(stretch, norm(o_.place.vector_to_world(e)));
-    reach_ = canonical_reach(o_) * stretch * Real(1 + 1e-9);
+    reach_ = shape_row(o_.shape).reach(parameter_) * stretch * Real(1 + 1e-9);
     member_.assign(m.points.size(), 0);
     for (const std::uint32_t p : set_) member_[p] = 1;
   }
@@ -109,14 +90,12 @@ class GeometricObstacleStage final : public PointContactStage {
   // (k + z / h) n n^T along the world normal (exact for the world-normal variant and for uniform
   // scales; the force, which decides where the solve converges, is always the canonical one), and
   // friction's.
-  // The shape's thinnest canonical extent (a torus's tube, a cone's top, else 2) times the
-  // placement's smallest stretch, bounded below by 1 / |M_i|_F (Frobenius >= largest singular
-  // value of the inverse): never more than the true thickness.
+  // The shape's thinnest canonical extent (its row of the shape table: a torus's tube, a
+  // cone's top, infinite for the plane) times the placement's smallest stretch, bounded below by
+  // 1 / |M_i|_F (Frobenius >= largest singular value of the inverse): never more than the true
+  // thickness.
   Real thickness() const override {
-    if (o_.shape == ShapeKind::plane) return std::numeric_limits<Real>::infinity();
-    const Real canonical = o_.shape == ShapeKind::torus  ? 2 * o_.tube
-                           : o_.shape == ShapeKind::cone ? 2 * std::max(o_.top, Real(0.1))
-                                                         : Real(2);
+    const Real canonical = shape_row(o_.shape).thinnest(parameter_);
     Real f2 = 0;
     for (const auto& row : o_.place.inverse.m)
       for (const Real e : row) f2 += e * e;
@@ -201,13 +180,14 @@ class GeometricObstacleStage final : public PointContactStage {
     const Real held = lagged ? lag_force_[p] : 0;
     const Vec3 held_normal = lagged ? lag_normal_[p] : Vec3{};
     c.force = law::obstacle_contact_law(
-        int(o_.shape), o_.top, o_.tube, place.direct, place.inverse, place.translation, x, vr,
+        int(o_.shape), parameter_, place.direct, place.inverse, place.translation, x, vr,
         o_.stiffness, o_.damping, o_.world_normal, o_.friction, kObstacleSlip, inv_h, lagged, held,
         held_normal, c.depth, c.normal, c.normal_force, c.stiffness, c.rubbing);
     return c;
   }
 
   Obstacle o_;
+  Real parameter_ = 0;  // the shape's parameter (shape_parameter: its default when unset)
   std::vector<std::uint32_t> set_;
   ObstacleSurface surface_;
   Real reach_ = 0;

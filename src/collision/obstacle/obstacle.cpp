@@ -66,7 +66,7 @@ ObstacleMotion::Twist ObstacleMotion::twist(double t) const {
 
 TriMesh obstacle_mesh(const Obstacle& o) {
   if (o.mesh) return *o.mesh;
-  return tessellate(o.shape, o.resolution, o.top, o.tube);
+  return tessellate(o.shape, o.resolution, o.shape_parameter);
 }
 
 std::vector<std::uint32_t> colliding_points(const Model& m, const Obstacle& o) {

@@ -5,12 +5,15 @@
 #include <array>
 #include <cctype>
 #include <filesystem>
+#include <iterator>
 #include <memory>
+#include <vector>
 
 #include "maille/geometric_point.hpp"
 #include "maille/limits.hpp"
 #include "maille/mesh.hpp"
 #include "maille/obstacle.hpp"
+#include "maille/shape_keys.hpp"
 #include "maille/stage_keys.hpp"
 
 namespace maille {
@@ -61,11 +64,17 @@ void read_mesh_key(SceneTable& t, Obstacle& o, const StageKey<Obstacle>& k) {
            "\"conditional\"");
 }
 
-}  // namespace
+// Where an obstacle holds its shape (shape_keys.hpp): none with a mesh.
+struct ObstacleShape {
+  static auto& kind(auto& o) { return o.shape; }
+  static auto& parameter(auto& o) { return o.shape_parameter; }
+  static bool canonical(const Obstacle& o) { return !o.mesh; }
+};
 
-std::span<const StageKey<Obstacle>> obstacle_keys() {
+// The keys up to the placement, the shapes' parameters (shape_keys.hpp), the rest.
+std::vector<StageKey<Obstacle>> declared_keys() {
   using O = Obstacle;
-  static const std::array<StageKey<O>, 20> keys{
+  std::vector<StageKey<O>> keys{
       // Read first, then its uniqueness among the model's stages (obstacle_table.cpp).
       read_first(checked(
           text<&O::name>("name", {.doc = "names the stage (`obstacle:NAME`) and its stats columns",
@@ -82,12 +91,7 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
       // The method, then the mesh, then the shape are read first: they decide the other keys.
       parsed_choice<&O::method>("method", {.doc = "how the obstacle acts (above)"}),
       only_if(
-          parsed_choice<&O::shape>(
-              "shape", {.doc = "canonical shapes of unit size: sphere radius 1; cube "
-                               "[-1,1]³; cylinder, cone and capsule along y, radius 1, y "
-                               "from -1 to 1; torus about y, major radius 1; plane: the "
-                               "half-space y <= 0 for `geometric`, the square "
-                               "[-1,1]×{0}×[-1,1] (normal +y) otherwise"}),
+          read_first(shape_key<O, ObstacleShape>({.doc = shape_docs()})),
           [](const O& o) { return !o.mesh; }, "give either shape or mesh, not both"),
       read_first(parsed<O>("mesh", KeyType::text,
                            {.methods = "facets, conditional",
@@ -111,18 +115,9 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
                  .default_doc = "`[1, 1, 1]`",
                  .range_doc = "> 1e-9 each"},
                 direct_map),
-      only_if(
-          number<&O::tube>(
-              "tube", Bound::positive, 0, 1,
-              {.doc = "torus only: tube radius / major radius", .range_doc = "(0, 1]"}),
-          [](const O& o) { return o.shape == ShapeKind::torus && !o.mesh; },
-          "only a torus has a tube"),
-      only_if(
-          number<&O::top>(
-              "top", Bound::non_negative, 0, 1,
-              {.doc = "cone only: top radius / bottom radius (0: pointed)", .range_doc = "[0, 1]"}),
-          [](const O& o) { return o.shape == ShapeKind::cone && !o.mesh; },
-          "only a cone has a top radius"),
+  };
+  for (auto& k : shape_parameter_keys<O, ObstacleShape>()) keys.push_back(k);
+  const StageKey<O> rest[] = {
       integer<&O::resolution>(
           "resolution", 8, 512,
           {.doc = "segments around curved shapes when tessellated (facets, conditional, "
@@ -189,6 +184,14 @@ std::span<const StageKey<Obstacle>> obstacle_keys() {
       custom<O>("motion", KeyType::table,
                 {.doc = "a scripted rigid motion, below", .default_doc = "none"}, motion_text),
   };
+  keys.insert(keys.end(), std::begin(rest), std::end(rest));
+  return keys;
+}
+
+}  // namespace
+
+std::span<const StageKey<Obstacle>> obstacle_keys() {
+  static const std::vector<StageKey<Obstacle>> keys = declared_keys();
   return keys;
 }
 

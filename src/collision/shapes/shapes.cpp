@@ -1,54 +1,94 @@
-// Canonical distance functions (see include/maille/shapes.hpp), from the shared law file, and
-// the placements.
+// Canonical shapes (include/maille/shapes.hpp): the shape table's lookups, the distance
+// functions from the shared law file, and the placements.
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
+#include "maille/shape_keys.hpp"
 #include "maille/shapes.hpp"
 #include "maille/shared_laws.hpp"
 
+namespace maille {
+
+// The shape table's lookups (the table itself: shape_table.cpp).
+
+const ShapeRow& shape_row(ShapeKind s) {
+  const auto table = shape_table();
+  if (std::size_t(s) >= table.size())
+    throw std::logic_error("shape_row: no shape numbered " + std::to_string(int(s)));
+  return table[std::size_t(s)];
+}
+
+std::optional<ShapeKind> parse_shape(std::string_view name) {
+  const auto table = shape_table();
+  for (std::size_t i = 0; i < table.size(); ++i)
+    if (table[i].name == name) return ShapeKind(i);
+  return std::nullopt;
+}
+
+ShapeKind shape_kind(std::string_view name) {
+  if (const auto s = parse_shape(name)) return *s;
+  throw std::invalid_argument("no shape named '" + std::string(name) +
+                              "' (the shapes: " + shape_name_list() + ")");
+}
+
+std::string_view to_string(ShapeKind s) {
+  return shape_row(s).name;
+}
+
+std::span<const std::string_view> shape_names() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> out;
+    for (const ShapeRow& row : shape_table()) out.push_back(row.name);
+    return out;
+  }();
+  return names;
+}
+
+std::string shape_name_list(std::string_view separator) {
+  std::string out;
+  for (const ShapeRow& row : shape_table()) {
+    if (!out.empty()) out += separator;
+    out += row.name;
+  }
+  return out;
+}
+
+namespace shape_key_detail {
+std::span<const ShapeKind> parameter_shapes() {
+  static const std::vector<ShapeKind> shapes = [] {
+    std::vector<ShapeKind> out;
+    const auto table = shape_table();
+    for (std::size_t i = table.size(); i-- > 0;)
+      if (table[i].parameter) out.push_back(ShapeKind(i));
+    return out;
+  }();
+  return shapes;
+}
+}  // namespace shape_key_detail
+
+std::string_view shape_docs() {
+  static const std::string docs = [] {
+    std::string out = "canonical shapes of unit size: ";
+    for (const ShapeRow& row : shape_table()) {
+      if (&row != shape_table().data()) out += "; ";
+      out.append("`").append(row.name).append("`: ").append(row.doc);
+    }
+    return out;
+  }();
+  return docs;
+}
+
+Real shape_parameter(ShapeKind s, std::optional<Real> p) {
+  const ShapeRow& row = shape_row(s);
+  return p ? *p : row.parameter ? row.parameter->fallback : Real(0);
+}
+
+}  // namespace maille
+
 namespace maille::shapes {
-
-// The distance functions are the shared law's (include/maille/detail/obstacle_laws.glsl), which
-// the GPU's obstacle kernels paste: its shape numbers are ShapeKind's.
-static_assert(law::kShapeSphere == int(ShapeKind::sphere) &&
-              law::kShapeCube == int(ShapeKind::cube) &&
-              law::kShapeCylinder == int(ShapeKind::cylinder) &&
-              law::kShapeCone == int(ShapeKind::cone) &&
-              law::kShapeTorus == int(ShapeKind::torus) &&
-              law::kShapeCapsule == int(ShapeKind::capsule) &&
-              law::kShapePlane == int(ShapeKind::plane));
-
-namespace {
-// The shared law's distance (obstacle_laws.glsl: shape parameters, then the normal out).
-template <class Law, class... Params>
-Distance measured(Law law, const Vec3& p, Params... params) {
-  Distance d;
-  d.signed_distance = law(p, params..., d.normal);
-  return d;
-}
-}  // namespace
-
-Distance sphere(const Vec3& p) {
-  return measured(law::sphere_distance, p);
-}
-Distance cube(const Vec3& p) {
-  return measured(law::cube_distance, p);
-}
-Distance cylinder(const Vec3& p) {
-  return measured(law::cylinder_distance, p);
-}
-Distance cone(const Vec3& p, Real top) {
-  return measured(law::cone_distance, p, top);
-}
-Distance torus(const Vec3& p, Real tube) {
-  return measured(law::torus_distance, p, tube);
-}
-Distance capsule(const Vec3& p) {
-  return measured(law::capsule_distance, p);
-}
-Distance half_space(const Vec3& p) {
-  return measured(law::half_space_distance, p);
-}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -107,9 +147,9 @@ Mat3 rotation(const Vec3& k, double angle) {
   return r;
 }
 
-Distance canonical(ShapeKind s, const Vec3& p, Real top, Real tube) {
+Distance canonical(ShapeKind s, const Vec3& p, std::optional<Real> parameter) {
   Distance d;
-  d.signed_distance = law::canonical_distance(int(s), p, top, tube, d.normal);
+  d.signed_distance = law::canonical_distance(int(s), p, shape_parameter(s, parameter), d.normal);
   return d;
 }
 

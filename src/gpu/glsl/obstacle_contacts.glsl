@@ -11,7 +11,7 @@ void main() {
   vec3 normal;
   mat3 stiffness;
   bool rubbing;
-  vec3 force = obstacle_contact_law(int(u_shape), u_top, u_tube, u_direct, u_inverse,
+  vec3 force = obstacle_contact_law(int(u_shape), u_shape_parameter, u_direct, u_inverse,
                                     u_translation, xp, vr, u_stiffness, u_damping,
                                     u_world_normal, u_friction, u_slip, 0.0, false, 0.0,
                                     vec3(0.0), depth, normal, normal_force, stiffness, rubbing);

@@ -32,7 +32,7 @@ vec3 ob_contact(uint o, uint i, vec3 xp, vec3 vp, float inv_h, bool lagged, out 
   vec3 vr = ob_relative_velocity(r, xp, vp);
   vec3 normal;
   float normal_force;
-  return obstacle_contact_law(int(r.shape), r.top, r.tube, ob_direct(r), ob_inverse(r),
+  return obstacle_contact_law(int(r.shape), r.shape_parameter, ob_direct(r), ob_inverse(r),
                               ob_translation(r), xp, vr, r.stiffness, r.damping,
                               r.world_normal != 0u, r.friction, r.slip, inv_h, held, lag_force,
                               lag_normal, depth, normal, normal_force, K, rubbing);
@@ -49,7 +49,7 @@ void ob_lag(uint i, vec3 xp, vec3 vp) {
     vec3 vr = ob_relative_velocity(r, xp, vp);
     vec3 normal;
     float normal_force;
-    obstacle_contact_law(int(r.shape), r.top, r.tube, ob_direct(r), ob_inverse(r),
+    obstacle_contact_law(int(r.shape), r.shape_parameter, ob_direct(r), ob_inverse(r),
                          ob_translation(r), xp, vr, r.stiffness, r.damping, r.world_normal != 0u,
                          r.friction, r.slip, 0.0, false, 0.0, vec3(0.0), depth, normal,
                          normal_force, K, rubbing);
@@ -96,7 +96,7 @@ vec3 ob_push(uint o, uint i, vec3 xp) {
   ObstacleRecord r = vbd_obstacles[u_placed + o];
   vec3 normal;
   float normal_force;
-  vec3 f = obstacle_contact_law(int(r.shape), r.top, r.tube, ob_direct(r), ob_inverse(r),
+  vec3 f = obstacle_contact_law(int(r.shape), r.shape_parameter, ob_direct(r), ob_inverse(r),
                                 ob_translation(r), xp, vec3(0.0), r.stiffness, r.damping,
                                 r.world_normal != 0u, r.friction, r.slip, 0.0, false, 0.0,
                                 vec3(0.0), depth, normal, normal_force, K, rubbing);
