@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 #include "maille/builders.hpp"
@@ -32,20 +33,34 @@ inline Group grid_group(Model& m, const std::string& name, const std::string& bu
   return g;
 }
 
-// A grid builder's points: nx x ny, point (i, j) at origin + along (i dx) + across (j dy) with
-// index first + j nx + i (first: the model's size before), fixed where fixed(i, j) says.
-template <class Fixed>
-void grid_points(Model& m, const Vec3& origin, const Vec3& along, Real dx, const Vec3& across,
-                 Real dy, std::uint32_t nx, std::uint32_t ny, Real point_mass, Fixed&& fixed) {
-  for (std::uint32_t j = 0; j < ny; ++j)
-    for (std::uint32_t i = 0; i < nx; ++i)
-      m.points.add(fixed(i, j) ? PointKind::fixed : PointKind::free, point_mass,
-                   origin + along * (Real(i) * dx) + across * (Real(j) * dy));
-}
-
 inline Vec3 unit(const Vec3& v) {
   const Real n = norm(v);
   return n > 0 ? v / n : v;
+}
+
+// A grid builder's points, built by grid_points: point (i, j) has index first + j nx + i.
+struct Grid {
+  std::uint32_t first, nx, ny;
+  std::uint32_t operator()(std::uint32_t i, std::uint32_t j) const { return first + j * nx + i; }
+};
+
+// A grid builder's points: nx x ny (at least 2 x 2, else "<builder> resolution must be >= 2")
+// spanning width along `along` and height along `across` (both normalised) from `origin`, the
+// mass shared equally, fixed where fixed(i, j) says; first: the model's size before.
+template <class Fixed>
+Grid grid_points(Model& m, const std::string& builder, const Vec3& origin, const Vec3& along,
+                 Real width, const Vec3& across, Real height, std::uint32_t nx, std::uint32_t ny,
+                 Real mass, Fixed&& fixed) {
+  if (nx < 2 || ny < 2) throw std::invalid_argument(builder + " resolution must be >= 2");
+  const Grid g{m.points.size(), nx, ny};
+  const Vec3 u = unit(along), w = unit(across);
+  const Real dx = width / Real(nx - 1), dy = height / Real(ny - 1);
+  const Real point_mass = mass / Real(nx * ny);
+  for (std::uint32_t j = 0; j < ny; ++j)
+    for (std::uint32_t i = 0; i < nx; ++i)
+      m.points.add(fixed(i, j) ? PointKind::fixed : PointKind::free, point_mass,
+                   origin + u * (Real(i) * dx) + w * (Real(j) * dy));
+  return g;
 }
 
 }  // namespace maille::build

@@ -1,8 +1,6 @@
 // Flag: grid cloth hung on a pole. Structural links hold the weave, shear links (cell
 // diagonals) keep cells from collapsing into lozenges, bending links (every other point)
 // resist folding; all are spring-dampers with rest lengths taken from the built grid.
-#include <stdexcept>
-
 #include "build_helpers.hpp"
 
 namespace maille {
@@ -28,14 +26,9 @@ bool fixed_in_flag(const FlagParams& p, std::uint32_t i, std::uint32_t j) {
 }  // namespace
 
 Group build_flag(Model& m, const FlagParams& p, const std::string& name) {
-  if (p.nx < 2 || p.ny < 2) throw std::invalid_argument("flag resolution must be >= 2");
-  const std::uint32_t first = m.points.size();
-  const Vec3 along = build::unit(p.along), up = build::unit(p.up);
-  const Real dx = p.width / Real(p.nx - 1), dy = p.height / Real(p.ny - 1);
-  const Real point_mass = p.mass / Real(p.nx * p.ny);
-  build::grid_points(m, p.origin, along, dx, up, dy, p.nx, p.ny, point_mass,
-                     [&](std::uint32_t i, std::uint32_t j) { return fixed_in_flag(p, i, j); });
-  auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
+  const build::Grid id =
+      build::grid_points(m, "flag", p.origin, p.along, p.width, p.up, p.height, p.nx, p.ny, p.mass,
+                         [&](std::uint32_t i, std::uint32_t j) { return fixed_in_flag(p, i, j); });
   const Real k = p.material.stiffness, z = p.material.damping;
   // Links point by point, so that a point's links sit close together in memory.
   for (std::uint32_t j = 0; j < p.ny; ++j)
@@ -54,7 +47,7 @@ Group build_flag(Model& m, const FlagParams& p, const std::string& name) {
       m.surface.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       m.surface.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
-  return build::grid_group(m, name, "flag", first, p.nx, p.ny);
+  return build::grid_group(m, name, "flag", id.first, p.nx, p.ny);
 }
 
 }  // namespace maille

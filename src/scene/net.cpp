@@ -1,8 +1,6 @@
 // Net: a grid of knots joined by cords along the two grid directions only, so it has no
 // shear stiffness and drapes freely; no faces (wind passes through a net). With a pretension and
 // its edges fixed it is a square drum skin (the live period budget's drum, docs/sound.md).
-#include <stdexcept>
-
 #include "build_helpers.hpp"
 
 namespace maille {
@@ -29,14 +27,9 @@ bool fixed_in_net(const NetParams& p, std::uint32_t i, std::uint32_t j) {
 }  // namespace
 
 Group build_net(Model& m, const NetParams& p, const std::string& name) {
-  if (p.nx < 2 || p.ny < 2) throw std::invalid_argument("net resolution must be >= 2");
-  const std::uint32_t first = m.points.size();
-  const Vec3 along = build::unit(p.along), across = build::unit(p.across);
-  const Real dx = p.width / Real(p.nx - 1), dy = p.depth / Real(p.ny - 1);
-  const Real point_mass = p.mass / Real(p.nx * p.ny);
-  build::grid_points(m, p.origin, along, dx, across, dy, p.nx, p.ny, point_mass,
-                     [&](std::uint32_t i, std::uint32_t j) { return fixed_in_net(p, i, j); });
-  auto id = [&](std::uint32_t i, std::uint32_t j) { return first + j * p.nx + i; };
+  const build::Grid id = build::grid_points(
+      m, "net", p.origin, p.along, p.width, p.across, p.depth, p.nx, p.ny, p.mass,
+      [&](std::uint32_t i, std::uint32_t j) { return fixed_in_net(p, i, j); });
   for (std::uint32_t j = 0; j < p.ny; ++j)
     for (std::uint32_t i = 0; i < p.nx; ++i) {
       if (i + 1 < p.nx)
@@ -46,7 +39,7 @@ Group build_net(Model& m, const NetParams& p, const std::string& name) {
         build::link(m, id(i, j), id(i, j + 1), p.material.stiffness, p.material.damping,
                     1 - p.pretension);
     }
-  return build::grid_group(m, name, "net", first, p.nx, p.ny);
+  return build::grid_group(m, name, "net", id.first, p.nx, p.ny);
 }
 
 }  // namespace maille
