@@ -140,6 +140,16 @@ inline std::string vector_text(const Vec3& v) {
   return out.append(", ").append(number_text(double(v.z))).append("]");
 }
 
+// A declaration with no bound or range (choices, vectors, texts, custom keys): its reader, how
+// its value shows, and for a choice its names.
+template <class S>
+constexpr StageKey<S> unbounded(std::string_view key, KeyType type, const KeyDoc& d,
+                                void (*read)(SceneTable&, S&, const StageKey<S>&),
+                                std::string (*value)(const S&),
+                                std::string (*choices)() = nullptr) {
+  return {key, type, d, Bound::any, 0, 0, read, value, choices};
+}
+
 }  // namespace key_detail
 
 // A number member: bound (> 0, >= 0 or any), then lo <= value <= hi when hi > lo.
@@ -200,53 +210,59 @@ template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> choice(std::string_view key, KeyDoc d) {
   using S = key_detail::owner_t<M>;
   using E = key_detail::type_t<M, More...>;
-  return {key,
-          KeyType::choice,
-          d,
-          Bound::any,
-          0,
-          0,
-          [](SceneTable& t, S& s, const StageKey<S>& k) {
-            key_detail::at<M, More...>(s) = t.choice(k.key, key_detail::at<M, More...>(s));
-          },
-          [](const S& s) { return std::string(to_string(key_detail::at<M, More...>(s))); },
-          [] { return name_list<E>(); }};
+  return key_detail::unbounded<S>(
+      key, KeyType::choice, d,
+      [](SceneTable& t, S& s, const StageKey<S>& k) {
+        key_detail::at<M, More...>(s) = t.choice(k.key, key_detail::at<M, More...>(s));
+      },
+      [](const S& s) { return std::string(to_string(key_detail::at<M, More...>(s))); },
+      [] { return name_list<E>(); });
 }
+
+namespace key_detail {
+
+// The table's getter for a member's type, and its value as text: what vector and string members
+// differ by.
+inline Vec3 get(SceneTable& t, std::string_view key, const Vec3& v) {
+  return t.vec3(key, v);
+}
+inline std::string get(SceneTable& t, std::string_view key, const std::string& v) {
+  return t.text(key, v, std::span<const std::string_view>{});
+}
+inline std::string shown(const Vec3& v) {
+  return vector_text(v);
+}
+inline std::string shown(const std::string& v) {
+  return v;
+}
+
+// A member read by its type's getter; a required one (no default) missing fails first, with the
+// same message, at the table, as every required key's.
+template <KeyType Type, auto M, auto... More>
+constexpr StageKey<owner_t<M>> got(std::string_view key, const KeyDoc& d) {
+  using S = owner_t<M>;
+  return unbounded<S>(
+      key, Type, d,
+      [](SceneTable& t, S& s, const StageKey<S>& k) {
+        if (k.info.required && !t.has(k.key)) t.fail(k.key, "is required but missing");
+        auto& v = at<M, More...>(s);
+        v = get(t, k.key, v);
+      },
+      [](const S& s) { return shown(at<M, More...>(s)); });
+}
+
+}  // namespace key_detail
 
 // A vector member (any finite components; the table's vec3 getter checks them).
 template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> vector(std::string_view key, KeyDoc d) {
-  using S = key_detail::owner_t<M>;
-  return {key,
-          KeyType::vector,
-          d,
-          Bound::any,
-          0,
-          0,
-          [](SceneTable& t, S& s, const StageKey<S>& k) {
-            // Required vectors: the same message, at the table, as every required key's.
-            if (k.info.required && !t.has(k.key)) t.fail(k.key, "is required but missing");
-            key_detail::at<M, More...>(s) = t.vec3(k.key, key_detail::at<M, More...>(s));
-          },
-          [](const S& s) { return key_detail::vector_text(key_detail::at<M, More...>(s)); }};
+  return key_detail::got<KeyType::vector, M, More...>(key, d);
 }
 
 // A string member (any text; `required`: no default). Checks beyond the type go in `check`.
 template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> text(std::string_view key, KeyDoc d) {
-  using S = key_detail::owner_t<M>;
-  return {key,
-          KeyType::text,
-          d,
-          Bound::any,
-          0,
-          0,
-          [](SceneTable& t, S& s, const StageKey<S>& k) {
-            if (k.info.required && !t.has(k.key)) t.fail(k.key, "is required but missing");
-            auto& v = key_detail::at<M, More...>(s);
-            v = t.text(k.key, v, std::span<const std::string_view>{});
-          },
-          [](const S& s) { return std::string(key_detail::at<M, More...>(s)); }};
+  return key_detail::got<KeyType::text, M, More...>(key, d);
 }
 
 // A string member that must be one of E's names (names.hpp), kept as the text.
@@ -269,22 +285,18 @@ template <auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> texts(
     std::string_view key, KeyDoc d, std::string (*value)(const key_detail::owner_t<M>&) = nullptr) {
   using S = key_detail::owner_t<M>;
-  return {key,
-          KeyType::texts,
-          d,
-          Bound::any,
-          0,
-          0,
-          [](SceneTable& t, S& s, const StageKey<S>& k) {
-            auto& v = key_detail::at<M, More...>(s);
-            v = t.texts(k.key, v);
-          },
-          value ? value : +[](const S& s) {
-            std::string out;
-            for (const auto& item : key_detail::at<M, More...>(s))
-              out.append(out.empty() ? "" : ",").append(item);
-            return out;
-          }};
+  return key_detail::unbounded<S>(
+      key, KeyType::texts, d,
+      [](SceneTable& t, S& s, const StageKey<S>& k) {
+        auto& v = key_detail::at<M, More...>(s);
+        v = t.texts(k.key, v);
+      },
+      value ? value : +[](const S& s) {
+        std::string out;
+        for (const auto& item : key_detail::at<M, More...>(s))
+          out.append(out.empty() ? "" : ",").append(item);
+        return out;
+      });
 }
 
 // A number member that may also be the text "auto", kept as 0 (the member's automatic value):
@@ -322,7 +334,7 @@ template <class S>
 constexpr StageKey<S> parsed(std::string_view key, KeyType type, KeyDoc d,
                              void (*read)(SceneTable&, S&, const StageKey<S>&),
                              std::string (*value)(const S&) = nullptr) {
-  return {key, type, d, Bound::any, 0, 0, read, value};
+  return key_detail::unbounded<S>(key, type, d, read, value);
 }
 
 // The declaration read by the parser before the others (read_key; read_keys skips it): a key
@@ -354,7 +366,7 @@ constexpr StageKey<S> only_if(StageKey<S> k, std::type_identity_t<bool (*)(const
 template <class S>
 constexpr StageKey<S> custom(std::string_view key, KeyType type, KeyDoc d,
                              std::string (*value)(const S&) = nullptr) {
-  return {key, type, d, Bound::any, 0, 0, nullptr, value};
+  return key_detail::unbounded<S>(key, type, d, nullptr, value);
 }
 
 // The declaration with a check run right after the key is read.
@@ -438,12 +450,15 @@ void read_keys(SceneTable& t, S& s, std::span<const StageKey<S>> keys,
 template <auto Keys, auto M, auto... More>
 constexpr StageKey<key_detail::owner_t<M>> subtable(std::string_view key, KeyDoc d) {
   using S = key_detail::owner_t<M>;
-  return {key, KeyType::table, d, Bound::any, 0, 0, [](SceneTable& t, S& s, const StageKey<S>& k) {
-            if (auto c = t.child(k.key)) {
-              read_keys(*c, key_detail::at<M, More...>(s), Keys());
-              c->finish();
-            }
-          }};
+  return key_detail::unbounded<S>(
+      key, KeyType::table, d,
+      [](SceneTable& t, S& s, const StageKey<S>& k) {
+        if (auto c = t.child(k.key)) {
+          read_keys(*c, key_detail::at<M, More...>(s), Keys());
+          c->finish();
+        }
+      },
+      nullptr);
 }
 
 // Calls f(key, value text) for every declared key whose value the settings hold.
@@ -454,26 +469,14 @@ void visit_keys(std::span<const StageKey<S>> keys, const S& s, F&& f) {
 }
 
 inline std::string type_text(KeyType t) {
-  switch (t) {
-    case KeyType::number:
-      return "number";
-    case KeyType::integer:
-      return "integer";
-    case KeyType::choice:
-    case KeyType::text:
-      return "string";
-    case KeyType::vector:
-      return "vector";
-    case KeyType::texts:
-      return "array of strings";
-    case KeyType::table:
-      return "table";
-    case KeyType::number_or_auto:
-      return "`\"auto\"` or number";
-    case KeyType::custom:
-      return "";
-  }
-  return "";
+  // In KeyType's order: number, integer, choice, vector, text, texts, table, number_or_auto,
+  // custom.
+  static constexpr std::string_view texts[] = {
+      "number", "integer",          "string", "vector",
+      "string", "array of strings", "table",  "`\"auto\"` or number",
+      ""};
+  static_assert(std::size(texts) == std::size_t(KeyType::custom) + 1);
+  return std::string(texts[std::size_t(t)]);
 }
 
 // Units as messages write them (ASCII: "N.s/m", "kg/m^3") and as the docs do ("N·s/m", "kg/m³").
