@@ -1,6 +1,7 @@
 // Per-step timings and counters: every stage of the step is timed into one of these.
 #pragma once
 
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -72,6 +73,27 @@ class ProfileColumns {
   void count(Profile& p, std::size_t k, std::uint64_t value) { p.set_count(id(p, k), value); }
   void add(Profile& p, std::size_t k, std::uint64_t value) { p.add_count(id(p, k), value); }
   void gauge(Profile& p, std::size_t k, double value) { p.set_gauge(id(p, k), value); }
+
+  // One column's value for set(): a whole number (a counter's count) or any number (a gauge's).
+  struct Value {
+    template <std::integral T>
+    Value(T v) : count(static_cast<std::uint64_t>(v)), real(static_cast<double>(v)) {}
+    template <std::floating_point T>
+    Value(T v) : real(static_cast<double>(v)) {}
+    std::uint64_t count = 0;
+    double real = 0;
+  };
+  // Every column at once, in their order: a counter set to its count, a gauge to its value.
+  void set(Profile& p, std::initializer_list<Value> values) {
+    std::size_t k = 0;
+    for (const Value& v : values) {
+      if (columns_[k].gauge)
+        gauge(p, k, v.real);
+      else
+        count(p, k, v.count);
+      ++k;
+    }
+  }
 
  private:
   int id(Profile& p, std::size_t k) {

@@ -529,12 +529,8 @@ class FacetObstacleStage final : public Stage {
       columns_ = {{base + "contacts"}, {base + "depth", true}, {base + "hits"},
                   {base + "sticks"},   {base + "slides"},      {base + "facet_leaks"}};
     }
-    columns_.count(pr, 0, total.contacts);
-    columns_.gauge(pr, 1, total.deepest);
-    columns_.count(pr, 2, total.hits);
-    columns_.count(pr, 3, total.sticks);
-    columns_.count(pr, 4, total.slides);
-    columns_.count(pr, 5, total.leaks);
+    columns_.set(
+        pr, {total.contacts, total.deepest, total.hits, total.sticks, total.slides, total.leaks});
   }
 
   Obstacle o_;

@@ -35,8 +35,7 @@ class PointContactStage : public Stage, public PointContacts {
     if (columns_.empty())
       columns_ = {{"obstacle_" + obstacle + "_contacts"},
                   {"obstacle_" + obstacle + "_depth", true}};
-    columns_.count(*ctx.profile, 0, contacts);
-    columns_.gauge(*ctx.profile, 1, deepest);
+    columns_.set(*ctx.profile, {contacts, deepest});
   }
 
  private:

@@ -261,20 +261,13 @@ class SelfCollisionStage final : public Stage, public MotionBound {
 
   void count(const StageContext& ctx, const SelfCollisionStats& st) {
     if (!ctx.profile) return;
-    Profile& p = *ctx.profile;
-    columns_.count(p, 0, st.candidate_pairs);
-    columns_.count(p, 1, st.contacts);
-    columns_.count(p, 2, st.occupied_cells);
-    columns_.count(p, 3, st.excluded);
-    columns_.count(p, 4, st.skipped_cells);
-    columns_.gauge(p, 5, st.cell_size);
-    columns_.count(p, 6, st.triangle_contacts);
-    columns_.count(p, 8, st.edge_contacts);
     // The cost model P n^2 at the resolution used, beside the stage's measured time
     // (ns_self_collision) in every stats.csv row: P occupied cells, n particles per cell.
     const double per_cell =
         double(engine_.particles()) / std::max<double>(double(st.occupied_cells), 1);
-    columns_.gauge(p, 7, double(st.occupied_cells) * per_cell * per_cell);
+    columns_.set(*ctx.profile, {st.candidate_pairs, st.contacts, st.occupied_cells, st.excluded,
+                                st.skipped_cells, st.cell_size, st.triangle_contacts,
+                                double(st.occupied_cells) * per_cell * per_cell, st.edge_contacts});
   }
 
   std::vector<StageOption> options() const override {
