@@ -2,6 +2,7 @@
 // a model plays. Links: every parameter of every link; fields: gravity (3), air drag, the wind's
 // velocity (3), density, drag coefficient, turbulence, gust frequency and wavelength; masses of
 // free points; drives: frequency, phase, radius, amplitude (3).
+#include <array>
 #include <string>
 
 #include "maille/live.hpp"
@@ -28,54 +29,23 @@ constexpr const char* kFieldNames[kFieldSlots] = {"fields.gravity.x",
 constexpr const char* kDriveNames[kDriveSlots] = {"frequency",   "phase",       "radius",
                                                   "amplitude.x", "amplitude.y", "amplitude.z"};
 
+// Slot i of a record, among its slots listed in order (nullptr past the last).
+template <std::size_t N>
+Real* slot(const std::array<Real*, N>& slots, std::uint32_t i) {
+  return i < N ? slots[i] : nullptr;
+}
+
 Real* field_slot(Fields& f, std::uint32_t i) {
-  switch (i) {
-    case 0:
-      return &f.gravity.x;
-    case 1:
-      return &f.gravity.y;
-    case 2:
-      return &f.gravity.z;
-    case 3:
-      return &f.air_drag;
-    case 4:
-      return &f.wind.velocity.x;
-    case 5:
-      return &f.wind.velocity.y;
-    case 6:
-      return &f.wind.velocity.z;
-    case 7:
-      return &f.wind.density;
-    case 8:
-      return &f.wind.drag_coefficient;
-    case 9:
-      return &f.wind.turbulence;
-    case 10:
-      return &f.wind.gust_frequency;
-    case 11:
-      return &f.wind.gust_wavelength;
-    default:
-      return nullptr;
-  }
+  return slot<kFieldSlots - 1>(
+      {&f.gravity.x, &f.gravity.y, &f.gravity.z, &f.air_drag, &f.wind.velocity.x,
+       &f.wind.velocity.y, &f.wind.velocity.z, &f.wind.density, &f.wind.drag_coefficient,
+       &f.wind.turbulence, &f.wind.gust_frequency, &f.wind.gust_wavelength},
+      i);
 }
 
 Real* drive_slot(DrivePath& p, std::uint32_t i) {
-  switch (i) {
-    case 0:
-      return &p.frequency;
-    case 1:
-      return &p.phase;
-    case 2:
-      return &p.radius;
-    case 3:
-      return &p.amplitude.x;
-    case 4:
-      return &p.amplitude.y;
-    case 5:
-      return &p.amplitude.z;
-    default:
-      return nullptr;
-  }
+  return slot<kDriveSlots>(
+      {&p.frequency, &p.phase, &p.radius, &p.amplitude.x, &p.amplitude.y, &p.amplitude.z}, i);
 }
 
 // Calls f(slot, value) for every slot of m in order.
