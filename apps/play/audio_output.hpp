@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace maille::play {
@@ -60,9 +61,30 @@ using CallbackFactory = std::function<AudioCallback*(int rate, std::size_t buffe
 std::unique_ptr<AudioOutput> open_output(const OutputRequest& r,
                                          const CallbackFactory& make_callback,
                                          std::vector<std::string>& tried);
+// The drivers, in builds with their library (open_output answers for the others).
 std::unique_ptr<AudioOutput> open_jack(const OutputRequest& r, const CallbackFactory& make_callback,
                                        std::string& why);
 std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest& r,
                                           const CallbackFactory& make_callback, std::string& why);
+
+// The drivers' and control inputs' shared steps. An output once started (its start() said yes),
+// else nullptr with start()'s reason in `why`.
+template <class Output>
+std::unique_ptr<AudioOutput> started(std::unique_ptr<Output> out, const OutputRequest& r,
+                                     const CallbackFactory& make_callback, std::string& why) {
+  if (!out->start(r, make_callback, why)) return nullptr;
+  return out;
+}
+// What a driver or input built without its library answers: nullptr, and in `why` the library
+// and the package that brings it ("this maille was built without JACK (libjack-jackd2-dev; ...").
+inline std::nullptr_t built_without(std::string& why, std::string_view library,
+                                    std::string_view package) {
+  why = std::string("this maille was built without ")
+            .append(library)
+            .append(" (")
+            .append(package)
+            .append("; scripts/setup.sh installs it)");
+  return nullptr;
+}
 
 }  // namespace maille::play

@@ -5,6 +5,8 @@
 // their own threads.
 #include "controls.hpp"
 
+#include "audio_output.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -77,8 +79,7 @@ std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec& spec, ControlRin
 #else
 std::unique_ptr<ControlInput> open_midi(const audio::AudioSpec&, ControlRings&, bool,
                                         std::string& why) {
-  why = "this maille was built without RtMidi (librtmidi-dev; scripts/setup.sh installs it)";
-  return nullptr;
+  return built_without(why, "RtMidi", "librtmidi-dev");
 }
 #endif
 
@@ -178,8 +179,7 @@ std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec& spec, ControlRing
 }
 #else
 std::unique_ptr<ControlInput> open_osc(const audio::AudioSpec&, ControlRings&, std::string& why) {
-  why = "this maille was built without liblo (liblo-dev; scripts/setup.sh installs it)";
-  return nullptr;
+  return built_without(why, "liblo", "liblo-dev");
 }
 #endif
 

@@ -8,6 +8,29 @@ const std::vector<std::string>& drivers() {
   return all;
 }
 
+namespace {
+
+// The driver r names ("jack", else one of RtAudio's), or nullptr and why not: a driver built
+// without its library says so.
+std::unique_ptr<AudioOutput> open_driver(const OutputRequest& r,
+                                         [[maybe_unused]] const CallbackFactory& make_callback,
+                                         std::string& why) {
+  if (r.driver == "jack") {
+#ifdef MAILLE_WITH_JACK
+    return open_jack(r, make_callback, why);
+#else
+    return built_without(why, "JACK", "libjack-jackd2-dev");
+#endif
+  }
+#ifdef MAILLE_WITH_RTAUDIO
+  return open_rtaudio(r, make_callback, why);
+#else
+  return built_without(why, "RtAudio", "librtaudio-dev");
+#endif
+}
+
+}  // namespace
+
 std::unique_ptr<AudioOutput> open_output(const OutputRequest& r,
                                          const CallbackFactory& make_callback,
                                          std::vector<std::string>& tried) {
@@ -17,8 +40,7 @@ std::unique_ptr<AudioOutput> open_output(const OutputRequest& r,
     OutputRequest one = r;
     one.driver = d;
     std::string why;
-    std::unique_ptr<AudioOutput> out =
-        d == "jack" ? open_jack(one, make_callback, why) : open_rtaudio(one, make_callback, why);
+    std::unique_ptr<AudioOutput> out = open_driver(one, make_callback, why);
     if (out) return out;
     tried.push_back(d + ": " + why);
   }

@@ -150,23 +150,8 @@ class JackOutput final : public AudioOutput {
 
 std::unique_ptr<AudioOutput> open_jack(const OutputRequest& r, const CallbackFactory& make_callback,
                                        std::string& why) {
-  auto out = std::make_unique<JackOutput>();
-  if (!out->start(r, make_callback, why)) return nullptr;
-  return out;
+  return started(std::make_unique<JackOutput>(), r, make_callback, why);
 }
-
 }  // namespace maille::play
 
-#else
-
-namespace maille::play {
-
-std::unique_ptr<AudioOutput> open_jack(const OutputRequest&, const CallbackFactory&,
-                                       std::string& why) {
-  why = "this maille was built without JACK (libjack-jackd2-dev; scripts/setup.sh installs it)";
-  return nullptr;
-}
-
-}  // namespace maille::play
-
-#endif
+#endif  // MAILLE_WITH_JACK

@@ -115,23 +115,8 @@ std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest& r,
     why = "this RtAudio was built without it";
     return nullptr;
   }
-  auto out = std::make_unique<RtOutput>(api);
-  if (!out->start(r, make_callback, why)) return nullptr;
-  return out;
+  return started(std::make_unique<RtOutput>(api), r, make_callback, why);
 }
-
 }  // namespace maille::play
 
-#else
-
-namespace maille::play {
-
-std::unique_ptr<AudioOutput> open_rtaudio(const OutputRequest&, const CallbackFactory&,
-                                          std::string& why) {
-  why = "this maille was built without RtAudio (librtaudio-dev; scripts/setup.sh installs it)";
-  return nullptr;
-}
-
-}  // namespace maille::play
-
-#endif
+#endif  // MAILLE_WITH_RTAUDIO
