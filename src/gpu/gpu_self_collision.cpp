@@ -80,15 +80,8 @@ GpuSelfCollision::GpuSelfCollision(const Model& m, const Stage& st, double max_i
          std::vector<std::uint32_t>(level_offset_.back() + level_size_.back()));
 
   kernels_.reserve(passes);
-  kernels_.emplace_back("gpu self-collision bounds", self_bounds_shader());
-  kernels_.emplace_back("gpu self-collision grid", self_grid_shader());
-  kernels_.emplace_back("gpu self-collision zero", self_zero_shader());
-  kernels_.emplace_back("gpu self-collision count", self_count_shader());
-  kernels_.emplace_back("gpu self-collision scan", self_scan_shader());
-  kernels_.emplace_back("gpu self-collision scan add", self_scan_add_shader());
-  kernels_.emplace_back("gpu self-collision scatter", self_scatter_shader());
-  kernels_.emplace_back("gpu self-collision sort", self_sort_shader());
-  kernels_.emplace_back("gpu self-collision contacts", self_contacts_shader());
+  for (const KernelSource& k : self_collision_kernels())  // in Pass order
+    kernels_.emplace_back("gpu self-collision " + k.name, k.source);
   Kernel& k = kernels_[contacts];
   k.set("u_radius", float(s.radius));
   k.set("u_stiffness", float(s.stiffness));

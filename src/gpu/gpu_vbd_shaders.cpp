@@ -47,12 +47,10 @@ std::string contact_functions(bool geometry, bool terms) {
 }  // namespace
 
 std::string vbd_begin_shader() {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::mass, Buf::inv_mass, Buf::face_offset,
-                               Buf::face_of_point, Buf::face_force, Buf::vbd_xn, Buf::vbd_y,
-                               Buf::vbd_vlast, Buf::vbd_prev1, Buf::vbd_contacts});
-  s += contact_functions(true, false);
-  s += glsl::vbd_begin;
-  return s;
+  return kernel_source(
+      {Buf::x, Buf::v, Buf::mass, Buf::inv_mass, Buf::face_offset, Buf::face_of_point,
+       Buf::face_force, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_vlast, Buf::vbd_prev1, Buf::vbd_contacts},
+      {contact_functions(true, false), glsl::vbd_begin});
 }
 
 // One colour's Newton steps (or, with `residual`, the imbalance at the result over every free
@@ -60,73 +58,57 @@ std::string vbd_begin_shader() {
 // m (1/h^2 + gamma/h) I + links' blocks + obstacles'. A step that starts or leaves an obstacle's
 // contact follows the CPU's rules (gpu_vbd_obstacles.hpp).
 std::string vbd_sweep_shader(const std::vector<KindLaw>& kinds, bool residual) {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
-                               Buf::link_params, Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order,
-                               Buf::vbd_state, Buf::vbd_obstacles, Buf::vbd_ob_member,
-                               Buf::vbd_ob_lag, Buf::vbd_touch, Buf::vbd_contacts});
-  s += shared::link_laws;
-  s += contact_functions(true, true);
-  s += vbd_obstacle_functions();
-  s += link_force_function(kinds);
-  s += link_block_function(kinds);
-  s += residual ? "#define RESIDUAL 1\n" : "#define RESIDUAL 0\n";
-  s += "#define GROUP " + std::to_string(kGroupSize) + "u\n";
-  s += glsl::vbd_sweep;
-  return s;
+  return kernel_source(
+      {Buf::x, Buf::v, Buf::mass, Buf::adjacency_offset, Buf::adjacency, Buf::link_params,
+       Buf::vbd_xn, Buf::vbd_y, Buf::vbd_order, Buf::vbd_state, Buf::vbd_obstacles,
+       Buf::vbd_ob_member, Buf::vbd_ob_lag, Buf::vbd_touch, Buf::vbd_contacts},
+      {shared::link_laws, contact_functions(true, true), vbd_obstacle_functions(),
+       link_force_function(kinds), link_block_function(kinds),
+       residual ? "#define RESIDUAL 1\n" : "#define RESIDUAL 0\n",
+       "#define GROUP " + std::to_string(kGroupSize) + "u\n", glsl::adjacency, glsl::vbd_sweep});
 }
 
 // The CPU's fallback (implicit_vbd.cpp, kFallbackGrowth): from the third sweep on, a sweep
 // whose merit (the sum of g . H^-1 g, the work groups' slots added in order) more than doubled
 // turns the acceleration off for the rest of the step.
 std::string vbd_decide_shader() {
-  std::string s = kernel_head({Buf::vbd_state});
-  s += glsl::vbd_decide;
-  return s;
+  return kernel_source({Buf::vbd_state}, {glsl::vbd_decide});
 }
 
 // Chebyshev: x = w (x - x_prev2) + x_prev2 from the second sweep on, except (the CPU's rules)
 // for points touching an obstacle and jumps longer than half the thinnest obstacle; then the
-// sweep's x into the buffer that the host names prev1 next.
+// sweep's x into the buffer that the host names prev1 next. The contact functions bring the
+// shared laws: the Chebyshev rule.
 std::string vbd_accelerate_shader() {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2,
-                               Buf::vbd_state, Buf::vbd_touch, Buf::vbd_contacts});
-  s += contact_functions(true, false);  // the shared laws: the Chebyshev rule
-  s += glsl::vbd_accelerate;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev2, Buf::vbd_state,
+                        Buf::vbd_touch, Buf::vbd_contacts},
+                       {contact_functions(true, false), glsl::vbd_accelerate});
 }
 
 // The obstacles' lagged friction at the step's start (x_n, v_n, placed at t), per point.
 std::string vbd_lag_shader() {
-  std::string s = kernel_head(
-      {Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag});
-  s += vbd_obstacle_functions();
-  s += glsl::vbd_lag;
-  return s;
+  return kernel_source(
+      {Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag},
+      {vbd_obstacle_functions(), glsl::vbd_lag});
 }
 
 // The CPU's stop_at_first_touch: a point moving more than half the thinnest obstacle from x_n
 // stops just inside the first obstacle it enters on the way (the guess, which the acceleration
 // then starts from: prev1 too), or, `through_only`, unless it touches at its end (the result).
 std::string vbd_first_touch_shader() {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev1,
-                               Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag});
-  s += vbd_obstacle_functions();
-  s += glsl::vbd_first_touch;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::inv_mass, Buf::vbd_xn, Buf::vbd_prev1,
+                        Buf::vbd_obstacles, Buf::vbd_ob_member, Buf::vbd_ob_lag},
+                       {vbd_obstacle_functions(), glsl::vbd_first_touch});
 }
 
 // Each point's bound at the current x (the CPU's take_bounds over the pairs).
 std::string vbd_bounds_shader() {
-  std::string s = kernel_head({Buf::x, Buf::vbd_contacts});
-  s += contact_functions(true, false);
-  s += glsl::vbd_bounds;
-  return s;
+  return kernel_source({Buf::x, Buf::vbd_contacts},
+                       {contact_functions(true, false), glsl::vbd_bounds});
 }
 
 std::string vbd_health_shader() {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::health});
-  s += glsl::vbd_health;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::health}, {glsl::vbd_health});
 }
 
 }  // namespace maille::gpu

@@ -46,33 +46,31 @@ std::string kernel_head(std::initializer_list<Buf> used) {
   return head(used);
 }
 
-std::string forces_shader(const std::vector<KindLaw>& kinds) {
-  std::string s =
-      head({Buf::x, Buf::v, Buf::f, Buf::inv_mass, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
-            Buf::link_params, Buf::face_offset, Buf::face_of_point, Buf::face_force});
-  s += shared::link_laws;
-  s += link_force_function(kinds);
-  s += glsl::forces;
+std::string kernel_source(std::initializer_list<Buf> used,
+                          std::initializer_list<std::string_view> parts) {
+  std::string s = head(used);
+  for (const std::string_view part : parts) s += part;
   return s;
+}
+
+std::string forces_shader(const std::vector<KindLaw>& kinds) {
+  return kernel_source(
+      {Buf::x, Buf::v, Buf::f, Buf::inv_mass, Buf::mass, Buf::adjacency_offset, Buf::adjacency,
+       Buf::link_params, Buf::face_offset, Buf::face_of_point, Buf::face_force},
+      {shared::link_laws, link_force_function(kinds), glsl::adjacency, glsl::forces});
 }
 
 std::string faces_shader() {
-  std::string s = head({Buf::x, Buf::v, Buf::face_corner, Buf::face_force});
-  s += shared::wind_law;
-  s += glsl::faces;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::face_corner, Buf::face_force},
+                       {shared::wind_law, glsl::faces});
 }
 
 std::string integrate_shader() {
-  std::string s = head({Buf::x, Buf::v, Buf::f, Buf::inv_mass, Buf::health});
-  s += glsl::integrate;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::f, Buf::inv_mass, Buf::health}, {glsl::integrate});
 }
 
 std::string drive_shader() {
-  std::string s = head({Buf::x, Buf::v, Buf::driven});
-  s += glsl::drive;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::driven}, {glsl::drive});
 }
 
 }  // namespace maille::gpu

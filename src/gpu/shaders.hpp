@@ -43,6 +43,10 @@ std::string drive_shader();
 // The head of every kernel: version, work group size, the records, the buffers `used`, the
 // shared laws' prelude (`real` is float) and the packed-vec3 helpers LOAD3 / STORE3.
 std::string kernel_head(std::initializer_list<Buf> used);
+// A kernel's source: its head for the buffers `used`, then `parts` in order (laws, generated
+// functions and definitions, the body from glsl/).
+std::string kernel_source(std::initializer_list<Buf> used,
+                          std::initializer_list<std::string_view> parts);
 
 // The self-collision grid (gpu_self_collision.hpp), one kernel per pass of a step:
 //   bounds    per particle: the box of the colliding particles (work-group reduction, then
@@ -58,15 +62,11 @@ std::string kernel_head(std::initializer_list<Buf> used);
 //             on the atomics' order, so neither do the sums
 //   contacts  per particle: the 27 cells around its own, distance, exclusion (binary search in
 //             its row), the shared contact laws, added into f (a gather: no float atomics)
-std::string self_bounds_shader();
-std::string self_grid_shader();
-std::string self_zero_shader();
-std::string self_count_shader();
-std::string self_scan_shader();
-std::string self_scan_add_shader();
-std::string self_scatter_shader();
-std::string self_sort_shader();
-std::string self_contacts_shader();
+// Their names ("bounds", ..., "contacts") and sources, in that order.
+struct KernelSource {
+  std::string name, source;
+};
+std::vector<KernelSource> self_collision_kernels();
 inline constexpr unsigned kScanBlock = 2 * kGroupSize;  // counts scanned per work group
 
 }  // namespace maille::gpu

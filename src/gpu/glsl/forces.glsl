@@ -12,15 +12,12 @@ void main() {
   vec3 fi = vec3(0.0);
   uint end = adjacency_offset[i + 1u];
   for (uint e = adjacency_offset[i]; e < end; ++e) {
-    Adjacent l = adjacency[e];
-    vec3 xj = LOAD3(x, l.other);
-    vec3 vj = LOAD3(v, l.other);
-    vec4 p = LOAD_PARAMS(l.params);
+    Neighbour n = neighbour(e);
     // The law gives the force on the link's a end; its b end gets the opposite.
-    if ((l.kind & 0x80000000u) != 0u)
-      fi -= link_force(l.kind & 0x7fffffffu, xj, xi, vj, vi, p);
+    if (n.b_end)
+      fi -= link_force(n.kind, n.x, xi, n.v, vi, n.p);
     else
-      fi += link_force(l.kind, xi, xj, vi, vj, p);
+      fi += link_force(n.kind, xi, n.x, vi, n.v, n.p);
   }
   if (u_wind) {
     uint face_end = face_offset[i + 1u];

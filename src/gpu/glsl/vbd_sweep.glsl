@@ -20,19 +20,15 @@ void main() {
     mat3 H = mat3(m * (inv_h2 + u_drag * inv_h));
     uint end = adjacency_offset[i + 1u];
     for (uint e = adjacency_offset[i]; e < end; ++e) {
-      Adjacent l = adjacency[e];
-      vec3 xj = LOAD3(x, l.other);
-      vec3 vj = LOAD3(v, l.other);
-      vec4 p = LOAD_PARAMS(l.params);
+      Neighbour n = neighbour(e);
       // The law gives the force on the link's a end (b gets the opposite); the block is the
       // same at both ends.
-      if ((l.kind & 0x80000000u) != 0u) {
-        uint kind = l.kind & 0x7fffffffu;
-        g -= link_force(kind, xj, xi, vj, vi, p);
-        H += link_block(kind, xj, xi, vj, vi, p, inv_h);
+      if (n.b_end) {
+        g -= link_force(n.kind, n.x, xi, n.v, vi, n.p);
+        H += link_block(n.kind, n.x, xi, n.v, vi, n.p, inv_h);
       } else {
-        g += link_force(l.kind, xi, xj, vi, vj, p);
-        H += link_block(l.kind, xi, xj, vi, vj, p, inv_h);
+        g += link_force(n.kind, xi, n.x, vi, n.v, n.p);
+        H += link_block(n.kind, xi, n.x, vi, n.v, n.p, inv_h);
       }
     }
     pair_terms(i, xi, vi, inv_h, g, H);
