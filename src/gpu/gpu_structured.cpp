@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdlib>
 #include <stdexcept>
+#include <utility>
 
 #include "../render/gl_program.hpp"
 #include "gl_buffers.hpp"
@@ -121,24 +122,24 @@ struct GpuStructured::Grid {
   bool others = false;  // some point has links off the stencil
 };
 
+// The layouts by the names MAILLE_GPU_LAYOUT and `maille info` spell.
+constexpr std::pair<GridLayout, std::string_view> kLayoutNames[] = {
+    {GridLayout::automatic, "auto"},
+    {GridLayout::structured, "structured"},
+    {GridLayout::general, "general"}};
+
 GridLayout grid_layout_from_environment() {
   const char* value = std::getenv("MAILLE_GPU_LAYOUT");
   if (!value || !*value) return GridLayout::automatic;
-  for (GridLayout l : {GridLayout::automatic, GridLayout::structured, GridLayout::general})
-    if (to_string(l) == value) return l;
+  for (const auto& [layout, name] : kLayoutNames)
+    if (name == value) return layout;
   throw std::invalid_argument("MAILLE_GPU_LAYOUT = '" + std::string(value) +
                               "': expected auto, structured or general");
 }
 
 std::string_view to_string(GridLayout layout) {
-  switch (layout) {
-    case GridLayout::structured:
-      return "structured";
-    case GridLayout::general:
-      return "general";
-    case GridLayout::automatic:
-      break;
-  }
+  for (const auto& [l, name] : kLayoutNames)
+    if (l == layout) return name;
   return "auto";
 }
 
