@@ -40,10 +40,11 @@
 #include "maille/gpu.hpp"
 #include "maille/model.hpp"
 #include "maille/stage.hpp"
+#include "non_copyable.hpp"
 
 namespace maille::gpu {
 
-class GpuSelfCollision final : public GpuStage {
+class GpuSelfCollision final : public GpuStage, NonCopyable {
  public:
   // Why the self-collision stage `st`, as configured now, has no GPU version: "" when it runs.
   // Refused: primitive = "triangles", and a broad phase other than uniform (the device builds
@@ -53,8 +54,6 @@ class GpuSelfCollision final : public GpuStage {
   // The context must be current. `max_invocations`: what one dispatch reaches (caps the cells).
   GpuSelfCollision(const Model& m, const Stage& st, double max_invocations);
   ~GpuSelfCollision() override;
-  GpuSelfCollision(const GpuSelfCollision&) = delete;
-  GpuSelfCollision& operator=(const GpuSelfCollision&) = delete;
 
   // Adds the contacts at the device's x and v into f (the step's buffers bound, f written by
   // the forces kernel). Reads the stage's live options (enabled, exclusion) every time.

@@ -27,6 +27,7 @@
 
 #include "maille/gpu.hpp"
 #include "maille/model.hpp"
+#include "non_copyable.hpp"
 #include "shaders.hpp"
 
 namespace maille::gpu {
@@ -45,7 +46,7 @@ struct LinkSets {
   std::vector<int> pool_kind;              // [pools]
 };
 
-class GpuStructured {
+class GpuStructured : NonCopyable {
  public:
   struct Range {
     std::uint32_t first = 0, count = 0;
@@ -58,8 +59,6 @@ class GpuStructured {
                                              const std::vector<KindLaw>& kinds, GridLayout layout,
                                              GpuStructured* previous);
   ~GpuStructured();
-  GpuStructured(const GpuStructured&) = delete;
-  GpuStructured& operator=(const GpuStructured&) = delete;
   // Frees nothing: the context is gone or not current (its objects go with it).
   void forget();
 

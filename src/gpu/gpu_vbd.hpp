@@ -51,6 +51,7 @@
 #include "maille/model.hpp"
 #include "maille/stage.hpp"
 #include "maille/state.hpp"
+#include "non_copyable.hpp"
 #include "shaders.hpp"
 
 namespace maille::gpu {
@@ -80,13 +81,11 @@ inline bool uploaded_contacts(ContactKinds kinds) {
          (std::uint8_t(kinds) & ~std::uint8_t(ContactKinds::pairs | ContactKinds::stencils)) == 0;
 }
 
-class GpuVbd {
+class GpuVbd : NonCopyable {
  public:
   // The context must be current; `max_block`: the driver's largest storage block, bytes.
   explicit GpuVbd(double max_block);
   ~GpuVbd();
-  GpuVbd(const GpuVbd&) = delete;
-  GpuVbd& operator=(const GpuVbd&) = delete;
   void forget();  // the context is gone: nothing to delete
 
   // Colours, buffers and kernels for the model and its geometric obstacles among `stages`

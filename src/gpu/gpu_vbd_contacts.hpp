@@ -33,6 +33,7 @@
 #include "maille/contact_set.hpp"
 #include "maille/model.hpp"
 #include "maille/vec3.hpp"
+#include "non_copyable.hpp"
 
 namespace maille::gpu {
 
@@ -60,14 +61,12 @@ class VbdGraph {
   std::vector<std::uint32_t> free_, row_, other_, colour_, stamp_;
 };
 
-class GpuVbdContacts {
+class GpuVbdContacts : NonCopyable {
  public:
   // The context must be current; `max_block`: the driver's largest storage block, bytes (a
   // step whose contacts need a larger buffer throws std::runtime_error saying so).
   explicit GpuVbdContacts(double max_block);
   ~GpuVbdContacts();
-  GpuVbdContacts(const GpuVbdContacts&) = delete;
-  GpuVbdContacts& operator=(const GpuVbdContacts&) = delete;
   void forget() { forgotten_ = true; }  // the context is gone: nothing to delete
 
   // The model's graph, and an empty buffer of its shape (no contacts); its colours into
