@@ -18,6 +18,27 @@
 // Gauss-Newton Hessian c_j^2 (k + z / h) n n^T: the exact Hessian adds k (s - d) / d times the
 // transverse projector's change, negative for a pressed pair, which would cost definiteness.
 
+// triangle_closest_weights' test of a corner X past a (b, then c) and of the edge aX: `own` is
+// that edge, `other` the edge aY to the third corner, xa and ya their dot products with p - a;
+// xx and yx are set to their dot products with p - X. 1 when p's closest point is X, 2 when it
+// lies on aX at parameter t from a, else 0. `area` (Ericson's vc for b, vb for c) is the face
+// region's weight of the third corner.
+MAILLE_SHARED int corner_or_edge(vec3 own, vec3 other, vec3 xp, real xa, real ya,
+                                 MAILLE_OUT(real) xx, MAILLE_OUT(real) yx, MAILLE_OUT(real) area,
+                                 MAILLE_OUT(real) t) {
+  xx = dot(own, xp);
+  yx = dot(other, xp);
+  area = real(0);
+  t = real(0);
+  if (xx >= real(0) && yx <= xx) return 1;
+  area = xa * yx - xx * ya;
+  if (area <= real(0) && xa >= real(0) && xx <= real(0)) {
+    t = xa / (xa - xx);
+    return 2;
+  }
+  return 0;
+}
+
 // Closest point of triangle abc to p, as barycentric weights (Ericson, Real-Time Collision
 // Detection, 5.1.5): the Voronoi regions of the corners, the edges, then the face. Weights are
 // exact zeros outside the touched feature (callers name the feature from them).
@@ -28,24 +49,13 @@ MAILLE_SHARED vec3 triangle_closest_weights(vec3 p, vec3 a, vec3 b, vec3 c) {
   real d1 = dot(ab, ap);
   real d2 = dot(ac, ap);
   if (d1 <= real(0) && d2 <= real(0)) return vec3(real(1), real(0), real(0));
-  vec3 bp = p - b;
-  real d3 = dot(ab, bp);
-  real d4 = dot(ac, bp);
-  if (d3 >= real(0) && d4 <= d3) return vec3(real(0), real(1), real(0));
-  real vc = d1 * d4 - d3 * d2;
-  if (vc <= real(0) && d1 >= real(0) && d3 <= real(0)) {
-    real t = d1 / (d1 - d3);
-    return vec3(real(1) - t, t, real(0));
-  }
-  vec3 cp = p - c;
-  real d5 = dot(ab, cp);
-  real d6 = dot(ac, cp);
-  if (d6 >= real(0) && d5 <= d6) return vec3(real(0), real(0), real(1));
-  real vb = d5 * d2 - d1 * d6;
-  if (vb <= real(0) && d2 >= real(0) && d6 <= real(0)) {
-    real t = d2 / (d2 - d6);
-    return vec3(real(1) - t, real(0), t);
-  }
+  real d3, d4, d5, d6, vb, vc, along;
+  int near_b = corner_or_edge(ab, ac, p - b, d1, d2, d3, d4, vc, along);
+  if (near_b != 0)
+    return near_b == 1 ? vec3(real(0), real(1), real(0)) : vec3(real(1) - along, along, real(0));
+  int near_c = corner_or_edge(ac, ab, p - c, d2, d1, d6, d5, vb, along);
+  if (near_c != 0)
+    return near_c == 1 ? vec3(real(0), real(0), real(1)) : vec3(real(1) - along, real(0), along);
   real va = d3 * d6 - d5 * d4;
   if (va <= real(0) && (d4 - d3) >= real(0) && (d5 - d6) >= real(0)) {
     real t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
