@@ -5,6 +5,7 @@ ctest runs each file with PYTHONPATH pointing at the built module and MAILLE_EXE
 import os
 import pathlib
 import shutil
+import threading
 
 import pytest
 
@@ -14,6 +15,24 @@ DATA = ROOT / "tests" / "data"
 FLAG = EXAMPLES / "flag_in_wind.toml"
 CHAIN = EXAMPLES / "pendulum_chain.toml"
 UNSTABLE = DATA / "unstable_spring.toml"
+
+
+def step_from_another_thread(sim, before=None):
+    """Starts a thread that calls sim.step(1), after before() when given; returns the thread and
+    the list that collects the messages of the RuntimeErrors it raised (read it after join())."""
+    errors = []
+
+    def other():
+        if before:
+            before()
+        try:
+            sim.step(1)
+        except RuntimeError as e:
+            errors.append(str(e))
+
+    t = threading.Thread(target=other)
+    t.start()
+    return t, errors
 
 
 def maille_exe():

@@ -8,7 +8,7 @@ import time
 import pytest
 
 import maille
-from conftest import FLAG
+from conftest import FLAG, step_from_another_thread
 
 
 def test_a_python_thread_runs_while_step_runs():
@@ -48,19 +48,8 @@ def test_callbacks_run_with_the_gil():
 
 def test_another_thread_cannot_step_at_the_same_time():
     sim = maille.Simulation(FLAG, threads=1)
-    errors = []
     started = threading.Event()
-
-    def other():
-        started.wait()
-        time.sleep(0.01)
-        try:
-            sim.step(1)
-        except RuntimeError as e:
-            errors.append(str(e))
-
-    t = threading.Thread(target=other)
-    t.start()
+    t, errors = step_from_another_thread(sim, before=lambda: (started.wait(), time.sleep(0.01)))
     started.set()
     sim.step(3000)
     t.join()

@@ -18,6 +18,7 @@ import pytest
 import maille
 from conftest import EXAMPLES, FLAG
 
+HERE = pathlib.Path(__file__).resolve().parent  # conftest.py, for the scripts run apart
 SPHERE = EXAMPLES / "cloth_on_sphere.toml"  # self-collision (particle-face) and obstacles
 
 
@@ -284,17 +285,12 @@ def test_gpu_simulation_called_from_another_thread_is_refused():
     if not maille.render_available:
         pytest.skip("built without rendering (no GPU backend)")
     proc = run_python(f"""
-        import threading, maille
+        import sys, maille
+        sys.path.insert(0, {str(HERE)!r})
+        from conftest import step_from_another_thread
         sim = maille.Simulation({str(FLAG)!r}, overrides={{"simulation.backend": "gpu"}})
         sim.step(2)
-        errors = []
-        def other():
-            try:
-                sim.step(1)
-            except RuntimeError as e:
-                errors.append(str(e))
-        t = threading.Thread(target=other)
-        t.start()
+        t, errors = step_from_another_thread(sim)
         t.join()
         assert errors and "thread that created" in errors[0], errors
         sim.step(2)  # its own thread still steps
