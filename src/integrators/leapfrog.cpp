@@ -11,15 +11,10 @@ namespace maille {
 
 namespace {
 
-class Leapfrog final : public Integrator {
+// The step itself: KickDriftScheme's, with the kick below.
+class Leapfrog final : public KickDriftScheme {
  public:
   std::string_view name() const override { return "leapfrog"; }
-
-  void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
-    const KickDrift k = *kick_drift_step(s, h);
-    kick_drift(m, s, k.kick, k.drift, threads_);
-    s.history = k.history_after;
-  }
 
   std::optional<KickDrift> kick_drift_step(const State& s, Real h) const override {
     const Real kick =
@@ -40,11 +35,8 @@ class Leapfrog final : public Integrator {
       out[i] = v[i] + f[i] * (m.points.inv_mass[i] * half);
   }
 
-  // In steady state the same recurrence as symplectic Euler (the half-kick start only shifts
-  // where velocities are sampled).
-  Amplification increment(double h, double w2, double c) const override {
-    return kick_drift_increment(h, w2, c);
-  }
+  // The increment: KickDriftScheme's. In steady state the same recurrence as symplectic Euler
+  // (the half-kick start only shifts where velocities are sampled).
 
  private:
   bool primed_here(const State& s) const { return s.history.primed && s.history.scheme == name(); }

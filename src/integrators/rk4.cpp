@@ -12,7 +12,7 @@ namespace maille {
 
 namespace {
 
-class Rk4 final : public Integrator {
+class Rk4 final : public MultiPassScheme<4> {
  public:
   std::string_view name() const override { return "rk4"; }
 
@@ -50,8 +50,6 @@ class Rk4 final : public Integrator {
     }
     return multiply(ha, r);
   }
-  int force_evaluations() const override { return 4; }
-  ResponseTiming response_timing() const override { return ResponseTiming::refused; }
 
  private:
   // k1 = (v0, f0/m): start the weighted sums with it.

@@ -8,18 +8,10 @@ namespace maille {
 
 namespace {
 
-class SymplecticEuler final : public Integrator {
+// KickDriftScheme's own step: a kick and a drift of h each, the history kept as it is.
+class SymplecticEuler final : public KickDriftScheme {
  public:
   std::string_view name() const override { return "symplectic_euler"; }
-  void advance(const Model& m, State& s, Real h, ForceEvaluator&, Profile&) override {
-    kick_drift(m, s, h, h, threads_);
-  }
-  std::optional<KickDrift> kick_drift_step(const State& s, Real h) const override {
-    return KickDrift{h, h, s.history};
-  }
-  Amplification increment(double h, double w2, double c) const override {
-    return kick_drift_increment(h, w2, c);
-  }
 };
 
 }  // namespace

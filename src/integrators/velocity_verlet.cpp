@@ -11,7 +11,7 @@ namespace maille {
 
 namespace {
 
-class VelocityVerlet final : public Integrator {
+class VelocityVerlet final : public MultiPassScheme<2> {
  public:
   std::string_view name() const override { return "velocity_verlet"; }
 
@@ -28,8 +28,6 @@ class VelocityVerlet final : public Integrator {
     const Amplification drift{{{0, h}, {0, 0}}};
     return compose(kick, compose(drift, kick));
   }
-  int force_evaluations() const override { return 2; }
-  ResponseTiming response_timing() const override { return ResponseTiming::refused; }
 };
 
 }  // namespace
