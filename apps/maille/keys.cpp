@@ -20,9 +20,10 @@ namespace maille::app {
 
 namespace {
 
-template <Named E>
-void choice_line(std::ostream& out) {
-  out << "- " << NameTable<E>::what << ": " << name_list<E>() << '\n';
+// One line per enum: "- what: a, b, c".
+template <Named... E>
+void choice_lines(std::ostream& out) {
+  ((out << "- " << NameTable<E>::what << ": " << name_list<E>() << '\n'), ...);
 }
 
 // Rewrites the key tables of `path` (those after a `<!-- keys: TABLE -->` line); prose is kept.
@@ -66,22 +67,11 @@ int describe_keys(const std::string& docs) {
     std::cout << '\n';
   }
   std::cout << "## Named choices\n\n";
-  choice_line<BroadPhase>(std::cout);
-  choice_line<Exclusion>(std::cout);
-  choice_line<Primitive>(std::cout);
-  choice_line<ObstacleMethod>(std::cout);
+  choice_lines<BroadPhase, Exclusion, Primitive, ObstacleMethod>(std::cout);
   std::cout << "- shape: " << shape_name_list() << '\n';  // the shape table's rows
-  choice_line<FlagFixed>(std::cout);
-  choice_line<RopeFixed>(std::cout);
-  choice_line<NetFixed>(std::cout);
-  choice_line<LatticeFixed>(std::cout);
-  choice_line<LatticeShape>(std::cout);
-  choice_line<BackendKind>(std::cout);
-  choice_line<ImplicitSolver>(std::cout);
-  choice_line<FrameFormat>(std::cout);
-  choice_line<audio::Quantity>(std::cout);
-  choice_line<audio::SampleFormat>(std::cout);
-  choice_line<audio::Resampler>(std::cout);
+  choice_lines<FlagFixed, RopeFixed, NetFixed, LatticeFixed, LatticeShape, BackendKind,
+               ImplicitSolver, FrameFormat, audio::Quantity, audio::SampleFormat, audio::Resampler>(
+      std::cout);
   return 0;
 }
 

@@ -59,10 +59,27 @@ const char* const gpu_device_help =
     "EGL device index for the gpu backend (`maille info --backend gpu` lists them; default: "
     "Mesa's surfaceless platform)";
 
+// The file a command reads, its first argument: required, and it must exist.
+CLI::Option* add_input(CLI::App* cmd, const std::string& name, std::string& file,
+                       const std::string& help) {
+  return cmd->add_option(name, file, help)->required()->check(CLI::ExistingFile);
+}
+
 // The scene file every command that runs one takes first (validate and info check it themselves:
 // their own message for a missing file).
 CLI::Option* add_scene(CLI::App* cmd, std::string& scene) {
-  return cmd->add_option("scene", scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  return add_input(cmd, "scene", scene, "Scene file (TOML)");
+}
+
+// Options that several commands take, each with its check said once: a path to write (--out,
+// --audio, --record) and the thread count.
+template <class T>
+CLI::Option* add_path(CLI::App* cmd, const std::string& name, T& path, const std::string& help) {
+  return cmd->add_option(name, path, help)->check(kOutputPath);
+}
+template <class T>
+CLI::Option* add_threads(CLI::App* cmd, T& threads, const std::string& help) {
+  return cmd->add_option("--threads", threads, help)->check(kThreads);
 }
 
 }  // namespace
@@ -84,8 +101,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--duration", ro.duration, "Simulated time, s (default: the scene's)")
       ->check(kDuration)
       ->excludes(steps);
-  run_cmd->add_option("--out", ro.out, "Output directory (default: out/<scene name>)")
-      ->check(kOutputPath);
+  add_path(run_cmd, "--out", ro.out, "Output directory (default: out/<scene name>)");
   run_cmd
       ->add_option("--every", ro.every, "Steps between frames (default: the scene's output_every)")
       ->check(number_in(1, maille::kNeverEvery));
@@ -95,14 +111,11 @@ int main(int argc, char** argv) {
                     "OBJ frames of the smooth surface through the particles (with --format obj)");
   run_cmd->add_option("--lod", ro.lod, "Smooth surface: sub-segments per physical edge")
       ->check(CLI::Range(1, 16));
-  run_cmd->add_option("--threads", ro.threads, "Threads (default: the scene's, else auto)")
-      ->check(kThreads);
+  add_threads(run_cmd, ro.threads, "Threads (default: the scene's, else auto)");
   run_cmd->add_flag("--no-frames", ro.no_frames, "Write stats.csv only, no frames");
-  run_cmd
-      ->add_option("--audio", ro.audio,
-                   "Write the scene's [[listen]] channels to this WAV file at [audio] rate "
-                   "(docs/sound.md)")
-      ->check(kOutputPath);
+  add_path(run_cmd, "--audio", ro.audio,
+           "Write the scene's [[listen]] channels to this WAV file at [audio] rate "
+           "(docs/sound.md)");
   run_cmd->add_flag("--no-self-collision", ro.no_self_collision,
                     "Ignore the scene's [self_collision] table (to see what it prevents)");
   run_cmd
@@ -138,9 +151,8 @@ int main(int argc, char** argv) {
   play_cmd->add_option("--duration", po.duration, "Seconds of sound, then stop (default: Ctrl-C)")
       ->check(kDuration);
   play_cmd->add_option("--set", po.sets, set_help);
-  play_cmd->add_option("--threads", po.threads, "Threads of the step (default 1)")->check(kThreads);
-  play_cmd->add_option("--record", po.record, "Also write the samples sent to this WAV (float32)")
-      ->check(kOutputPath);
+  add_threads(play_cmd, po.threads, "Threads of the step (default 1)");
+  add_path(play_cmd, "--record", po.record, "Also write the samples sent to this WAV (float32)");
   play_cmd->add_flag("--benchmark", po.benchmark,
                      "No device: the step's CPU time per period over --duration (default 5 s)");
   auto* validate_cmd = app.add_subcommand("validate", "Check a scene file; report the first error");
@@ -174,8 +186,7 @@ int main(int argc, char** argv) {
       ->add_option("--warmup", bo.warmup,
                    "Steps run before each timed repetition (not timed: contacts settle)")
       ->check(kSteps);
-  bench_cmd->add_option("--threads", bo.threads, "Threads (default: the scene's, else auto)")
-      ->check(kThreads);
+  add_threads(bench_cmd, bo.threads, "Threads (default: the scene's, else auto)");
   bench_cmd->add_option("--repeat", bo.repeat, "Repetitions (the fastest is reported)")
       ->check(number_in(1, 1000));
   bench_cmd->add_flag("!--no-header", bo.header, "Omit the CSV header line");
@@ -198,12 +209,10 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember(
           {"integrators", "self-collision", "validity", "obstacles", "large-steps", "all"}))
       ->required();
-  study_cmd
-      ->add_option("--out", so.out,
-                   "Directory for the CSV files (default out/study; `all`: one "
-                   "subdirectory per study and durations.csv)")
-      ->check(kOutputPath);
-  study_cmd->add_option("--threads", so.threads, "Threads for the cost table")->check(kThreads);
+  add_path(study_cmd, "--out", so.out,
+           "Directory for the CSV files (default out/study; `all`: one "
+           "subdirectory per study and durations.csv)");
+  add_threads(study_cmd, so.threads, "Threads for the cost table");
   so.examples = MAILLE_EXAMPLES_DIR;
   study_cmd->add_option("--examples", so.examples,
                         "Directory of the example scenes the studies run (default: the source "
@@ -217,28 +226,20 @@ int main(int argc, char** argv) {
       "sweep",
       "Run a scene for every combination of values in a sweep file (also under mpirun/srun, "
       "cases handed out to every rank): DIR/cases/<id>/stats.csv and DIR/summary.csv");
-  sweep_cmd->add_option("sweep", sw.sweep, "Sweep file (TOML, docs/sweep.md)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  sweep_cmd->add_option("--out", sw.out, "Output directory (a rerun skips the cases done there)")
-      ->required()
-      ->check(kOutputPath);
-  sweep_cmd
-      ->add_option("--threads", sw.threads,
-                   "Threads of each case (default: the scene's, else auto)")
-      ->check(kThreads);
+  add_input(sweep_cmd, "sweep", sw.sweep, "Sweep file (TOML, docs/sweep.md)");
+  add_path(sweep_cmd, "--out", sw.out, "Output directory (a rerun skips the cases done there)")
+      ->required();
+  add_threads(sweep_cmd, sw.threads, "Threads of each case (default: the scene's, else auto)");
 
 #ifdef MAILLE_WITH_RENDER
   RenderCommandOptions rn;
   auto* render_cmd = app.add_subcommand(
       "render", "Render a scene with no display: an MP4 video, PNG frames or one PNG still");
   add_scene(render_cmd, rn.scene);
-  render_cmd
-      ->add_option("--out", rn.out,
-                   "FILE.mp4 (video through ffmpeg), FILE.png (the last frame) or a directory "
-                   "(frame_000000.png, ...)")
-      ->required()
-      ->check(kOutputPath);
+  add_path(render_cmd, "--out", rn.out,
+           "FILE.mp4 (video through ffmpeg), FILE.png (the last frame) or a directory "
+           "(frame_000000.png, ...)")
+      ->required();
   render_cmd->add_option("--width", rn.width, "Image width, pixels")->check(number_in(1, 16384));
   render_cmd->add_option("--height", rn.height, "Image height, pixels")->check(number_in(1, 16384));
   render_cmd->add_option("--fps", rn.fps, "Frames per simulated second")
@@ -264,8 +265,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--stage-option", rn.stage_options,
                          "STAGE.OPTION=VALUE, repeatable: a stage's live setting, e.g. "
                          "self_collision.draw_cells=on, self_collision.draw_contacts=on");
-  render_cmd->add_option("--threads", rn.threads, "Simulation threads (default: the scene's)")
-      ->check(kThreads);
+  add_threads(render_cmd, rn.threads, "Simulation threads (default: the scene's)");
   render_cmd->add_option("--backend", rn.backend, backend_help);
   render_cmd->add_option("--gpu-device", rn.gpu_device, gpu_device_help)->check(kDevice);
 #endif
