@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <utility>
 
 #include "maille/backend.hpp"
 #include "maille/integrator.hpp"
@@ -22,6 +24,16 @@ float to_float(Real v) {
 }
 
 // A command the physics refused, and why (wrapped: the reasons are sentences).
+// Checkboxes side by side on one line.
+void checkbox_row(std::initializer_list<std::pair<const char*, bool*>> boxes) {
+  bool first = true;
+  for (const auto& [label, value] : boxes) {
+    if (!first) ImGui::SameLine();
+    ImGui::Checkbox(label, value);
+    first = false;
+  }
+}
+
 void notice(const std::string& text) {
   ImGui::PushTextWrapPos(0);
   ImGui::TextColored(ImVec4(1, 0.7f, 0.2f, 1), "%s", text.c_str());
@@ -211,18 +223,12 @@ void sound_controls(const Scene& scene, PhysicsThread& physics, const PhysicsSta
 }
 
 void drawing_controls(render::RenderOptions& o, Tuning& t, PanelRequests& r) {
-  ImGui::Checkbox("surfaces", &o.surface);
-  ImGui::SameLine();
-  ImGui::Checkbox("links", &o.links);
-  ImGui::SameLine();
-  ImGui::Checkbox("cloth mesh", &o.links_on_surface);
-  ImGui::Checkbox("points", &o.points);
-  ImGui::SameLine();
-  ImGui::Checkbox("contacts", &o.contacts);
-  ImGui::SameLine();
-  ImGui::Checkbox("grid", &o.grid);
-  ImGui::SameLine();
-  ImGui::Checkbox("obstacles", &o.solids);
+  checkbox_row(
+      {{"surfaces", &o.surface}, {"links", &o.links}, {"cloth mesh", &o.links_on_surface}});
+  checkbox_row({{"points", &o.points},
+                {"contacts", &o.contacts},
+                {"grid", &o.grid},
+                {"obstacles", &o.solids}});
   // Smooth surface through the particles, evaluated on the GPU (smooth_surface.hpp).
   ImGui::Checkbox("smooth", &o.smooth);
   ImGui::SameLine();

@@ -12,12 +12,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <iostream>
 #include <memory>
 
 #include "maille/render/gl_transfer.hpp"
+#include "maille/render/headless.hpp"
 #include "maille/render/image.hpp"
 #include "maille/render/renderer.hpp"
 #include "maille/scene.hpp"
@@ -31,24 +31,6 @@ namespace maille::viewer {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// The window's back buffer as an image (call after drawing, before swapping).
-render::Image read_back_buffer(int width, int height) {
-  render::Image image;
-  image.width = width;
-  image.height = height;
-  const std::size_t row = std::size_t(width) * 3;
-  std::vector<std::uint8_t> bottom_up(row * std::size_t(height));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glReadBuffer(GL_BACK);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
-  image.rgb.resize(bottom_up.size());
-  for (int y = 0; y < height; ++y)
-    std::memcpy(image.rgb.data() + std::size_t(y) * row,
-                bottom_up.data() + std::size_t(height - 1 - y) * row, row);
-  return image;
-}
 
 std::filesystem::path timestamped_png() {
   char name[64];
@@ -149,7 +131,7 @@ class Viewer {
     if (screenshot_now || screenshot_requested_) {
       const auto file = screenshot_file.empty() ? timestamped_png() : screenshot_file;
       try {
-        render::write_png(read_back_buffer(width, height), file);
+        render::write_png(render::read_framebuffer(0, width, height), file);
         std::cout << "maille-viewer: screenshot " << file.string() << '\n';
       } catch (const std::exception& e) {
         std::cerr << "maille-viewer: " << e.what() << '\n';

@@ -206,19 +206,24 @@ Image OffscreenTarget::read() {
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
     source = resolve_fbo_;
   }
+  return read_framebuffer(source, width_, height_);
+}
+
+Image read_framebuffer(unsigned framebuffer, int width, int height) {
   Image image;
-  image.width = width_;
-  image.height = height_;
-  const std::size_t row = std::size_t(width_) * 3;
-  std::vector<std::uint8_t> bottom_up(row * std::size_t(height_));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, source);
+  image.width = width;
+  image.height = height;
+  const std::size_t row = std::size_t(width) * 3;
+  std::vector<std::uint8_t> bottom_up(row * std::size_t(height));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+  if (framebuffer == 0) glReadBuffer(GL_BACK);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
   // OpenGL's rows start at the bottom; images (PNG, video) start at the top.
   image.rgb.resize(bottom_up.size());
-  for (int y = 0; y < height_; ++y)
+  for (int y = 0; y < height; ++y)
     std::memcpy(image.rgb.data() + std::size_t(y) * row,
-                bottom_up.data() + std::size_t(height_ - 1 - y) * row, row);
+                bottom_up.data() + std::size_t(height - 1 - y) * row, row);
   return image;
 }
 

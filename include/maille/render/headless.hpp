@@ -38,6 +38,10 @@ class HeadlessContext {
 // the extension is missing.
 std::vector<std::string> egl_devices();
 
+// The width x height pixels of a framebuffer, rows from the top (OpenGL's start at the bottom);
+// framebuffer 0: the window's back buffer. Needs a current OpenGL context; waits for the GPU.
+Image read_framebuffer(unsigned framebuffer, int width, int height);
+
 // A width x height colour + depth framebuffer, multisampled when samples > 1 (resolved on read).
 // Needs a current OpenGL 4.5 context.
 class OffscreenTarget {
