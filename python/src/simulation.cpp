@@ -4,6 +4,26 @@
 
 namespace maille::python {
 
+namespace {
+
+// A read-only property read from the simulator under the simulation's lock (Simulation::read):
+// get(simulator), then the docstring if any.
+template <class Get, class... Doc>
+void simulator_property(py::class_<Simulation>& cls, const char* name, Get get, const Doc&... doc) {
+  cls.def_property_readonly(
+      name, [get](Simulation& s) { return s.read(get); }, doc...);
+}
+
+// A per-point array as a new NumPy array of T, each value through `f`.
+template <class T, class Values, class F>
+py::array_t<T> copy_of(const Values& values, F f) {
+  py::array_t<T> out(static_cast<py::ssize_t>(values.size()));
+  for (std::size_t i = 0; i < values.size(); ++i) out.mutable_data()[i] = f(values[i]);
+  return out;
+}
+
+}  // namespace
+
 void bind_simulation(py::module_& mod) {
   auto cls = py::class_<Simulation>(mod, "Simulation",
                                     R"(A simulation of a scene file or of a maille.Model.
@@ -40,28 +60,16 @@ simulation.integrator. Errors raise maille.SceneError (file, line, column, key).
       "velocities", [](py::object self) { return self.cast<Simulation&>().view(1, self); },
       "(n, 3) float64 view of the velocities (m/s): the engine's memory, writable. Under "
       "leapfrog they are the staggered v(t - h/2) once stepping started (velocity_time).");
-  cls.def_property_readonly(
-      "time", [](Simulation& s) { return s.read([](const Simulator& m) { return m.time(); }); },
-      "s");
-  cls.def_property_readonly("steps", [](Simulation& s) {
-    return s.read([](const Simulator& m) { return m.steps_taken(); });
-  });
-  cls.def_property_readonly(
-      "step_size",
-      [](Simulation& s) { return s.read([](const Simulator& m) { return m.settings().step; }); },
-      "h, s");
-  cls.def_property_readonly("point_count", [](Simulation& s) {
-    return s.read([](const Simulator& m) { return m.model().points.size(); });
-  });
-  cls.def_property_readonly("link_count", [](Simulation& s) {
-    return s.read([](const Simulator& m) { return m.model().links.total(); });
-  });
-  cls.def_property_readonly("integrator", [](Simulation& s) {
-    return s.read([](const Simulator& m) { return m.settings().integrator; });
-  });
-  cls.def_property_readonly("threads", [](Simulation& s) {
-    return s.read([](const Simulator& m) { return m.threads(); });
-  });
+  simulator_property(
+      cls, "time", [](const Simulator& m) { return m.time(); }, "s");
+  simulator_property(cls, "steps", [](const Simulator& m) { return m.steps_taken(); });
+  simulator_property(
+      cls, "step_size", [](const Simulator& m) { return m.settings().step; }, "h, s");
+  simulator_property(cls, "point_count",
+                     [](const Simulator& m) { return m.model().points.size(); });
+  simulator_property(cls, "link_count", [](const Simulator& m) { return m.model().links.total(); });
+  simulator_property(cls, "integrator", [](const Simulator& m) { return m.settings().integrator; });
+  simulator_property(cls, "threads", [](const Simulator& m) { return m.threads(); });
   cls.def_property_readonly("name", &Simulation::name);
   cls.def_property_readonly(
       "duration",
@@ -75,39 +83,23 @@ simulation.integrator. Errors raise maille.SceneError (file, line, column, key).
       "velocity_time",
       [](Simulation& s) { return s.read([&](const Simulator&) { return s.velocity_time(); }); },
       "'synchronous' (v at the time of x) or 'half_step' (leapfrog's v(t - h/2))");
-  cls.def_property_readonly(
-      "stable_step",
-      [](Simulation& s) {
-        return s.read([](const Simulator& m) { return m.stability().max_step; });
-      },
+  simulator_property(
+      cls, "stable_step", [](const Simulator& m) { return m.stability().max_step; },
       "the scheme's stability estimate for this model (s)");
-  cls.def_property_readonly(
-      "groups",
-      [](Simulation& s) {
-        return s.read([](const Simulator& m) { return model_groups(m.model()); });
-      },
+  simulator_property(
+      cls, "groups", [](const Simulator& m) { return model_groups(m.model()); },
       "dict: group name -> NumPy index array of its points");
-  cls.def_property_readonly(
-      "masses",
-      [](Simulation& s) {
-        return s.read([](const Simulator& sim) {
-          const auto& m = sim.model().points.mass;
-          py::array_t<Real> out(static_cast<py::ssize_t>(m.size()));
-          std::copy(m.begin(), m.end(), out.mutable_data());
-          return out;
-        });
+  simulator_property(
+      cls, "masses",
+      [](const Simulator& sim) {
+        return copy_of<Real>(sim.model().points.mass, [](Real m) { return m; });
       },
       "masses (kg), a copy");
-  cls.def_property_readonly(
-      "fixed",
-      [](Simulation& s) {
-        return s.read([](const Simulator& sim) {
-          const auto& k = sim.model().points.kind;
-          py::array_t<bool> out(static_cast<py::ssize_t>(k.size()));
-          for (std::size_t i = 0; i < k.size(); ++i)
-            out.mutable_data()[i] = k[i] != PointKind::free;
-          return out;
-        });
+  simulator_property(
+      cls, "fixed",
+      [](const Simulator& sim) {
+        return copy_of<bool>(sim.model().points.kind,
+                             [](PointKind k) { return k != PointKind::free; });
       },
       "True for fixed and driven points, a copy");
   cls.def("energies", &Simulation::energies,
