@@ -11,9 +11,22 @@
 #include <algorithm>
 #include <bit>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace maille::collision {
+
+// Before a pass: one empty list per thread (at least one) and no thread full yet (`full`, one
+// flag per list); returns each list's cap, its share of `max_entries` (the memory budget).
+template <class List>
+std::size_t start_lists(std::vector<List>& lists, std::vector<std::uint8_t>& full, int threads,
+                        std::size_t max_entries) {
+  lists.resize(std::size_t(std::max(threads, 1)));
+  for (auto& l : lists) l.clear();
+  full.assign(lists.size(), 0);
+  return max_entries / lists.size();
+}
 
 // Output lists: room in each for everything all of them hold now (one thread may find it all
 // next time), rounded up to a power of two as a growing vector would be, and at most `cap`

@@ -24,9 +24,51 @@
 #include <vector>
 
 #include "exclusion.hpp"
+#include "maille/detail/csr.hpp"
 #include "maille/vec3.hpp"
 
 namespace maille::collision {
+
+// The rows of a grid's cells listing the primitives (edges, triangles) that overlap each
+// (detail::build_rows): every one of the `count` primitives, or those of `only` when given;
+// each_cell(p, fn) calls fn(cell) for each cell that primitive p overlaps.
+template <class Index, class Value, class EachCell>
+void bin_primitives(std::size_t cells, std::size_t count, const std::vector<std::uint32_t>* only,
+                    std::vector<Index>& cell_start, std::vector<Value>& cell_items,
+                    EachCell&& each_cell) {
+  detail::build_rows(cells, cell_start, cell_items, [&](auto&& emit) {
+    auto bin = [&](std::size_t p) { each_cell(p, [&](std::size_t c) { emit(c, p); }); };
+    if (only)
+      for (const std::uint32_t p : *only) bin(std::size_t(p));
+    else
+      for (std::size_t p = 0; p < count; ++p) bin(p);
+  });
+}
+
+// A list of pairs found at a reach holds while its points stay near where they were then: their
+// positions (x[points[i]]) into `anchor` when it is found, and the largest move since.
+inline void take_anchor(const Vec3* x, const std::vector<std::uint32_t>& points,
+                        std::vector<Vec3>& anchor) {
+  anchor.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) anchor[i] = x[points[i]];
+}
+inline Real largest_move(const Vec3* x, const std::vector<std::uint32_t>& points,
+                         const std::vector<Vec3>& anchor) {
+  Real moved2 = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    moved2 = std::max(moved2, norm2(x[points[i]] - anchor[i]));
+  return std::sqrt(moved2);
+}
+
+// Calls fn((k ny + j) nx + i) for the cells (i, j, k) of a grid nx cells wide and ny deep with
+// i0 <= i <= i1, j0 <= j <= j1, k0 <= k <= k1 (k, then j, then i).
+template <class Fn>
+void each_cell_in(std::int64_t i0, std::int64_t i1, std::int64_t j0, std::int64_t j1,
+                  std::int64_t k0, std::int64_t k1, std::int64_t nx, std::int64_t ny, Fn&& fn) {
+  for (std::int64_t k = k0; k <= k1; ++k)
+    for (std::int64_t j = j0; j <= j1; ++j)
+      for (std::int64_t i = i0; i <= i1; ++i) fn(std::size_t((k * ny + j) * nx + i));
+}
 
 // The margin that implicit schemes' contact candidates add to a contact distance s (the
 // self-collision pairs, [[contact]] pairs, point-triangle pairs): kMotionFactor h times the

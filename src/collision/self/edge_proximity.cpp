@@ -86,19 +86,9 @@ void EdgeProximity::bin(const Vec3* x, Real grow, const std::vector<std::uint32_
                k0 = std::int64_t(c0) / (nx_ * ny_);
     const auto i1 = std::int64_t(c1) % nx_, j1 = std::int64_t(c1) / nx_ % ny_,
                k1 = std::int64_t(c1) / (nx_ * ny_);
-    for (std::int64_t k = k0; k <= k1; ++k)
-      for (std::int64_t j = j0; j <= j1; ++j)
-        for (std::int64_t i = i0; i <= i1; ++i) fn(std::size_t((k * ny_ + j) * nx_ + i));
+    each_cell_in(i0, i1, j0, j1, k0, k1, nx_, ny_, fn);
   };
-  auto each_edge = [&](auto&& fn) {
-    if (only)
-      for (const std::uint32_t e : *only) fn(std::size_t(e));
-    else
-      for (std::size_t e = 0; e < edges_.size(); ++e) fn(e);
-  };
-  detail::build_rows(cells, cell_start_, cell_edges_, [&](auto&& emit) {
-    each_edge([&](std::size_t e) { each_cell(e, [&](std::size_t c) { emit(c, e); }); });
-  });
+  bin_primitives(cells, edges_.size(), only, cell_start_, cell_edges_, each_cell);
 }
 
 // Whether a corner of the pair is a colliding particle (two fixed edges never meet).
@@ -144,10 +134,7 @@ bool EdgeProximity::find_pairs(const Vec3* x, Real reach, const TopologicalExclu
   // (Cells per edge share, as TriangleProximity::candidates has, were tried: on
   // cloth_on_sphere_vbd the shares are near the largest and the overlaps' cells cost more.)
   bin(x, reach + longest / 2, only);
-  per_thread_pairs_.resize(std::size_t(std::max(threads, 1)));
-  for (auto& list : per_thread_pairs_) list.clear();
-  thread_full_.assign(per_thread_pairs_.size(), 0);
-  const std::size_t cap = max_contacts_ / per_thread_pairs_.size();
+  const std::size_t cap = start_lists(per_thread_pairs_, thread_full_, threads, max_contacts_);
   const auto n = static_cast<std::int64_t>(edges_.size());
   // Each edge's box: a pair whose boxes are farther apart than the reach along an axis is
   // farther than the reach (six compares before the closest points' divisions; most of a cell's
@@ -217,11 +204,8 @@ Real EdgeProximity::PairReach::of(const std::array<std::uint32_t, 2>& a,
 bool EdgeProximity::pairs_hold(const Vec3* x, Real radius, Real reach,
                                const TopologicalExclusion* exclusion) const {
   if (pairs_reach_ != reach || pairs_exclusion_ != exclusion) return false;
-  Real moved2 = 0;
-  for (std::size_t i = 0; i < corners_.size(); ++i)
-    moved2 = std::max(moved2, norm2(x[corners_[i]] - anchor_[i]));
   // Each closest point moves no farther than its edge's corners: the gap by at most twice that.
-  return 2 * std::sqrt(moved2) <= reach - radius;
+  return 2 * largest_move(x, corners_, anchor_) <= reach - radius;
 }
 
 bool EdgeProximity::bound_motion(const Vec3* x, Real share, Real radius, Real* bound) const {
@@ -244,8 +228,7 @@ std::uint64_t EdgeProximity::apply(const Vec3* x, const Vec3* v, Vec3* f, const 
   if (!pairs_hold(x, r.radius, reach, exclusion)) {
     pairs_reach_ = -1;
     if (!find_pairs(x, reach, exclusion, threads, pairs_)) return 0;
-    anchor_.resize(corners_.size());
-    for (std::size_t i = 0; i < corners_.size(); ++i) anchor_[i] = x[corners_[i]];
+    take_anchor(x, corners_, anchor_);
     pairs_reach_ = reach;
     pairs_exclusion_ = exclusion;
   }

@@ -106,19 +106,9 @@ void TriangleProximity::bin(const Vec3* x, Real grow_by, const std::vector<std::
     std::array<std::int64_t, 6> c;
     const Vec3 g = grow_each ? Vec3{grow_each[t], grow_each[t], grow_each[t]} : grow;
     cell_range(boxes_[t][0] - g, boxes_[t][1] + g, c);
-    for (std::int64_t k = c[4]; k <= c[5]; ++k)
-      for (std::int64_t j = c[2]; j <= c[3]; ++j)
-        for (std::int64_t i = c[0]; i <= c[1]; ++i) fn(std::size_t((k * ny + j) * nx + i));
+    each_cell_in(c[0], c[1], c[2], c[3], c[4], c[5], nx, ny, fn);
   };
-  auto each_triangle = [&](auto&& fn) {
-    if (only)
-      for (const std::uint32_t t : *only) fn(std::size_t(t));
-    else
-      for (std::size_t t = 0; t < tris_.size(); ++t) fn(t);
-  };
-  detail::build_rows(cells, cell_start_, cell_tris_, [&](auto&& emit) {
-    each_triangle([&](std::size_t t) { each_cell(t, [&](std::size_t c) { emit(c, t); }); });
-  });
+  bin_primitives(cells, tris_.size(), only, cell_start_, cell_tris_, each_cell);
 }
 
 // Whether triangle `tri` is point k's own neighbourhood: for a colliding particle, its corners
@@ -193,20 +183,14 @@ void TriangleProximity::near(std::int64_t k, const Vec3* x, Real radius,
 bool TriangleProximity::near_holds(const Vec3* x, Real radius, Real reach,
                                    const TopologicalExclusion* exclusion) const {
   if (near_reach_ != reach || near_exclusion_ != exclusion) return false;
-  Real moved2 = 0;
-  for (std::size_t i = 0; i < tracked_.size(); ++i)
-    moved2 = std::max(moved2, norm2(x[tracked_[i]] - anchor_[i]));
   // A pair's distance changed by at most the particle's move plus its corners' largest.
-  return 2 * std::sqrt(moved2) <= reach - radius;
+  return 2 * largest_move(x, tracked_, anchor_) <= reach - radius;
 }
 
 bool TriangleProximity::find_near(const Vec3* x, Real reach, const TopologicalExclusion* exclusion,
                                   int threads) {
   bin(x, reach);
-  per_thread_near_.resize(std::size_t(std::max(threads, 1)));
-  for (auto& list : per_thread_near_) list.clear();
-  thread_full_.assign(per_thread_near_.size(), 0);
-  const std::size_t cap = max_contacts_ / per_thread_near_.size();
+  const std::size_t cap = start_lists(per_thread_near_, thread_full_, threads, max_contacts_);
   const auto n = static_cast<std::int64_t>(set_.size());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t k = 0; k < n; ++k) {
@@ -224,8 +208,7 @@ bool TriangleProximity::find_near(const Vec3* x, Real reach, const TopologicalEx
   collision::room_for_any_split(per_thread_near_, cap);
   near_.clear();
   for (const auto& list : per_thread_near_) near_.insert(near_.end(), list.begin(), list.end());
-  anchor_.resize(tracked_.size());
-  for (std::size_t i = 0; i < tracked_.size(); ++i) anchor_[i] = x[tracked_[i]];
+  take_anchor(x, tracked_, anchor_);
   near_reach_ = reach;
   near_exclusion_ = exclusion;
   return true;
@@ -318,10 +301,7 @@ void TriangleProximity::candidates(const Vec3* x, const Vec3* v, Real radius, Re
   Real mean_share = 0;
   for (const Real g : tri_share_) mean_share += g;
   bin(x, mean_share / Real(tri_share_.size()), nullptr, tri_share_.data());
-  per_thread_candidates_.resize(std::size_t(std::max(threads, 1)));
-  for (auto& list : per_thread_candidates_) list.clear();
-  thread_full_.assign(per_thread_candidates_.size(), 0);
-  const std::size_t cap = max_contacts_ / per_thread_candidates_.size();
+  const std::size_t cap = start_lists(per_thread_candidates_, thread_full_, threads, max_contacts_);
   const auto n = static_cast<std::int64_t>(set_.size());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t k = 0; k < n; ++k) {
@@ -412,10 +392,7 @@ std::uint64_t TriangleProximity::apply(const Vec3* x, const Vec3* v, Vec3* f,
   // Each particle against its listed triangles, or those of its cell. Each thread keeps at most
   // its share of the contacts: beyond it, the pass goes on without collecting and is refused
   // below.
-  per_thread_.resize(std::size_t(std::max(threads, 1)));
-  for (auto& list : per_thread_) list.clear();
-  thread_full_.assign(per_thread_.size(), 0);
-  const std::size_t cap = max_contacts_ / per_thread_.size();
+  const std::size_t cap = start_lists(per_thread_, thread_full_, threads, max_contacts_);
   const auto n = static_cast<std::int64_t>(listed ? near_.size() : set_.size());
 #pragma omp parallel for schedule(dynamic, 256) num_threads(threads) if (threads > 1)
   for (std::int64_t i = 0; i < n; ++i) {
