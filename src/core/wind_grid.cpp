@@ -91,21 +91,13 @@ std::uint64_t cell_row(const WindLaw& law, const GridRow& lo_row, const GridRow&
     }
     gust_sines(law.basis, 2 * cells, gb);
   }
-  const Real* __restrict lx = lo->x[0];
-  const Real* __restrict ly = lo->x[1];
-  const Real* __restrict lz = lo->x[2];
-  const Real* __restrict hx = hi->x[0];
-  const Real* __restrict hy = hi->x[1];
-  const Real* __restrict hz = hi->x[2];
-  const Real* __restrict lvx = lo->v[0];
-  const Real* __restrict lvy = lo->v[1];
-  const Real* __restrict lvz = lo->v[2];
-  const Real* __restrict hvx = hi->v[0];
-  const Real* __restrict hvy = hi->v[1];
-  const Real* __restrict hvz = hi->v[2];
-  Real* __restrict f0x = out->f[0];
-  Real* __restrict f0y = out->f[1];
-  Real* __restrict f0z = out->f[2];
+  // The rows by axis, read and written through the restrict pointers above: F0 at [k], F1 at
+  // [cells + k].
+  const auto& [lx, ly, lz] = lo->x;
+  const auto& [hx, hy, hz] = hi->x;
+  const auto& [lvx, lvy, lvz] = lo->v;
+  const auto& [hvx, hvy, hvz] = hi->v;
+  auto& [f0x, f0y, f0z] = out->f;
   Real* __restrict f1x = out->f[0] + cells;
   Real* __restrict f1y = out->f[1] + cells;
   Real* __restrict f1z = out->f[2] + cells;
