@@ -369,6 +369,14 @@ constexpr StageKey<S> custom(std::string_view key, KeyType type, KeyDoc d,
   return key_detail::unbounded<S>(key, type, d, nullptr, value);
 }
 
+// A key naming a point of the model ("name", "group:index" or a global index: a string or an
+// integer), which the table's parser resolves.
+template <class S>
+constexpr StageKey<S> point_reference(std::string_view key, KeyDoc d) {
+  d.type_doc = "string or integer";
+  return custom<S>(key, KeyType::custom, d);
+}
+
 // The declaration with a check run right after the key is read.
 template <class S>
 constexpr StageKey<S> checked(StageKey<S> k,
@@ -501,9 +509,12 @@ std::vector<KeyInfo> describe_keys(std::span<const StageKey<S>> keys, const S& d
     else if (k.info.required)
       i.default_value = "required";
     else if (k.value) {
-      const bool quoted = k.type == KeyType::choice || k.type == KeyType::text;
+      // Texts as TOML writes them: choices, strings and an automatic value ("auto").
+      const std::string value = k.value(defaults);
+      const bool quoted = k.type == KeyType::choice || k.type == KeyType::text ||
+                          (k.type == KeyType::number_or_auto && value == "auto");
       i.default_value =
-          std::string(quoted ? "`\"" : "`").append(k.value(defaults)).append(quoted ? "\"`" : "`");
+          std::string(quoted ? "`\"" : "`").append(value).append(quoted ? "\"`" : "`");
     }
     if (!k.info.range_doc.empty()) {
       i.range = k.info.range_doc;

@@ -13,11 +13,9 @@ namespace maille {
 std::span<const StageKey<audio::Listener>> listen_keys() {
   using L = audio::Listener;
   static const std::array<StageKey<L>, 5> keys{
-      custom<L>("point", KeyType::custom,
-                {.doc = "`\"name\"`, `\"group:index\"` or a global index",
-                 .default_doc = "required unless `group`",
-                 .range_doc = "an existing point",
-                 .type_doc = "string or integer"}),
+      point_reference<L>("point", {.doc = "`\"name\"`, `\"group:index\"` or a global index",
+                                   .default_doc = "required unless `group`",
+                                   .range_doc = "an existing point"}),
       custom<L>("group", KeyType::text,
                 {.doc = "instead of `point`: the group whose point `index` is heard",
                  .default_doc = "none",
@@ -50,9 +48,7 @@ std::span<const StageKey<audio::AudioSettings>> audio_keys() {
       number_or_auto<&A::gain>("gain", Bound::positive, 0, 1e30,
                                {.doc = "`auto`: 0.99 of full scale at the peak, one gain per "
                                        "quantity; a number: sample = gain × value",
-                                .default_doc = "`\"auto\"`",
-                                .range_doc = "> 0",
-                                .type_doc = "`\"auto\"` or number"}),
+                                .range_doc = "> 0"}),
       choice<&A::resampler>("resampler",
                             {.doc = "when the step does not divide 1 / rate: band-limited "
                                     "windowed sinc, or linear interpolation"}),
@@ -193,11 +189,10 @@ std::span<const StageKey<audio::Control>> control_keys() {
 std::span<const StageKey<audio::Excitation>> excite_keys() {
   using X = audio::Excitation;
   static const std::array<StageKey<X>, 4> keys{
-      custom<X>("point", KeyType::custom,
-                {.doc = "a point or a whole group (every point of it); only free points",
-                 .default_doc = "required",
-                 .range_doc = "`\"name\"`, `\"group:index\"`, an index or a group's name",
-                 .type_doc = "string or integer"}),
+      point_reference<X>(
+          "point", {.doc = "a point or a whole group (every point of it); only free points",
+                    .default_doc = "required",
+                    .range_doc = "`\"name\"`, `\"group:index\"`, an index or a group's name"}),
       checked(choice<&X::quantity>("quantity",
                                    {.doc = "`velocity`: amount × s added along `axis` to each "
                                            "point's velocity (a strike: an impulse of m × that); "

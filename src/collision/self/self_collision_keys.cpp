@@ -42,7 +42,6 @@ std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
       number_or_auto<&S::cell_size>("cell_size", Bound::positive, 0, limits::max_coordinate,
                                     {.unit = "m",
                                      .doc = "grid cell size; `auto`: measured (below)",
-                                     .default_doc = "`\"auto\"`",
                                      .range_doc = "`\"auto\"` or >= radius",
                                      .type_doc = "string or number"}),
       choice<&S::exclusion>("exclusion",
