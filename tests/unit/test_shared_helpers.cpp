@@ -141,5 +141,17 @@ TEST(ProfileColumnsTest, RegisterInOrderAtTheFirstWrite) {
   EXPECT_EQ(p.counters().size(), 2u);
 }
 
+// set() writes every column in order, each as declared: a count (any whole type) or a gauge.
+TEST(ProfileColumnsTest, SetWritesEveryColumnAsDeclared) {
+  Profile p;
+  ProfileColumns c{{"a_count"}, {"a_gauge", true}, {"b_count"}};
+  c.set(p, {std::uint64_t{4}, 0.25f, 9u});
+  ASSERT_EQ(p.counters().size(), 2u);
+  ASSERT_EQ(p.gauges().size(), 1u);
+  EXPECT_EQ(p.counters()[0].last, 4u);
+  EXPECT_EQ(p.gauges()[0].last, 0.25);
+  EXPECT_EQ(p.counters()[1].last, 9u);
+}
+
 }  // namespace
 }  // namespace maille
