@@ -9,11 +9,8 @@
 namespace maille::gpu {
 
 std::string obstacle_contacts_shader() {
-  std::string s = kernel_head({Buf::x, Buf::v, Buf::f, Buf::ob_point});
-  s += shared::obstacle_laws;
-  s += glsl::obstacle_head;
-  s += glsl::obstacle_contacts;
-  return s;
+  return kernel_source({Buf::x, Buf::v, Buf::f, Buf::ob_point},
+                       {shared::obstacle_laws, glsl::obstacle_head, glsl::obstacle_contacts});
 }
 
 // The CPU solver's point-contact steps (implicit_vbd.cpp, GeometricObstacleStage's

@@ -221,14 +221,11 @@ std::span<const StageKey<LinkTable>> link_keys() {
                                      "`spring_damper`, `conditional`, `friction`), or "
                                      "`geometric_contact` (below)",
                               .required = true}),
-      custom<L>("a", KeyType::custom,
-                {.doc = "the first point: `\"name\"`, `\"group:index\"` or a global index",
-                 .default_doc = "required",
-                 .type_doc = "string or integer"}),
-      custom<L>("b", KeyType::custom,
-                {.doc = "the second point, as `a`; distinct from it",
-                 .default_doc = "required",
-                 .type_doc = "string or integer"}),
+      point_reference<L>("a",
+                         {.doc = "the first point: `\"name\"`, `\"group:index\"` or a global index",
+                          .default_doc = "required"}),
+      point_reference<L>(
+          "b", {.doc = "the second point, as `a`; distinct from it", .default_doc = "required"}),
   };
   return keys;
 }
@@ -283,11 +280,9 @@ std::span<const StageKey<GeometricContactTable>> geometric_contact_keys() {
           {.unit = "N.s/m", .doc = "z, along the normal"}),
       choice<&G::normal>("normal", {.doc = "the canonical shape's normal mapped to the world, or "
                                            "the world gradient's"}),
-      custom<G>("b", KeyType::custom,
-                {.doc = "a free mass (`\"name\"`, `\"group:index\"`, an index) or a group's "
-                        "name: one contact per free point of the group",
-                 .default_doc = "required",
-                 .type_doc = "string or integer"}),
+      point_reference<G>("b", {.doc = "a free mass (`\"name\"`, `\"group:index\"`, an index) "
+                                      "or a group's name: one contact per free point of the group",
+                               .default_doc = "required"}),
   };
   return keys;
 }

@@ -54,9 +54,7 @@ class GeometricContactStage final : public Stage {
       active += depth > 0;
       deepest = std::max(deepest, depth);
     }
-    if (!ctx.profile) return;
-    columns_.count(*ctx.profile, 0, active);
-    columns_.gauge(*ctx.profile, 1, deepest);
+    if (ctx.profile) columns_.set(*ctx.profile, {active, deepest});
   }
 
   // 1/2 k d^2 per contact, d the world penetration (geometric_obstacle.cpp says when exact).
