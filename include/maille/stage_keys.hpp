@@ -19,6 +19,8 @@
 // the gate.
 #pragma once
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdint>
 #include <span>
@@ -383,6 +385,36 @@ constexpr StageKey<S> checked(StageKey<S> k,
                               std::type_identity_t<void (*)(SceneTable&, const S&)> check) {
   k.check = check;
   return k;
+}
+
+// `name`, read first: the element's part of its stage's name and stats.csv columns
+// ("obstacle:NAME"), so letters, digits, '_' and '-' only (its parser checks it is unique).
+template <auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> stage_name(KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  d.range_doc = "letters, digits, `_`, `-`; unique";
+  return read_first(checked(text<M, More...>("name", d), [](SceneTable& t, const S& s) {
+    const std::string& name = key_detail::at<M, More...>(s);
+    const bool safe = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+    });
+    if (!safe) t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
+  }));
+}
+
+// The groups whose points a stage acts on, read first (its parser checks them against the
+// model); none: every group.
+template <auto M, auto... More>
+constexpr StageKey<key_detail::owner_t<M>> acted_groups(std::string_view key, KeyDoc d) {
+  using S = key_detail::owner_t<M>;
+  d.default_doc = "every group";
+  d.range_doc = "existing groups with free points";
+  return read_first(texts<M, More...>(key, d, [](const S& s) {
+    std::string out;
+    for (const auto& g : key_detail::at<M, More...>(s))
+      out.append(out.empty() ? "" : ",").append(g);
+    return out.empty() ? std::string("every group") : out;
+  }));
 }
 
 // Reads one declaration that has a reader: its `applies` gate, the reader, its check.

@@ -11,9 +11,7 @@
 // The whole stage is this file: settings, keys, the stage, its table and its registration
 // (src/stages/: every file registers itself through cmake/RegisterFolder.cmake), the pattern
 // docs/README.md's recipe "A stage" follows.
-#include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -43,18 +41,7 @@ struct Attractor {
 std::span<const StageKey<Attractor>> attractor_keys() {
   using A = Attractor;
   static const std::array<StageKey<A>, 5> keys{
-      read_first(checked(
-          text<&A::name>("name", {.doc = "names the stage (`attractor:NAME`) and "
-                                         "its stats columns",
-                                  .range_doc = "letters, digits, `_`, `-`; unique"}),
-          [](SceneTable& t, const A& a) {
-            const bool safe =
-                !a.name.empty() && std::all_of(a.name.begin(), a.name.end(), [](char c) {
-                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-                });
-            if (!safe)
-              t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
-          })),
+      stage_name<&A::name>({.doc = "names the stage (`attractor:NAME`) and its stats columns"}),
       vector<&A::position>("position", {.unit = "m", .doc = "p", .required = true}),
       number<&A::strength>(
           "strength", Bound::any, -limits::max_stiffness, limits::max_stiffness,
@@ -65,16 +52,7 @@ std::span<const StageKey<Attractor>> attractor_keys() {
                             {.unit = "m",
                              .doc = "ε: the pull is m μ r / (r² + ε²)^(3/2), finite at the "
                                     "point (0: the bare inverse square)"}),
-      read_first(texts<&A::groups>("groups",
-                                   {.doc = "whose free points it pulls",
-                                    .default_doc = "every group",
-                                    .range_doc = "existing groups with free points"},
-                                   [](const A& a) {
-                                     std::string out;
-                                     for (const auto& g : a.groups)
-                                       out.append(out.empty() ? "" : ",").append(g);
-                                     return out.empty() ? std::string("every group") : out;
-                                   })),
+      acted_groups<&A::groups>("groups", {.doc = "whose free points it pulls"}),
   };
   return keys;
 }

@@ -1,9 +1,7 @@
 // [[obstacle]]'s keys, declared once (stage_keys.hpp), with the methods that use each: a key the
 // chosen method does not use is an error naming the key and the method (the scene reader's
 // gate), and the others keep their defaults so that the viewer can switch the method live.
-#include <algorithm>
 #include <array>
-#include <cctype>
 #include <filesystem>
 #include <iterator>
 #include <memory>
@@ -76,18 +74,8 @@ std::vector<StageKey<Obstacle>> declared_keys() {
   using O = Obstacle;
   std::vector<StageKey<O>> keys{
       // Read first, then its uniqueness among the model's stages (obstacle_table.cpp).
-      read_first(checked(
-          text<&O::name>("name", {.doc = "names the stage (`obstacle:NAME`) and its stats columns",
-                                  .default_doc = "`\"obstacle\"`",
-                                  .range_doc = "letters, digits, `_`, `-`; unique"}),
-          [](SceneTable& t, const O& o) {
-            const bool safe =
-                !o.name.empty() && std::all_of(o.name.begin(), o.name.end(), [](char c) {
-                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-                });
-            if (!safe)
-              t.fail("name", "use letters, digits, '_' and '-' (it names stats.csv columns)");
-          })),
+      stage_name<&O::name>({.doc = "names the stage (`obstacle:NAME`) and its stats columns",
+                            .default_doc = "`\"obstacle\"`"}),
       // The method, then the mesh, then the shape are read first: they decide the other keys.
       parsed_choice<&O::method>("method", {.doc = "how the obstacle acts (above)"}),
       only_if(

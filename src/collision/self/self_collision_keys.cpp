@@ -12,17 +12,8 @@ std::span<const StageKey<SelfCollisionSettings>> self_collision_keys() {
   using S = SelfCollisionSettings;
   static const std::array<StageKey<S>, 11> keys{
       // Read first: the parser checks the groups against the model before the other keys.
-      read_first(
-          texts<&S::groups>("groups",
-                            {.doc = "which points collide, with themselves and with each other",
-                             .default_doc = "every group",
-                             .range_doc = "existing groups with free points"},
-                            [](const S& s) {
-                              std::string out;
-                              for (const auto& g : s.groups)
-                                out.append(out.empty() ? "" : ",").append(g);
-                              return out.empty() ? std::string("every group") : out;
-                            })),
+      acted_groups<&S::groups>(
+          "groups", {.doc = "which points collide, with themselves and with each other"}),
       number<&S::radius>("radius", Bound::non_negative, 0, limits::max_coordinate,
                          {.unit = "m",
                           .doc = "contact distance s",
