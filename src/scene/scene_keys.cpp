@@ -217,8 +217,8 @@ std::span<const StageKey<DrivePath>> drive_keys() {
 std::span<const StageKey<LinkTable>> link_keys() {
   using L = LinkTable;
   static const std::array<StageKey<L>, 3> keys{
-      text<&L::kind>("kind", {.doc = "a registered link kind (built-in: `spring`, `damper`, "
-                                     "`spring_damper`, `conditional`, `friction`), or "
+      text<&L::kind>("kind", {.doc = "a registered link kind (the `[[link]] kinds` table "
+                                     "below, generated from the registry), or "
                                      "`geometric_contact` (below)",
                               .required = true}),
       point_reference<L>("a",
