@@ -80,6 +80,10 @@ class SceneReader {
       model.stages.push_back(declared_stage(e, std::move(spec)));
     };
     for (const auto& e : stages_.entries()) {
+      if (e.of_links && !e.gather)  // its [[link]] tables would be claimed and never read
+        throw std::logic_error("the stage entry '" + e.table +
+                               "' takes [[link]] tables (of_links) "
+                               "but has no gather");
       if (e.gather) continue;  // gathered_tables()
       if (e.array) {
         for (auto& t : top.tables(e.table)) install(t, e);
