@@ -6,10 +6,16 @@
 #include <cmath>
 #include <numbers>
 
+#include <stdexcept>
+#include <string>
+
+#include "maille/link_registry.hpp"
 #include "maille/links/damper.hpp"
 #include "maille/links/spring.hpp"
 #include "maille/links/spring_damper.hpp"
+#include "maille/scene.hpp"
 #include "maille/simulator.hpp"
+#include "maille/stage_registry.hpp"
 
 namespace maille::test {
 
@@ -72,6 +78,16 @@ inline std::vector<double> upward_crossings(Simulator& sim, std::uint32_t point,
 
 inline double mean_period(const std::vector<double>& crossings) {
   return (crossings.back() - crossings.front()) / double(crossings.size() - 1);
+}
+
+// A scene from its text with the built-in link kinds and stage tables; a parse error throws
+// with its file:line:column message.
+inline Scene scene_from_text(const std::string& text, const std::string& file = "test.toml") {
+  static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
+  static const StageRegistry stages = StageRegistry::with_builtins();
+  auto s = parse_scene(text, file, kinds, stages);
+  if (!s) throw std::runtime_error(s.error().to_string());
+  return std::move(s.value());
 }
 
 }  // namespace maille::test

@@ -99,6 +99,16 @@ class AttractorStage final : public Stage {
     return e;
   }
 
+  // An unsoftened pull has no stiffness bound: the stability estimate cannot see it, so the run
+  // says so rather than call any step stable.
+  std::vector<std::string> warnings(const SimulationSettings&) const override {
+    if (a_.softening > 0) return {};
+    return {
+        "no softening: the stability estimate leaves the attractor out (its stiffness "
+        "m |strength| / r^3 grows without bound near it); give 'softening', or a step well "
+        "below sqrt(r^3 / |strength|) for the closest approach r"};
+  }
+
   // The pull's stiffness is largest at the point itself: |df/dx| <= m |mu| / eps^3 (radially
   // m mu (eps^2 - 2 r^2) / (r^2 + eps^2)^(5/2), across m mu / (r^2 + eps^2)^(3/2)). An unsoftened
   // attractor has no bound: the estimate leaves it out (its docs row says so).

@@ -13,17 +13,14 @@
 #include "maille/simulator.hpp"
 #include "maille/stage_registry.hpp"
 #include "maille/state.hpp"
+#include "test_support.hpp"
 
 namespace {
 
 using namespace maille;
 
 Scene from_text(const std::string& text) {
-  static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
-  static const StageRegistry stages = StageRegistry::with_builtins();
-  auto s = parse_scene(text, "attractor.toml", kinds, stages);
-  if (!s) throw std::runtime_error(s.error().to_string());
-  return std::move(s.value());
+  return test::scene_from_text(text, "attractor.toml");
 }
 
 // One 2 kg planet at (r, 0, 0) with velocity (0, 0, v), a sun of strength mu at the origin, no
@@ -32,7 +29,8 @@ std::string orbit(double r, double v, double mu, double step, double softening =
   std::ostringstream t;
   t.precision(17);
   t << "[scene]\nname = \"orbit\"\n[simulation]\nstep = " << step
-    << "\nduration = 1000.0\nintegrator = \"velocity_verlet\"\n[fields]\ngravity = [0.0, 0.0, 0.0]\n"
+    << "\nduration = 1000.0\nintegrator = \"velocity_verlet\"\n[fields]\ngravity = [0.0, 0.0, "
+       "0.0]\n"
     << "[[mass]]\nname = \"planet\"\nposition = [" << r << ", 0.0, 0.0]\nvelocity = [0.0, 0.0, "
     << v << "]\nmass = 2.0\n"
     << "[[attractor]]\nname = \"sun\"\nposition = [0.0, 0.0, 0.0]\nstrength = " << mu
@@ -126,6 +124,23 @@ TEST(Attractor, BadTablesAreRefusedAtTheirKey) {
       "[[attractor]]\nposition = [0.0, 0.0, 0.0]\nstrength = 1.0\n"
       "[[attractor]]\nposition = [1.0, 0.0, 0.0]\nstrength = 1.0\n",
       "another attractor is named 'attractor'");
+}
+
+// Unsoftened, its stiffness has no bound: the run says the stability estimate cannot see it;
+// softened (eps = 0.1 m), the estimate holds m |mu| / eps^3 = 2 x 1 / 1e-3 = 2000 N/m, so
+// omega^2 = 1000 at the planet, and nothing is said.
+TEST(Attractor, AnUnsoftenedAttractorSaysTheStabilityEstimateCannotSeeIt) {
+  Scene bare = from_text(orbit(1.0, 1.0, 1.0, 1e-3));
+  Simulator bare_sim(bare.model, bare.settings);
+  const auto said = bare_sim.stage_warnings();
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_NE(said[0].find("attractor:sun"), std::string::npos) << said[0];
+  EXPECT_NE(said[0].find("softening"), std::string::npos) << said[0];
+  Scene soft = from_text(orbit(1.0, 1.0, 1.0, 1e-3, 0.1));
+  Simulator soft_sim(soft.model, soft.settings);
+  EXPECT_TRUE(soft_sim.stage_warnings().empty());
+  EXPECT_NEAR(soft_sim.stability().omega, std::sqrt(1000.0), 1e-9);  // k / m = 2000 / 2
+  EXPECT_EQ(bare_sim.stability().omega, 0.0);                        // left out, and said so
 }
 
 TEST(Attractor, ItsStageIsNamedAfterIt) {

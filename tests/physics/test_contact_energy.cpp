@@ -19,17 +19,14 @@
 #include "maille/simulator.hpp"
 #include "maille/stage_registry.hpp"
 #include "maille/state.hpp"
+#include "test_support.hpp"
 
 namespace {
 
 using namespace maille;
 
 Scene from_text(const std::string& text) {
-  static const LinkKindRegistry kinds = LinkKindRegistry::with_builtins();
-  static const StageRegistry stages = StageRegistry::with_builtins();
-  auto s = parse_scene(text, "test.toml", kinds, stages);
-  if (!s) throw std::runtime_error(s.error().to_string());
-  return std::move(s.value());
+  return test::scene_from_text(text, "test.toml");
 }
 
 Scene example(const std::string& name, const std::vector<std::string>& sets = {}) {
